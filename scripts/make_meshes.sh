@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Regenerates the meshes shipped in meshes/ from their analytic definitions.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+T=target/release/traxer
+$T tessellate meshes/parts.toml --object entrance_aperture --out meshes/entrance_aperture.gltf
+$T tessellate meshes/parts.toml --object central_blocker --out meshes/central_blocker.obj
+# The Wolter-I shells as meshes (world coordinates), for scenes/wolter1_meshed.toml.
+objs=()
+for i in 1 2 3 4; do objs+=(--object "paraboloid_$i" --object "hyperboloid_$i"); done
+$T tessellate scenes/wolter1_parallel.toml "${objs[@]}" --segments 720 --rings 8 --format glb --out meshes/wolter1

@@ -1,0 +1,74 @@
+//! Throughput measurement: photons per second through a scene, and the raw Embree
+//! `rtcIntersect1` rate on the very rays that run asked for, so the ratio shows how
+//! much of the time is traxer's own work rather than Embree's.
+//!
+//! Data flow: used by `traxer bench` and `cargo bench`; reads a built `Scene`.
+
+use crate::embree::Query;
+use crate::scene::Scene;
+use crate::trace::{self, QueryHook, RunConfig};
+use rayon::prelude::*;
+use std::time::Instant;
+
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct BenchReport {
+    pub photons: u64,
+    pub threads: usize,
+    pub seconds: f64,
+    pub photons_per_second: f64,
+    pub sensor_photons_per_second: f64,
+    pub queries_per_photon: f64,
+    pub raw_rays: usize,
+    pub raw_rays_per_second: f64,
+    /// photons/s × queries/photon ÷ raw rays/s: 1 means no time outside Embree.
+    pub embree_fraction: f64,
+    pub triangles: usize,
+}
+
+struct Recorder(Vec<([f32; 3], [f32; 3])>);
+
+impl QueryHook for Recorder {
+    fn query(&mut self, q: &Query) {
+        let f = |v: [f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32];
+        self.0.push((f(q.origin), f(q.dir)));
+    }
+}
+
+/// Traces `photons` photons with `threads` threads (0 = all cores), then replays
+/// the queries of the first `raw_photons` of them through plain `rtcIntersect1`.
+pub fn run(scene: &Scene, photons: u64, threads: usize, raw_photons: u64) -> Result<BenchReport, rayon::ThreadPoolBuildError> {
+    // Warm-up (page faults, lazy Embree initialisation).
+    trace::trace_range(scene, 7, 0, 20_000.min(photons));
+    let cfg = RunConfig { photons, seed: 1, threads, progress: false, first_photon: 0 };
+    let r = trace::run(scene, &cfg)?;
+
+    let mut rec = Recorder(Vec::new());
+    trace::trace_range_with(scene, 1, 0, raw_photons.min(photons), &mut rec);
+    let rays = rec.0;
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let raw = |_| -> usize {
+        rays.par_chunks(4096).map(|c| scene.embree.intersect_raw(c)).sum()
+    };
+    pool.install(|| raw(())); // warm-up
+    let t = Instant::now();
+    let mut rounds = 0;
+    while rounds < 3 || t.elapsed().as_secs_f64() < 1.0 {
+        pool.install(|| raw(()));
+        rounds += 1;
+    }
+    let raw_rate = (rays.len() * rounds) as f64 / t.elapsed().as_secs_f64();
+    let pps = r.stats.photons_emitted as f64 / r.seconds;
+    let qpp = r.stats.embree_queries as f64 / r.stats.photons_emitted as f64;
+    Ok(BenchReport {
+        photons,
+        threads: r.threads,
+        seconds: r.seconds,
+        photons_per_second: pps,
+        sensor_photons_per_second: r.stats.reached_sensor as f64 / r.seconds,
+        queries_per_photon: qpp,
+        raw_rays: rays.len(),
+        raw_rays_per_second: raw_rate,
+        embree_fraction: pps * qpp / raw_rate,
+        triangles: scene.triangle_count,
+    })
+}

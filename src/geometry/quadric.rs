@@ -1,0 +1,208 @@
+//! Sections of surfaces of revolution about the local z axis:
+//! x² + y² = a + b·z + c·z², cut to z_min ≤ z ≤ z_max and to an azimuth range.
+//! One quadratic covers the cone and cylinder (the LLNL telescope's shells), and the
+//! paraboloid and hyperboloid of a true Wolter-I optic.
+
+use super::{at, nearest_root, solve_quadratic, Resolution};
+use crate::mesh::TriangleMesh;
+use glam::DVec3;
+
+/// An azimuth interval [start, start + span] in degrees, measured from local +x
+/// towards +y. A span of 360° or more is the full circle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AzimuthRange {
+    pub start_deg: f64,
+    pub span_deg: f64,
+}
+
+impl AzimuthRange {
+    pub const FULL: AzimuthRange = AzimuthRange {
+        start_deg: 0.0,
+        span_deg: 360.0,
+    };
+
+    pub fn is_full(&self) -> bool {
+        self.span_deg >= 360.0
+    }
+
+    /// Whether the direction (x, y) lies inside the range.
+    #[inline]
+    pub fn contains(&self, x: f64, y: f64) -> bool {
+        if self.is_full() {
+            return true;
+        }
+        let phi = y.atan2(x).to_degrees();
+        (phi - self.start_deg).rem_euclid(360.0) <= self.span_deg
+    }
+
+    /// Unit-circle points bounding the range: its two ends and every axis direction
+    /// inside it (for bounding boxes).
+    pub(crate) fn extreme_directions(&self) -> Vec<(f64, f64)> {
+        let mut dirs = Vec::new();
+        let end = self.start_deg + self.span_deg.min(360.0);
+        for phi in [self.start_deg, end] {
+            let r = phi.to_radians();
+            dirs.push((r.cos(), r.sin()));
+        }
+        for (x, y) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
+            if self.contains(x, y) {
+                dirs.push((x, y));
+            }
+        }
+        dirs
+    }
+}
+
+/// x² + y² = a + b·z + c·z² for z in [z_min, z_max] and azimuth in `azimuth`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RevolutionQuadric {
+    pub a: f64,
+    pub b: f64,
+    pub c: f64,
+    pub z_min: f64,
+    pub z_max: f64,
+    pub azimuth: AzimuthRange,
+}
+
+impl RevolutionQuadric {
+    /// Truncated cone with radius `r0` at height `z0` and `r1` at `z1`.
+    pub fn cone(r0: f64, z0: f64, r1: f64, z1: f64, azimuth: AzimuthRange) -> Self {
+        // r(z) = r0 + s (z − z0) = k + s z;  r² = k² + 2ks z + s² z².
+        let s = (r1 - r0) / (z1 - z0);
+        let k = r0 - s * z0;
+        RevolutionQuadric {
+            a: k * k,
+            b: 2.0 * k * s,
+            c: s * s,
+            z_min: z0.min(z1),
+            z_max: z0.max(z1),
+            azimuth,
+        }
+    }
+
+    /// Cylinder (tube) of radius `r`.
+    pub fn cylinder(r: f64, z0: f64, z1: f64, azimuth: AzimuthRange) -> Self {
+        Self::cone(r, z0, r, z1, azimuth)
+    }
+
+    /// Paraboloid with its focus at the local origin, opening towards +z:
+    /// r² = 4q (z + q), q = the vertex-to-focus distance.
+    pub fn paraboloid(q: f64, z0: f64, z1: f64, azimuth: AzimuthRange) -> Self {
+        RevolutionQuadric {
+            a: 4.0 * q * q,
+            b: 4.0 * q,
+            c: 0.0,
+            z_min: z0.min(z1),
+            z_max: z0.max(z1),
+            azimuth,
+        }
+    }
+
+    /// Hyperboloid of two sheets centred at the local origin:
+    /// z²/a² − r²/b² = 1, i.e. r² = b² (z²/a² − 1); foci at z = ±√(a² + b²).
+    /// The z range selects the sheet.
+    pub fn hyperboloid(semi_a: f64, semi_b: f64, z0: f64, z1: f64, azimuth: AzimuthRange) -> Self {
+        let bb = semi_b * semi_b;
+        RevolutionQuadric {
+            a: -bb,
+            b: 0.0,
+            c: bb / (semi_a * semi_a),
+            z_min: z0.min(z1),
+            z_max: z0.max(z1),
+            azimuth,
+        }
+    }
+
+    /// r² at height z (negative outside the surface's real part).
+    #[inline]
+    pub fn radius_squared(&self, z: f64) -> f64 {
+        self.a + self.b * z + self.c * z * z
+    }
+
+    pub fn radius(&self, z: f64) -> f64 {
+        self.radius_squared(z).max(0.0).sqrt()
+    }
+
+    #[inline]
+    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+        let qa = d.x * d.x + d.y * d.y - self.c * d.z * d.z;
+        let qb = 2.0 * (o.x * d.x + o.y * d.y) - self.b * d.z - 2.0 * self.c * o.z * d.z;
+        let qc = o.x * o.x + o.y * o.y - self.radius_squared(o.z);
+        let (t1, t2) = solve_quadratic(qa, qb, qc)?;
+        let mut roots = [t1, t2];
+        nearest_root(&mut roots, starts_on_surface, t_max, |t| {
+            let p = at(o, d, t);
+            p.z >= self.z_min && p.z <= self.z_max && self.azimuth.contains(p.x, p.y)
+        })
+    }
+
+    /// Unit normal at a surface point, pointing towards the axis (the front side).
+    #[inline]
+    pub fn normal(&self, p: DVec3) -> DVec3 {
+        // −∇(x² + y² − a − b z − c z²) / 2
+        DVec3::new(-p.x, -p.y, 0.5 * self.b + self.c * p.z).normalize()
+    }
+
+    /// Local bounding box.
+    pub fn bounds(&self) -> (DVec3, DVec3) {
+        // r(z) is monotonic on each side of its single extremum z* = −b/2c; sample
+        // the ends and z* when it lies inside.
+        let mut zs = vec![self.z_min, self.z_max];
+        if self.c != 0.0 {
+            let zs_ext = -self.b / (2.0 * self.c);
+            if zs_ext > self.z_min && zs_ext < self.z_max {
+                zs.push(zs_ext);
+            }
+        }
+        let radii: Vec<f64> = zs.iter().map(|&z| self.radius(z)).collect();
+        let r_max = radii.iter().cloned().fold(0.0, f64::max);
+        let r_min = radii.iter().cloned().fold(f64::INFINITY, f64::min);
+        let mut lo = DVec3::new(f64::INFINITY, f64::INFINITY, self.z_min);
+        let mut hi = DVec3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, self.z_max);
+        for (x, y) in self.azimuth.extreme_directions() {
+            for r in [r_min, r_max] {
+                lo.x = lo.x.min(r * x);
+                lo.y = lo.y.min(r * y);
+                hi.x = hi.x.max(r * x);
+                hi.y = hi.y.max(r * y);
+            }
+        }
+        (lo, hi)
+    }
+
+    /// Grid of `res.segments` azimuthal × `res.rings` axial quads, vertices on the
+    /// exact surface with exact normals.
+    pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
+        let n_phi = res.segments.max(1);
+        let n_z = res.rings.max(1);
+        let span = self.azimuth.span_deg.min(360.0);
+        let closed = self.azimuth.is_full();
+        let cols = if closed { n_phi } else { n_phi + 1 };
+        let mut mesh = TriangleMesh::default();
+        let mut normals = Vec::new();
+        for j in 0..=n_z {
+            let z = self.z_min + (self.z_max - self.z_min) * j as f64 / n_z as f64;
+            let r = self.radius(z);
+            for i in 0..cols {
+                let phi = (self.azimuth.start_deg + span * i as f64 / n_phi as f64).to_radians();
+                let p = DVec3::new(r * phi.cos(), r * phi.sin(), z);
+                mesh.positions.push(p);
+                normals.push(self.normal(p));
+            }
+        }
+        for j in 0..n_z {
+            for i in 0..n_phi {
+                let i1 = (i + 1) % cols;
+                let v00 = (j * cols + i) as u32;
+                let v01 = (j * cols + i1) as u32;
+                let v10 = ((j + 1) * cols + i) as u32;
+                let v11 = ((j + 1) * cols + i1) as u32;
+                mesh.triangles.push([v00, v01, v11]);
+                mesh.triangles.push([v00, v11, v10]);
+            }
+        }
+        mesh.normals = Some(normals);
+        mesh.orient_to_normals();
+        mesh
+    }
+}

@@ -1,0 +1,18 @@
+//! traxer: an X-ray raytracer for grazing-incidence telescopes, on Intel Embree.
+//!
+//! Data flow (see ARCHITECTURE in the README):
+//! `scene` (file → description → built scene with Embree) → `source` (photons) →
+//! `trace` (photon loop, materials) → `sensor` (images) → `output` (files).
+#![deny(unsafe_code)]
+
+pub mod embree;
+pub mod geometry;
+pub mod mesh;
+pub mod output;
+pub mod material;
+pub mod random;
+pub mod scene;
+pub mod sensor;
+pub mod source;
+pub mod trace;
+pub mod bench;

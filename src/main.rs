@@ -1,0 +1,48 @@
+//! The `traxer` command line: parses arguments (clap), dispatches to the
+//! subcommands in `cli/`, and maps failures to exit codes: 0 success, 1 the run
+//! failed, 2 bad input (scene, mesh, arguments).
+
+mod cli;
+
+use clap::{Parser, Subcommand};
+use std::process::ExitCode;
+
+/// X-ray raytracer for grazing-incidence telescopes (CAST, BabyIAXO), on Intel Embree.
+///
+/// Units everywhere: millimetres, keV, degrees. Start with
+/// `traxer trace scenes/wolter1_parallel.toml --out out/`.
+#[derive(Parser)]
+#[command(name = "traxer", version = concat!(env!("CARGO_PKG_VERSION"), " (", env!("TRAXER_GIT_HASH"), ")"))]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Trace(cli::trace::TraceArgs),
+    Tessellate(cli::tessellate::TessellateArgs),
+    Info(cli::info::InfoArgs),
+    Bench(cli::bench::BenchArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Trace(a) => cli::trace::run(a),
+        Command::Tessellate(a) => cli::tessellate::run(a),
+        Command::Info(a) => cli::info::run(a),
+        Command::Bench(a) => cli::bench::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            if cli::is_input_error(&e) {
+                ExitCode::from(2)
+            } else {
+                ExitCode::from(1)
+            }
+        }
+    }
+}

@@ -1,0 +1,36 @@
+//! What a photon does when it hits an object. A closed set (an enum, matched in the
+//! photon loop); coatings, figure errors and more sensor kinds extend it.
+//!
+//! Data flow: `scene::build` resolves every object's material name to a
+//! [`Material`]; `trace` matches on it at each hit.
+
+/// Which side of a surface reflects (the other side absorbs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Side {
+    Front,
+    Back,
+    Both,
+}
+
+impl Side {
+    /// Whether a photon arriving from the front (`from_front`) or the back reflects.
+    #[inline]
+    pub fn reflects(self, from_front: bool) -> bool {
+        match self {
+            Side::Both => true,
+            Side::Front => from_front,
+            Side::Back => !from_front,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Material {
+    /// Specular reflection with reflectivity 1 on the reflecting side(s).
+    PerfectMirror { side: Side },
+    /// Stops the photon.
+    Absorber,
+    /// Records the photon in image sensor number `sensor` and stops it.
+    Sensor { sensor: usize },
+}

@@ -1,0 +1,172 @@
+//! glTF 2.0 import (`.gltf` with external or embedded buffers, `.glb`): the default
+//! scene's node hierarchy is walked and every triangle primitive is placed with its
+//! node's world matrix.
+
+use super::{ImportReport, MeshError, TriangleMesh};
+use glam::{DMat3, DMat4, DVec3};
+use gltf::mesh::Mode;
+use std::path::Path;
+
+/// Required extensions that compress geometry: named in the error so users know to
+/// re-export without compression.
+const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
+
+pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
+    let bad = |m: String| MeshError::invalid(path, m);
+    let gltf = gltf::Gltf::open(path).map_err(|e| bad(describe(&e)))?;
+    for ext in gltf.document.extensions_required() {
+        let why = if COMPRESSION_EXTENSIONS.contains(&ext) {
+            "compressed geometry is not supported; export the file without mesh compression"
+        } else {
+            "traxer does not support this extension"
+        };
+        return Err(bad(format!("requires the glTF extension {ext}: {why}")));
+    }
+    let base = path.parent();
+    let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
+        .map_err(|e| bad(format!("cannot load its buffers: {}", describe(&e))))?;
+
+    let mut mesh = TriangleMesh::default();
+    let mut report = ImportReport {
+        normals_from_file: true,
+        ..Default::default()
+    };
+    let doc = &gltf.document;
+    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => scene.nodes().collect(),
+        None => {
+            // No scene: every node that is nobody's child is a root.
+            let children: std::collections::HashSet<usize> = doc
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
+                .collect();
+            doc.nodes().filter(|n| !children.contains(&n.index())).collect()
+        }
+    };
+    let mut stack: Vec<(gltf::Node, DMat4, usize)> =
+        roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
+    while let Some((node, parent, depth)) = stack.pop() {
+        if depth > 1000 {
+            return Err(bad("node hierarchy deeper than 1000 levels (a cycle?)".into()));
+        }
+        let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
+        let world = parent * local;
+        if let Some(m) = node.mesh() {
+            for prim in m.primitives() {
+                let label = format!(
+                    "primitive {} of mesh {}",
+                    prim.index(),
+                    m.name().map(|n| format!("'{n}'")).unwrap_or(format!("#{}", m.index()))
+                );
+                // Reading accessors walks offsets from the file; guard against a
+                // malformed file making the gltf crate panic.
+                let part = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    read_primitive(&prim, &buffers, &world)
+                }))
+                .map_err(|_| bad(format!("{label}: malformed accessor data")))?;
+                match part {
+                    Ok((part, had_normals)) => {
+                        report.normals_from_file &= had_normals;
+                        mesh.append(part);
+                    }
+                    Err(Skip(reason)) => report.warnings.push(format!("{label} skipped: {reason}")),
+                }
+            }
+        }
+        for child in node.children() {
+            stack.push((child, world, depth + 1));
+        }
+    }
+    Ok((mesh, report))
+}
+
+struct Skip(String);
+
+fn read_primitive(
+    prim: &gltf::Primitive,
+    buffers: &[gltf::buffer::Data],
+    world: &DMat4,
+) -> Result<(TriangleMesh, bool), Skip> {
+    let mode = prim.mode();
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return Err(Skip(format!("mode {mode:?} has no triangles")));
+    }
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let positions: Vec<DVec3> = reader
+        .read_positions()
+        .ok_or_else(|| Skip("no POSITION attribute".into()))?
+        .map(|p| world.transform_point3(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)))
+        .collect();
+    let indices: Vec<u32> = match reader.read_indices() {
+        Some(ix) => ix.into_u32().collect(),
+        None => (0..positions.len() as u32).collect(),
+    };
+    let mut triangles: Vec<[u32; 3]> = match mode {
+        Mode::Triangles => indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        Mode::TriangleStrip => (2..indices.len())
+            .map(|i| {
+                if i % 2 == 0 {
+                    [indices[i - 2], indices[i - 1], indices[i]]
+                } else {
+                    [indices[i - 1], indices[i - 2], indices[i]]
+                }
+            })
+            .collect(),
+        _ => (2..indices.len())
+            .map(|i| [indices[0], indices[i - 1], indices[i]])
+            .collect(),
+    };
+    // glTF: a node matrix with negative determinant reverses the winding.
+    let linear = DMat3::from_mat4(*world);
+    if linear.determinant() < 0.0 {
+        for t in &mut triangles {
+            t.swap(1, 2);
+        }
+    }
+    let normal_matrix = linear.inverse().transpose();
+    let file_normals: Option<Vec<DVec3>> = reader.read_normals().map(|ns| {
+        ns.map(|n| {
+            (normal_matrix * DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64))
+                .try_normalize()
+                .unwrap_or(DVec3::NAN)
+        })
+        .collect()
+    });
+    let mut mesh = TriangleMesh {
+        positions,
+        normals: None,
+        triangles,
+    };
+    let had_normals = matches!(&file_normals, Some(n) if n.len() == mesh.positions.len());
+    // Bad indices would make normal computation index out of range: leave them for
+    // validate() to report, and skip computing.
+    let indices_ok = mesh
+        .triangles
+        .iter()
+        .all(|t| t.iter().all(|&k| (k as usize) < mesh.positions.len()));
+    mesh.normals = if had_normals {
+        file_normals
+    } else if indices_ok {
+        Some(mesh.computed_normals())
+    } else {
+        Some(vec![DVec3::Z; mesh.positions.len()])
+    };
+    Ok((mesh, had_normals))
+}
+
+/// The gltf crate's errors, in words a user can act on.
+fn describe(e: &gltf::Error) -> String {
+    match e {
+        gltf::Error::Io(io) => format!("cannot read it: {io}"),
+        gltf::Error::Deserialize(d) => format!("not valid glTF JSON: {d}"),
+        gltf::Error::Validation(list) => {
+            let items: Vec<String> = list
+                .iter()
+                .take(5)
+                .map(|(path, err)| format!("{}: {err}", path.as_str()))
+                .collect();
+            format!("invalid glTF: {}", items.join("; "))
+        }
+        other => other.to_string(),
+    }
+}

@@ -1,0 +1,153 @@
+//! The files of a trace run: per sensor `NAME.npy` (flux), `NAME_counts.npy`,
+//! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
+
+use super::{write_npy_f64, write_npy_u64, write_png, atomic_write, Provenance, Scale};
+use crate::scene::Scene;
+use crate::source::Source;
+use crate::trace::RunResult;
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Writes every output of a run into `dir` (created if needed); returns the paths.
+pub fn write_run(dir: &Path, scene: &Scene, result: &RunResult, provenance: &Provenance) -> std::io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir).map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+    let mut written = Vec::new();
+    let stats = statistics_json(scene, result);
+    let sources = sources_json(scene);
+    let mut sensor_summaries = Vec::new();
+    for (spec, image) in scene.sensors.iter().zip(&result.images) {
+        let stem = file_stem(&spec.name);
+        let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
+        let shape = [ny as u64, nx as u64];
+        let files = [
+            format!("{stem}.npy"),
+            format!("{stem}_counts.npy"),
+            format!("{stem}.png"),
+            format!("{stem}_log.png"),
+            format!("{stem}.json"),
+        ];
+        let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
+        write_npy_f64(&paths[0], &shape, &image.flux)?;
+        write_npy_u64(&paths[1], &shape, &image.counts)?;
+        write_png(&paths[2], nx, ny, &image.flux, Scale::Linear)?;
+        write_png(&paths[3], nx, ny, &image.flux, Scale::Log { decades: 5 })?;
+        let sensor = json!({
+            "name": spec.name,
+            "object": spec.object,
+            "size_mm": spec.size,
+            "pixels": spec.pixels,
+            "pixel_pitch_mm": spec.pitch(),
+            "layout": "image[iy, ix] (numpy row-major); ix along the sensor's local x, iy along local y; pixel (0, 0) has its corner at local (-size_x/2, -size_y/2); PNGs show +y up",
+            "units": {
+                "lengths": "mm",
+                "flux": "sum of photon weights per pixel (see sources[].weight)",
+                "counts": "number of photons per pixel",
+            },
+            "total_flux": image.total_flux(),
+            "total_counts": image.total_counts(),
+            "files": {
+                "flux_npy": files[0], "counts_npy": files[1],
+                "png_linear": files[2], "png_log": files[3],
+            },
+        });
+        let doc = json!({
+            "provenance": provenance,
+            "sensor": sensor,
+            "sources": sources,
+            "statistics": stats,
+        });
+        write_json(&paths[4], &doc)?;
+        sensor_summaries.push(sensor);
+        written.extend(paths);
+    }
+    let summary = json!({
+        "provenance": provenance,
+        "sensors": sensor_summaries,
+        "sources": sources,
+        "statistics": stats,
+        "warnings": scene.warnings,
+    });
+    let p = dir.join("summary.json");
+    write_json(&p, &summary)?;
+    written.push(p);
+    Ok(written)
+}
+
+/// Pretty JSON, written atomically.
+pub fn write_json(path: &Path, v: &Value) -> std::io::Result<()> {
+    let mut text = serde_json::to_string_pretty(v).expect("JSON of plain values");
+    text.push('\n');
+    atomic_write(path, text.as_bytes())
+}
+
+/// Object names may hold anything; file names get letters, digits, '-', '_', '.'.
+pub fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' })
+        .collect()
+}
+
+fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
+    let s = &r.stats;
+    let per_object: serde_json::Map<String, Value> = scene
+        .objects
+        .iter()
+        .zip(&s.hits_per_object)
+        .map(|(o, n)| (o.name.clone(), json!(n)))
+        .collect();
+    let per_sensor: serde_json::Map<String, Value> = scene
+        .sensors
+        .iter()
+        .zip(&s.recorded_per_sensor)
+        .map(|(o, n)| (o.name.clone(), json!(n)))
+        .collect();
+    json!({
+        "photons_emitted": s.photons_emitted,
+        "reached_sensor": s.reached_sensor,
+        "absorbed": s.absorbed,
+        "absorbed_mirror_back": s.absorbed_mirror_back,
+        "reflected_into_surface": s.reflected_into_surface,
+        "sensor_outside_area": s.sensor_outside_area,
+        "escaped": s.escaped,
+        "max_interactions_reached": s.max_interactions_reached,
+        "embree_queries": s.embree_queries,
+        "queries_per_photon": s.embree_queries as f64 / s.photons_emitted.max(1) as f64,
+        "hits_per_object": per_object,
+        "recorded_per_sensor": per_sensor,
+        "seconds": r.seconds,
+        "threads": r.threads,
+        "photons_per_second": s.photons_emitted as f64 / r.seconds.max(1e-9),
+        "sensor_photons_per_second": s.reached_sensor as f64 / r.seconds.max(1e-9),
+    })
+}
+
+fn sources_json(scene: &Scene) -> Value {
+    Value::Array(
+        scene
+            .sources
+            .iter()
+            .map(|s| match s {
+                Source::Parallel(p) => json!({
+                    "type": "parallel",
+                    "aperture_center_mm": p.center.to_array(),
+                    "aperture_radius_mm": p.radius,
+                    "aperture_inner_radius_mm": p.inner_radius,
+                    "aperture_area_mm2": p.area(),
+                    "direction": p.direction.to_array(),
+                    "spectrum_keV": p.spectrum,
+                    "weight": s.describe_weight(),
+                }),
+                Source::Point(p) => json!({
+                    "type": "point",
+                    "position_mm": p.position.to_array(),
+                    "radius_mm": p.radius,
+                    "target_center_mm": p.target_center.to_array(),
+                    "target_radius_mm": p.target_radius,
+                    "target_inner_radius_mm": p.target_inner_radius,
+                    "spectrum_keV": p.spectrum,
+                    "weight": s.describe_weight(),
+                }),
+            })
+            .collect(),
+    )
+}

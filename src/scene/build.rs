@@ -1,0 +1,454 @@
+//! Validating a scene description and instantiating it: materials resolved, meshes
+//! loaded, analytic shapes placed, and everything handed to Embree.
+
+use super::desc::*;
+use super::error::SceneError;
+use super::vars;
+use crate::embree::{CommittedScene, Device};
+use crate::geometry::{
+    AnalyticObject, AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape,
+    Sphere, Transform,
+};
+use crate::material::{Material, Side};
+use crate::mesh::{self, TriangleMesh};
+use crate::output::sha256_hex;
+use crate::sensor::SensorSpec;
+use crate::source::{ParallelBeam, PointSource, Source, Spectrum};
+use glam::{DAffine3, DVec3};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+/// A built scene, ready to trace.
+pub struct Scene {
+    pub path: PathBuf,
+    pub text_sha256: String,
+    pub overrides: Vec<String>,
+    pub vars: BTreeMap<String, toml::Value>,
+    pub objects: Vec<Object>,
+    pub sensors: Vec<SensorSpec>,
+    pub sources: Vec<Source>,
+    pub max_interactions: u32,
+    pub embree: CommittedScene<AnalyticObject>,
+    /// Things worth telling the user (skipped mesh primitives, ...).
+    pub warnings: Vec<String>,
+    pub triangle_count: usize,
+}
+
+/// One object of a built scene; its index is its Embree geometry id.
+pub struct Object {
+    pub name: String,
+    pub material: Material,
+    /// Local frame → world (for sensors' pixel grids and for reporting).
+    pub transform: Transform,
+    pub geometry: ObjectGeometry,
+}
+
+pub enum ObjectGeometry {
+    Analytic(AnalyticObject),
+    Mesh(MeshObject),
+}
+
+/// A mesh in world space, kept in f64 for refining Embree's hits.
+pub struct MeshObject {
+    pub positions: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Interpolated normals, present only when the object reflects on them.
+    pub smooth_normals: Option<Vec<DVec3>>,
+}
+
+impl Scene {
+    /// Reads, substitutes, parses, validates and builds a scene file.
+    pub fn load(
+        device: &Device,
+        path: &Path,
+        overrides: &[String],
+    ) -> Result<Scene, SceneError> {
+        let original = std::fs::read_to_string(path)
+            .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+        let (text, vars) = vars::substitute(path, &original, overrides)?;
+        let desc: SceneDesc =
+            toml::from_str(&text).map_err(|e| SceneError::from_toml(path, &text, &e))?;
+        let mut b = Builder {
+            path,
+            text: &text,
+            dir: path.parent().unwrap_or(Path::new(".")).to_path_buf(),
+        };
+        let mut scene = b.build(device, desc)?;
+        scene.text_sha256 = sha256_hex(original.as_bytes());
+        scene.overrides = overrides.to_vec();
+        scene.vars = vars;
+        Ok(scene)
+    }
+
+    /// Index of the object with this name.
+    pub fn object_index(&self, name: &str) -> Option<usize> {
+        self.objects.iter().position(|o| o.name == name)
+    }
+}
+
+struct Builder<'a> {
+    path: &'a Path,
+    text: &'a str,
+    dir: PathBuf,
+}
+
+impl Builder<'_> {
+    fn err<T>(&self, span: std::ops::Range<usize>, msg: impl Into<String>) -> Result<T, SceneError> {
+        if span.is_empty() && span.start == 0 {
+            Err(SceneError::new(self.path, None, msg))
+        } else {
+            Err(SceneError::at(self.path, self.text, span.start, msg))
+        }
+    }
+
+    fn build(&mut self, device: &Device, desc: SceneDesc) -> Result<Scene, SceneError> {
+        let max_interactions = *desc.max_interactions.get_ref();
+        if max_interactions == 0 {
+            return self.err(desc.max_interactions.span(), "max_interactions must be at least 1");
+        }
+        // Materials: the file's, plus the two built-in names.
+        let mut materials: BTreeMap<String, (MaterialDesc, std::ops::Range<usize>)> = BTreeMap::new();
+        materials.insert("mirror".into(), (MaterialDesc::Mirror(MirrorDesc { side: SideDesc::Both }), 0..0));
+        materials.insert("absorber".into(), (MaterialDesc::Absorber(AbsorberDesc {}), 0..0));
+        for (name, m) in desc.materials {
+            let span = m.span();
+            materials.insert(name, (m.into_inner(), span));
+        }
+        let mut used_materials = std::collections::BTreeSet::new();
+
+        let mut objects = Vec::new();
+        let mut sensors = Vec::new();
+        let mut warnings = Vec::new();
+        let mut embree = device.scene::<AnalyticObject>();
+        let mut triangle_count = 0;
+        let mut names = std::collections::HashSet::new();
+        for (index, od) in desc.objects.into_iter().enumerate() {
+            let ospan = od.span();
+            let od = od.into_inner();
+            let name = od.name.clone().unwrap_or_else(|| format!("object{index}"));
+            if !names.insert(name.clone()) {
+                return self.err(ospan, format!("two objects are named `{name}`; names must be unique"));
+            }
+            let transform = self.transform(&od.transform)?;
+            let mname = od.material.get_ref();
+            let Some((mdesc, mspan)) = materials.get(mname) else {
+                let known: Vec<&String> = materials.keys().collect();
+                return self.err(
+                    od.material.span(),
+                    format!("object `{name}`: unknown material `{mname}` (known: {known:?})"),
+                );
+            };
+            used_materials.insert(mname.clone());
+            let material = match mdesc {
+                MaterialDesc::Mirror(m) => Material::PerfectMirror {
+                    side: match m.side {
+                        SideDesc::Front => Side::Front,
+                        SideDesc::Back => Side::Back,
+                        SideDesc::Both => Side::Both,
+                    },
+                },
+                MaterialDesc::Absorber(_) => Material::Absorber,
+                MaterialDesc::Sensor(s) => {
+                    if !(s.size.iter().all(|v| v.is_finite() && *v > 0.0)) {
+                        return self.err(mspan.clone(), format!("material `{mname}`: size must be two positive lengths (mm)"));
+                    }
+                    if s.pixels.contains(&0) || (s.pixels[0] as u64 * s.pixels[1] as u64) > (1 << 28) {
+                        return self.err(mspan.clone(), format!("material `{mname}`: pixels must be positive (and at most 2^28 in all)"));
+                    }
+                    sensors.push(SensorSpec {
+                        name: name.clone(),
+                        object: index,
+                        size: s.size,
+                        pixels: s.pixels,
+                    });
+                    Material::Sensor { sensor: sensors.len() - 1 }
+                }
+            };
+            let id = u32::try_from(index).map_err(|_| SceneError::new(self.path, None, "too many objects"))?;
+            let sspan = od.shape.span();
+            let geometry = match od.shape.get_ref() {
+                ShapeDesc::Mesh(m) => {
+                    if od.tessellate.is_some() {
+                        return self.err(sspan, format!("object `{name}`: `tessellate` applies to analytic shapes, not to meshes"));
+                    }
+                    let file = self.dir.join(&m.file);
+                    if !file.is_file() {
+                        return self.err(sspan, format!("object `{name}`: mesh file {} does not exist", file.display()));
+                    }
+                    let (mesh, report) = mesh::load(&file).map_err(|e| {
+                        SceneError::at(self.path, self.text, sspan.start, format!("object `{name}`: {e}"))
+                    })?;
+                    warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", file.display())));
+                    self.mesh_object(mesh, &transform, od.smooth_normals)
+                }
+                shape => {
+                    let shape = self.shape(shape, sspan.clone())?;
+                    match &od.tessellate {
+                        Some(t) => {
+                            let r = t.get_ref();
+                            if r.segments == 0 || r.rings == 0 || r.segments * r.rings > 50_000_000 {
+                                return self.err(t.span(), "tessellate: segments and rings must be positive (and their product at most 5e7)");
+                            }
+                            let mesh = shape.tessellate(Resolution { segments: r.segments, rings: r.rings });
+                            self.mesh_object(mesh, &transform, od.smooth_normals)
+                        }
+                        None => {
+                            if od.smooth_normals {
+                                return self.err(ospan, format!("object `{name}`: smooth_normals applies to meshes (analytic shapes use their exact normal)"));
+                            }
+                            ObjectGeometry::Analytic(AnalyticObject { shape, transform })
+                        }
+                    }
+                }
+            };
+            match &geometry {
+                ObjectGeometry::Analytic(a) => embree.add_user(id, *a),
+                ObjectGeometry::Mesh(m) => {
+                    triangle_count += m.triangles.len();
+                    let v32: Vec<[f32; 3]> = m.positions.iter().map(|p| p.as_vec3().to_array()).collect();
+                    embree.add_triangles(id, &v32, &m.triangles)
+                }
+            }
+            .map_err(|e| SceneError::new(self.path, None, format!("object `{name}`: {e}")))?;
+            objects.push(Object { name, material, transform, geometry });
+        }
+        for (name, (_, span)) in &materials {
+            if !used_materials.contains(name) && !span.is_empty() {
+                return self.err(span.clone(), format!("material `{name}` is not used by any object"));
+            }
+        }
+        if desc.sources.is_empty() {
+            return Err(SceneError::new(self.path, None, "the scene has no [[sources]]"));
+        }
+        let sources = desc
+            .sources
+            .iter()
+            .map(|s| self.source(s.get_ref(), s.span()))
+            .collect::<Result<Vec<_>, _>>()?;
+        let embree = embree
+            .commit()
+            .map_err(|e| SceneError::new(self.path, None, format!("Embree could not build the scene: {e}")))?;
+        Ok(Scene {
+            path: self.path.to_path_buf(),
+            text_sha256: String::new(),
+            overrides: Vec::new(),
+            vars: BTreeMap::new(),
+            objects,
+            sensors,
+            sources,
+            max_interactions,
+            embree,
+            warnings,
+            triangle_count,
+        })
+    }
+
+    fn mesh_object(&self, mesh: TriangleMesh, transform: &Transform, smooth: bool) -> ObjectGeometry {
+        let world = mesh.transformed(transform);
+        ObjectGeometry::Mesh(MeshObject {
+            positions: world.positions,
+            triangles: world.triangles,
+            smooth_normals: if smooth { world.normals } else { None },
+        })
+    }
+
+    fn transform(&self, steps: &[Spanned<TransformStep>]) -> Result<Transform, SceneError> {
+        let mut m = DAffine3::IDENTITY;
+        for step in steps {
+            let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+            let next = match step.get_ref() {
+                TransformStep::Translate(t) if finite(t) => DAffine3::from_translation(DVec3::from(*t)),
+                TransformStep::Rotate(r) if finite(&r.axis) && r.angle.is_finite() => {
+                    let Some(axis) = DVec3::from(r.axis).try_normalize() else {
+                        return self.err(step.span(), "rotate: axis must not be zero");
+                    };
+                    DAffine3::from_axis_angle(axis, r.angle.to_radians())
+                }
+                TransformStep::Scale(s) => {
+                    let v = match s {
+                        ScaleDesc::Uniform(k) => DVec3::splat(*k),
+                        ScaleDesc::PerAxis(a) => DVec3::from(*a),
+                    };
+                    if !v.is_finite() || v.x * v.y * v.z == 0.0 {
+                        return self.err(step.span(), "scale: factors must be finite and non-zero");
+                    }
+                    DAffine3::from_scale(v)
+                }
+                _ => return self.err(step.span(), "transform values must be finite numbers"),
+            };
+            m = next * m;
+        }
+        Ok(Transform::from_affine(m))
+    }
+
+    fn shape(&self, d: &ShapeDesc, span: std::ops::Range<usize>) -> Result<Shape, SceneError> {
+        let bad = |msg: &str| -> Result<Shape, SceneError> { self.err(span.clone(), format!("shape: {msg}")) };
+        let all_finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let azimuth = |a: &Option<[f64; 2]>| -> Result<AzimuthRange, SceneError> {
+            match a {
+                None => Ok(AzimuthRange::FULL),
+                Some([from, to]) if from.is_finite() && to.is_finite() && to > from && to - from <= 360.0 => {
+                    Ok(AzimuthRange { start_deg: *from, span_deg: to - from })
+                }
+                Some(_) => self.err(span.clone(), "shape: azimuth = [from, to] needs from < to ≤ from + 360 (degrees)"),
+            }
+        };
+        Ok(match d {
+            ShapeDesc::Cone(c) => {
+                if !all_finite(&[c.radius_start, c.radius_end, c.z_start, c.z_end])
+                    || c.radius_start < 0.0 || c.radius_end < 0.0 || c.z_start == c.z_end
+                    || (c.radius_start == 0.0 && c.radius_end == 0.0)
+                {
+                    return bad("cone needs radii ≥ 0 (not both 0) and z_start ≠ z_end");
+                }
+                Shape::Revolution(RevolutionQuadric::cone(c.radius_start, c.z_start, c.radius_end, c.z_end, azimuth(&c.azimuth)?))
+            }
+            ShapeDesc::Cylinder(c) => {
+                if !all_finite(&[c.radius, c.z_start, c.z_end]) || c.radius <= 0.0 || c.z_start == c.z_end {
+                    return bad("cylinder needs radius > 0 and z_start ≠ z_end");
+                }
+                Shape::Revolution(RevolutionQuadric::cylinder(c.radius, c.z_start, c.z_end, azimuth(&c.azimuth)?))
+            }
+            ShapeDesc::Paraboloid(p) => {
+                if !all_finite(&[p.focal_length, p.z_start, p.z_end]) || p.focal_length <= 0.0 || p.z_start == p.z_end
+                    || p.z_start.min(p.z_end) < -p.focal_length
+                {
+                    return bad("paraboloid needs focal_length > 0 and z_start ≠ z_end, both ≥ −focal_length (the vertex)");
+                }
+                Shape::Revolution(RevolutionQuadric::paraboloid(p.focal_length, p.z_start, p.z_end, azimuth(&p.azimuth)?))
+            }
+            ShapeDesc::Hyperboloid(h) => {
+                let (lo, hi) = (h.z_start.min(h.z_end), h.z_start.max(h.z_end));
+                if !all_finite(&[h.semi_axis_a, h.semi_axis_b, lo, hi]) || h.semi_axis_a <= 0.0 || h.semi_axis_b <= 0.0
+                    || lo == hi || !(lo >= h.semi_axis_a || hi <= -h.semi_axis_a)
+                {
+                    return bad("hyperboloid needs semi axes > 0 and a z range on one sheet (|z| ≥ semi_axis_a)");
+                }
+                Shape::Revolution(RevolutionQuadric::hyperboloid(h.semi_axis_a, h.semi_axis_b, h.z_start, h.z_end, azimuth(&h.azimuth)?))
+            }
+            ShapeDesc::Disk(c) => {
+                if !all_finite(&[c.radius, c.inner_radius]) || c.radius <= 0.0 || c.inner_radius < 0.0 || c.inner_radius >= c.radius {
+                    return bad("disk needs 0 ≤ inner_radius < radius");
+                }
+                Shape::Disk(Disk { inner_radius: c.inner_radius, outer_radius: c.radius, azimuth: azimuth(&c.azimuth)? })
+            }
+            ShapeDesc::Rectangle(r) => {
+                if !all_finite(&r.size) || r.size.iter().any(|v| *v <= 0.0) {
+                    return bad("rectangle needs size = [width, height] > 0");
+                }
+                Shape::Rectangle(Rectangle { width: r.size[0], height: r.size[1] })
+            }
+            ShapeDesc::Box(b) => {
+                if !all_finite(&b.size) || b.size.iter().any(|v| *v <= 0.0) {
+                    return bad("box needs size = [x, y, z] > 0");
+                }
+                Shape::Cuboid(Cuboid { size: DVec3::from(b.size) })
+            }
+            ShapeDesc::Sphere(s) => {
+                if !s.radius.is_finite() || s.radius <= 0.0 {
+                    return bad("sphere needs radius > 0");
+                }
+                Shape::Sphere(Sphere { radius: s.radius })
+            }
+            ShapeDesc::Mesh(_) => unreachable!("meshes are handled by the caller"),
+        })
+    }
+
+    fn source(&self, d: &SourceDesc, span: std::ops::Range<usize>) -> Result<Source, SceneError> {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        let spectrum = |e: &EnergyDesc| -> Result<Spectrum, SceneError> {
+            match *e {
+                EnergyDesc::Line(x) if x.is_finite() && x > 0.0 => Ok(Spectrum::Line(x)),
+                EnergyDesc::Band([a, b]) if a.is_finite() && b.is_finite() && a > 0.0 && b > a => Ok(Spectrum::Band(a, b)),
+                _ => self.err(span.clone(), "source energy: { line = E } with E > 0 or { band = [min, max] } with 0 < min < max (keV)"),
+            }
+        };
+        let aperture_ok = |a: &ApertureDesc| {
+            finite(&a.center) && finite(&[a.radius, a.inner_radius]) && a.radius > 0.0 && a.inner_radius >= 0.0 && a.inner_radius < a.radius
+        };
+        match d {
+            SourceDesc::Parallel(p) => {
+                if !aperture_ok(&p.aperture) {
+                    return self.err(span, "parallel source: aperture needs finite center and 0 ≤ inner_radius < radius");
+                }
+                let Some(axis) = DVec3::from(p.direction).try_normalize() else {
+                    return self.err(span, "parallel source: direction must be a non-zero vector");
+                };
+                if !finite(&[p.off_axis, p.off_axis_azimuth]) || p.off_axis.abs() >= 90.0 {
+                    return self.err(span, "parallel source: off_axis must be below 90 degrees");
+                }
+                Ok(Source::Parallel(ParallelBeam::new(
+                    DVec3::from(p.aperture.center), axis, p.off_axis, p.off_axis_azimuth,
+                    p.aperture.inner_radius, p.aperture.radius, spectrum(&p.energy)?,
+                )))
+            }
+            SourceDesc::Point(p) => {
+                if !aperture_ok(&p.target) {
+                    return self.err(span, "point source: target needs finite center and 0 ≤ inner_radius < radius");
+                }
+                if !finite(&p.position) || !p.radius.is_finite() || p.radius < 0.0 {
+                    return self.err(span, "point source: position must be finite and radius ≥ 0");
+                }
+                let dist = (DVec3::from(p.position) - DVec3::from(p.target.center)).length();
+                if dist <= p.radius.max(p.target.radius) {
+                    return self.err(span, "point source: the source must be farther from the target centre than both radii");
+                }
+                Ok(Source::Point(PointSource::new(
+                    DVec3::from(p.position), p.radius, DVec3::from(p.target.center),
+                    p.target.inner_radius, p.target.radius, spectrum(&p.energy)?,
+                )))
+            }
+        }
+    }
+}
+
+/// An analytic object of a scene file, for `traxer tessellate`.
+pub struct NamedShape {
+    pub name: String,
+    pub shape: Shape,
+    pub transform: Transform,
+    /// The object's own `tessellate` setting, if it has one.
+    pub resolution: Option<Resolution>,
+}
+
+/// The analytic objects of a scene file (meshes are skipped), without building it.
+pub fn analytic_shapes(path: &Path, overrides: &[String]) -> Result<Vec<NamedShape>, SceneError> {
+    let original = std::fs::read_to_string(path)
+        .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
+    let (text, _) = vars::substitute(path, &original, overrides)?;
+    let desc: SceneDesc = toml::from_str(&text).map_err(|e| SceneError::from_toml(path, &text, &e))?;
+    let b = Builder { path, text: &text, dir: PathBuf::new() };
+    let mut out = Vec::new();
+    for (index, od) in desc.objects.iter().enumerate() {
+        let od = od.get_ref();
+        if matches!(od.shape.get_ref(), ShapeDesc::Mesh(_)) {
+            continue;
+        }
+        out.push(NamedShape {
+            name: od.name.clone().unwrap_or_else(|| format!("object{index}")),
+            shape: b.shape(od.shape.get_ref(), od.shape.span())?,
+            transform: b.transform(&od.transform)?,
+            resolution: od.tessellate.as_ref().map(|t| Resolution { segments: t.get_ref().segments, rings: t.get_ref().rings }),
+        });
+    }
+    Ok(out)
+}
+
+/// Parses a shape written inline, e.g. `type = "cone", radius_start = 63.2, ...`
+/// (the inside of a scene file's `shape = { ... }`).
+pub fn inline_shape(text: &str) -> Result<Shape, SceneError> {
+    #[derive(serde::Deserialize)]
+    #[serde(deny_unknown_fields)]
+    struct Wrapper {
+        shape: Spanned<ShapeDesc>,
+    }
+    let path = Path::new("--shape");
+    let full = format!("shape = {{ {text} }}");
+    let w: Wrapper = toml::from_str(&full).map_err(|e| SceneError::new(path, None, e.message().to_string()))?;
+    if matches!(w.shape.get_ref(), ShapeDesc::Mesh(_)) {
+        return Err(SceneError::new(path, None, "a mesh is already a mesh; give an analytic shape"));
+    }
+    let b = Builder { path, text: &full, dir: PathBuf::new() };
+    b.shape(w.shape.get_ref(), w.shape.span())
+}

@@ -1,0 +1,349 @@
+//! The scene file format: plain serde data, exactly as written in the TOML file.
+//! Every type's documentation is its user documentation (see docs/scene-format.md
+//! for the assembled reference). Units: millimetres, keV, degrees.
+//!
+//! Data flow: `load` parses text into a [`SceneDesc`]; `build` validates it and
+//! turns it into a `Scene`.
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use toml::Spanned;
+
+/// A whole scene file.
+///
+/// ```toml
+/// max_interactions = 16        # optional, default 16
+/// [vars]                       # optional: defaults for -D name=value
+/// energy = 1.49
+/// [materials.detector]
+/// type = "sensor"
+/// size = [14.0, 14.0]
+/// pixels = [1000, 1000]
+/// [[objects]]  ...
+/// [[sources]]  ...
+/// ```
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneDesc {
+    /// Scene variables (see `vars`); already substituted when this is parsed.
+    #[serde(default)]
+    pub vars: toml::Table,
+    /// Interactions after which a photon is given up (counted in the statistics).
+    #[serde(default = "default_max_interactions")]
+    pub max_interactions: Spanned<u32>,
+    /// Named materials. `mirror` (perfect, both sides) and `absorber` exist
+    /// without being declared.
+    #[serde(default)]
+    pub materials: BTreeMap<String, Spanned<MaterialDesc>>,
+    #[serde(default)]
+    pub objects: Vec<Spanned<ObjectDesc>>,
+    #[serde(default)]
+    pub sources: Vec<Spanned<SourceDesc>>,
+}
+
+fn default_max_interactions() -> Spanned<u32> {
+    Spanned::new(0..0, 16)
+}
+
+/// What happens to a photon that hits an object.
+///
+/// ```toml
+/// [materials.shell]
+/// type = "mirror"      # perfect mirror, R = 1
+/// side = "front"       # "front", "back" or "both" (default): the other side absorbs
+///
+/// [materials.baffle]
+/// type = "absorber"
+///
+/// [materials.detector]
+/// type = "sensor"      # records and absorbs every photon
+/// size = [14.0, 14.0]  # mm, along the object's local x and y, centred on its origin
+/// pixels = [1000, 1000]
+/// ```
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum MaterialDesc {
+    Mirror(MirrorDesc),
+    Absorber(AbsorberDesc),
+    Sensor(SensorDesc),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MirrorDesc {
+    #[serde(default)]
+    pub side: SideDesc,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AbsorberDesc {}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorDesc {
+    pub size: [f64; 2],
+    pub pixels: [u32; 2],
+}
+
+/// Which side of a surface reflects. The front is the side the shape's normal
+/// points to: towards the axis for cones, cylinders, paraboloids and hyperboloids;
+/// local +z for disks and rectangles; outwards for boxes and spheres; for meshes
+/// the side from which the triangles are counter-clockwise.
+#[derive(Debug, Deserialize, Default, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SideDesc {
+    Front,
+    Back,
+    #[default]
+    Both,
+}
+
+/// One object: a shape, where it is, what it is made of.
+///
+/// ```toml
+/// [[objects]]
+/// name = "front shell 1"                  # optional; used in statistics and file names
+/// material = "shell"
+/// shape = { type = "cone", radius_start = 63.24, z_start = 229.0,
+///                          radius_end = 60.91, z_end = 2.0, azimuth = [-15.0, 15.0] }
+/// transform = [ { rotate = { axis = [0, 0, 1], angle = 14.0 } },
+///               { translate = [0, 0, 10.0] } ]   # applied in this order
+/// tessellate = { segments = 500, rings = 20 }     # optional: trace a mesh of it instead
+/// smooth_normals = true                           # meshes: reflect on interpolated normals
+/// ```
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ObjectDesc {
+    #[serde(default)]
+    pub name: Option<String>,
+    pub shape: Spanned<ShapeDesc>,
+    pub material: Spanned<String>,
+    #[serde(default)]
+    pub transform: Vec<Spanned<TransformStep>>,
+    #[serde(default)]
+    pub tessellate: Option<Spanned<TessellateDesc>>,
+    #[serde(default)]
+    pub smooth_normals: bool,
+}
+
+/// Tessellation resolution of an analytic shape.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct TessellateDesc {
+    /// Divisions around the azimuth range (x divisions for a rectangle).
+    pub segments: usize,
+    /// Divisions along the axis (radial for a disk, y for a rectangle,
+    /// pole to pole for a sphere).
+    pub rings: usize,
+}
+
+/// A placement step; a list of them is applied in order (the first one acts on
+/// the shape's local frame first).
+///
+/// ```toml
+/// { translate = [x, y, z] }
+/// { rotate = { axis = [x, y, z], angle = 30.0 } }   # degrees, right-handed
+/// { scale = 2.0 }  or  { scale = [sx, sy, sz] }
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum TransformStep {
+    Translate([f64; 3]),
+    Rotate(RotateDesc),
+    Scale(ScaleDesc),
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct RotateDesc {
+    pub axis: [f64; 3],
+    /// Degrees.
+    pub angle: f64,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(untagged)]
+pub enum ScaleDesc {
+    Uniform(f64),
+    PerAxis([f64; 3]),
+}
+
+/// The shapes. Analytic ones are intersected exactly in f64; `mesh` imports a
+/// file. Surfaces of revolution share the local z axis; `azimuth = [from, to]`
+/// (degrees from +x towards +y) limits them to a segment (default: full circle).
+///
+/// ```toml
+/// shape = { type = "cone", radius_start = 63.24, z_start = 229.0, radius_end = 60.91, z_end = 2.0 }
+/// shape = { type = "cylinder", radius = 21.5, z_start = 0.0, z_end = 9260.0 }
+/// shape = { type = "paraboloid", focal_length = 4.0, z_start = 1500.0, z_end = 1600.0 }
+///     # r² = 4q(z + q): focus at the local origin, opening towards +z
+/// shape = { type = "hyperboloid", semi_axis_a = 700.0, semi_axis_b = 30.0, z_start = 760.0, z_end = 850.0 }
+///     # z²/a² − r²/b² = 1, centred at the origin, foci at z = ±√(a² + b²)
+/// shape = { type = "disk", radius = 10.0, inner_radius = 2.0 }    # in local z = 0, facing +z
+/// shape = { type = "rectangle", size = [14.0, 14.0] }             # in local z = 0, facing +z
+/// shape = { type = "box", size = [1.0, 2.0, 3.0] }                # centred on the origin
+/// shape = { type = "sphere", radius = 5.0 }
+/// shape = { type = "mesh", file = "../meshes/bore.gltf" }         # .gltf, .glb or .obj
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum ShapeDesc {
+    Cone(ConeDesc),
+    Cylinder(CylinderDesc),
+    Paraboloid(ParaboloidDesc),
+    Hyperboloid(HyperboloidDesc),
+    Disk(DiskDesc),
+    Rectangle(RectangleDesc),
+    Box(BoxDesc),
+    Sphere(SphereDesc),
+    Mesh(MeshDesc),
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ConeDesc {
+    pub radius_start: f64,
+    pub z_start: f64,
+    pub radius_end: f64,
+    pub z_end: f64,
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct CylinderDesc {
+    pub radius: f64,
+    pub z_start: f64,
+    pub z_end: f64,
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ParaboloidDesc {
+    /// Vertex-to-focus distance q (mm).
+    pub focal_length: f64,
+    pub z_start: f64,
+    pub z_end: f64,
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct HyperboloidDesc {
+    pub semi_axis_a: f64,
+    pub semi_axis_b: f64,
+    pub z_start: f64,
+    pub z_end: f64,
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct DiskDesc {
+    pub radius: f64,
+    #[serde(default)]
+    pub inner_radius: f64,
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct RectangleDesc {
+    pub size: [f64; 2],
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct BoxDesc {
+    pub size: [f64; 3],
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SphereDesc {
+    pub radius: f64,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct MeshDesc {
+    /// Path relative to the scene file. Coordinates are read as millimetres
+    /// (glTF's convention is metres: add `{ scale = 1000.0 }` for such files).
+    pub file: String,
+}
+
+/// Photon sources. With several sources, photon i comes from source i mod n.
+///
+/// ```toml
+/// [[sources]]
+/// type = "parallel"                 # plane wave filling an aperture disk
+/// direction = [0.0, 0.0, -1.0]      # nominal direction of travel (default −z)
+/// off_axis = 0.0                    # degrees between the beam and `direction`
+/// off_axis_azimuth = 0.0            # degrees, about `direction`, from the x–z plane
+/// aperture = { center = [0, 0, 300], radius = 110.0, inner_radius = 0.0 }
+/// energy = { line = 1.49 }          # keV; or { band = [1.48, 1.50] } (uniform)
+///
+/// [[sources]]
+/// type = "point"                    # disk of `radius` emitting isotropically
+/// position = [0, 0, 130297.0]
+/// radius = 0.42                     # 0 for a true point
+/// target = { center = [0, 0, 300], radius = 110.0 }   # disk the photons are aimed at
+/// energy = { band = [1.48, 1.50] }
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum SourceDesc {
+    Parallel(ParallelDesc),
+    Point(PointDesc),
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelDesc {
+    #[serde(default = "minus_z")]
+    pub direction: [f64; 3],
+    #[serde(default)]
+    pub off_axis: f64,
+    #[serde(default)]
+    pub off_axis_azimuth: f64,
+    pub aperture: ApertureDesc,
+    pub energy: EnergyDesc,
+}
+
+fn minus_z() -> [f64; 3] {
+    [0.0, 0.0, -1.0]
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ApertureDesc {
+    pub center: [f64; 3],
+    pub radius: f64,
+    #[serde(default)]
+    pub inner_radius: f64,
+}
+
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct PointDesc {
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub radius: f64,
+    pub target: ApertureDesc,
+    pub energy: EnergyDesc,
+}
+
+/// Photon energies in keV.
+#[derive(Debug, Deserialize, Clone)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+pub enum EnergyDesc {
+    Line(f64),
+    Band([f64; 2]),
+}

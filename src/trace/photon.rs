@@ -1,0 +1,207 @@
+//! The life of one photon: emit, intersect, interact, repeat.
+
+use super::stats::Statistics;
+use crate::embree::{Query, INVALID_ID};
+use crate::material::Material;
+use crate::random::PhotonRng;
+use crate::scene::{ObjectGeometry, Scene};
+use crate::source::Photon;
+use glam::DVec3;
+
+/// Where and how a ray met a surface, all in f64 world coordinates.
+#[derive(Clone, Copy, Debug)]
+pub struct SurfaceHit {
+    pub object: usize,
+    pub point: DVec3,
+    /// Unit normal of the surface as built (the facet for meshes), on the front side.
+    pub geometric_normal: DVec3,
+    /// Unit normal used for reflection: interpolated for smooth meshes, else the
+    /// geometric one.
+    pub shading_normal: DVec3,
+    /// Whether the surface is a triangle (its hit point came from f32 and the next
+    /// ray must start off the surface) or analytic (exact; the next query just
+    /// tells the shape the ray starts on it).
+    pub on_mesh: bool,
+}
+
+/// A photon recorded by a sensor.
+#[derive(Clone, Copy, Debug)]
+pub struct Record {
+    pub sensor: u32,
+    pub pixel: u32,
+    pub weight: f64,
+    pub energy: f64,
+}
+
+/// Hook called with every Embree query (benchmarks record rays with it; the
+/// ordinary run uses `()`, which compiles to nothing).
+pub trait QueryHook {
+    fn query(&mut self, q: &Query);
+}
+
+impl QueryHook for () {
+    #[inline(always)]
+    fn query(&mut self, _: &Query) {}
+}
+
+/// Offset (mm) that moves a point reliably off an f32 triangle it lies on: a few
+/// f32 ulps of the largest coordinate, so it scales with the scene (pbrt's
+/// OffsetRayOrigin idea; ~2e-4 mm at 100 mm).
+#[inline]
+fn surface_offset(p: DVec3) -> f64 {
+    (p.abs().max_element() + 1.0) * (16.0 * f32::EPSILON as f64)
+}
+
+/// The query for a ray from `origin` along `dir` that leaves the surface `start`
+/// (if any): off a triangle by a small offset to the side the ray goes to; from an
+/// analytic surface exactly, telling the shape to ignore its own root at t ≈ 0.
+#[inline]
+pub fn query_leaving(origin: DVec3, dir: DVec3, start: Option<&SurfaceHit>) -> Query {
+    let (origin, start_geometry) = match start {
+        Some(h) if h.on_mesh => {
+            let side = if dir.dot(h.geometric_normal) >= 0.0 { 1.0 } else { -1.0 };
+            (h.point + h.geometric_normal * (side * surface_offset(h.point)), INVALID_ID)
+        }
+        Some(h) => (origin, h.object as u32),
+        None => (origin, INVALID_ID),
+    };
+    Query {
+        origin: origin.to_array(),
+        dir: dir.to_array(),
+        t_max: f64::INFINITY,
+        start_geometry,
+    }
+}
+
+/// Nearest surface along a ray; `start` is the surface the ray leaves, if any.
+#[inline]
+pub fn intersect(scene: &Scene, origin: DVec3, dir: DVec3, start: Option<&SurfaceHit>) -> Option<SurfaceHit> {
+    intersect_query(scene, &query_leaving(origin, dir, start), &mut ())
+}
+
+#[inline]
+pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> Option<SurfaceHit> {
+    hook.query(q);
+    let hit = scene.embree.intersect(q)?;
+    let object = hit.geometry as usize;
+    let origin = DVec3::from(q.origin);
+    let dir = DVec3::from(q.dir);
+    match &scene.objects[object].geometry {
+        ObjectGeometry::Analytic(a) => {
+            let point = origin + dir * hit.t;
+            let n = a.normal_world(point);
+            Some(SurfaceHit {
+                object,
+                point,
+                geometric_normal: n,
+                shading_normal: n,
+                on_mesh: false,
+            })
+        }
+        ObjectGeometry::Mesh(m) => {
+            let [i0, i1, i2] = m.triangles[hit.primitive as usize];
+            let (p0, p1, p2) = (
+                m.positions[i0 as usize],
+                m.positions[i1 as usize],
+                m.positions[i2 as usize],
+            );
+            let n = (p1 - p0).cross(p2 - p0);
+            // Refine Embree's f32 distance on the f64 plane of the triangle.
+            let denom = dir.dot(n);
+            let t = if denom != 0.0 { (p0 - origin).dot(n) / denom } else { hit.t };
+            let point = origin + dir * t;
+            let geometric_normal = n.normalize();
+            let shading_normal = match &m.smooth_normals {
+                Some(ns) => {
+                    let (u, v) = (hit.u as f64, hit.v as f64);
+                    let s = ns[i0 as usize] * (1.0 - u - v) + ns[i1 as usize] * u + ns[i2 as usize] * v;
+                    let s = s.try_normalize().unwrap_or(geometric_normal);
+                    // Keep the interpolated normal on the facet's front side.
+                    if s.dot(geometric_normal) < 0.0 { -s } else { s }
+                }
+                None => geometric_normal,
+            };
+            Some(SurfaceHit {
+                object,
+                point,
+                geometric_normal,
+                shading_normal,
+                on_mesh: true,
+            })
+        }
+    }
+}
+
+/// Mirror reflection of `d` about unit normal `n`.
+#[inline]
+pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
+    d - n * (2.0 * d.dot(n))
+}
+
+/// Traces one photon to its end, updating `stats` and reporting a sensor record.
+#[inline]
+pub fn trace_photon<H: QueryHook>(
+    scene: &Scene,
+    mut photon: Photon,
+    _rng: &mut PhotonRng,
+    stats: &mut Statistics,
+    hook: &mut H,
+) -> Option<Record> {
+    stats.photons_emitted += 1;
+    let mut start: Option<SurfaceHit> = None;
+    for _ in 0..scene.max_interactions {
+        let q = query_leaving(photon.origin, photon.dir, start.as_ref());
+        stats.embree_queries += 1;
+        let Some(hit) = intersect_query(scene, &q, hook) else {
+            stats.escaped += 1;
+            return None;
+        };
+        stats.hits_per_object[hit.object] += 1;
+        let object = &scene.objects[hit.object];
+        match object.material {
+            Material::PerfectMirror { side } => {
+                let from_front = photon.dir.dot(hit.geometric_normal) < 0.0;
+                if !side.reflects(from_front) {
+                    stats.absorbed_mirror_back += 1;
+                    return None;
+                }
+                let out = reflect(photon.dir, hit.shading_normal).normalize();
+                // With interpolated normals the reflection can point into the facet.
+                let arrival_side = if from_front { 1.0 } else { -1.0 };
+                if hit.on_mesh && out.dot(hit.geometric_normal) * arrival_side <= 0.0 {
+                    stats.reflected_into_surface += 1;
+                    return None;
+                }
+                photon.origin = hit.point;
+                photon.dir = out;
+                start = Some(hit);
+            }
+            Material::Absorber => {
+                stats.absorbed += 1;
+                return None;
+            }
+            Material::Sensor { sensor } => {
+                let spec = &scene.sensors[sensor];
+                let local = object.transform.to_local.transform_point3(hit.point);
+                return match spec.pixel(local) {
+                    Some(pixel) => {
+                        stats.reached_sensor += 1;
+                        stats.recorded_per_sensor[sensor] += 1;
+                        Some(Record {
+                            sensor: sensor as u32,
+                            pixel,
+                            weight: photon.weight,
+                            energy: photon.energy,
+                        })
+                    }
+                    None => {
+                        stats.sensor_outside_area += 1;
+                        None
+                    }
+                };
+            }
+        }
+    }
+    stats.max_interactions_reached += 1;
+    None
+}

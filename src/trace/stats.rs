@@ -1,0 +1,67 @@
+//! What happened to the photons of a run. Counters only add, so merging chunk
+//! statistics is exact and order-independent.
+
+/// Photon fates and interaction counts.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct Statistics {
+    pub photons_emitted: u64,
+    /// Recorded by any sensor.
+    pub reached_sensor: u64,
+    /// Stopped by an absorber.
+    pub absorbed: u64,
+    /// Hit the non-reflecting side of a mirror.
+    pub absorbed_mirror_back: u64,
+    /// Reflected on an interpolated normal into the facet it hit (mesh artefact).
+    pub reflected_into_surface: u64,
+    /// Hit a sensor object outside its active area (absorbed, not recorded).
+    pub sensor_outside_area: u64,
+    /// Left the scene.
+    pub escaped: u64,
+    /// Still bouncing after max_interactions.
+    pub max_interactions_reached: u64,
+    /// Ray queries sent to Embree.
+    pub embree_queries: u64,
+    /// Interactions per object, indexed like the scene's objects.
+    pub hits_per_object: Vec<u64>,
+    /// Photons recorded per sensor, indexed like the scene's sensors.
+    pub recorded_per_sensor: Vec<u64>,
+}
+
+impl Statistics {
+    pub fn new(objects: usize, sensors: usize) -> Statistics {
+        Statistics {
+            hits_per_object: vec![0; objects],
+            recorded_per_sensor: vec![0; sensors],
+            ..Default::default()
+        }
+    }
+
+    pub fn add(&mut self, o: &Statistics) {
+        self.photons_emitted += o.photons_emitted;
+        self.reached_sensor += o.reached_sensor;
+        self.absorbed += o.absorbed;
+        self.absorbed_mirror_back += o.absorbed_mirror_back;
+        self.reflected_into_surface += o.reflected_into_surface;
+        self.sensor_outside_area += o.sensor_outside_area;
+        self.escaped += o.escaped;
+        self.max_interactions_reached += o.max_interactions_reached;
+        self.embree_queries += o.embree_queries;
+        for (a, b) in self.hits_per_object.iter_mut().zip(&o.hits_per_object) {
+            *a += b;
+        }
+        for (a, b) in self.recorded_per_sensor.iter_mut().zip(&o.recorded_per_sensor) {
+            *a += b;
+        }
+    }
+
+    /// Every emitted photon ends in exactly one fate.
+    pub fn fates(&self) -> u64 {
+        self.reached_sensor
+            + self.absorbed
+            + self.absorbed_mirror_back
+            + self.reflected_into_surface
+            + self.sensor_outside_area
+            + self.escaped
+            + self.max_interactions_reached
+    }
+}
