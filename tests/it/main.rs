@@ -1,0 +1,12 @@
+//! traxer's integration tests (one binary, as ripgrep does). Closed-form physics
+//! checks, Embree-vs-brute-force parity, determinism, and the documented errors.
+
+mod common;
+mod determinism;
+mod embree_parity;
+mod errors;
+mod focusing;
+mod geometry;
+mod mesh_io;
+mod scenes;
+mod sources;

@@ -1,0 +1,147 @@
+//! glTF and OBJ import: hierarchy transforms, buffer layouts, primitive modes,
+//! normals, and export round trips.
+
+use glam::DVec3;
+use traxer::geometry::{AzimuthRange, Resolution, RevolutionQuadric, Shape};
+use traxer::mesh::{load, write_gltf, write_obj};
+
+fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
+    (a - b).length() <= tol
+}
+
+/// A minimal glTF with one triangle (+ optional extra primitives) and the given
+/// node list, buffer embedded as a data URI.
+fn gltf_with_nodes(nodes: &str, scene_nodes: &str, extra_primitives: &str) -> String {
+    use base64::Engine;
+    let mut bin = Vec::new();
+    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        for c in v {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let uri = base64::engine::general_purpose::STANDARD.encode(&bin);
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":{scene_nodes}}}],"nodes":{nodes},
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}{extra_primitives}]}}],
+"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{uri}"}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
+    )
+}
+
+#[test]
+fn gltf_node_hierarchy_transforms_are_applied() {
+    // root: translate (10, 0, 0), rotate 90° about z, scale 2; child: matrix that
+    // translates by (0, 0, 5). Expected world = T(10,0,0)·Rz(90)·S(2)·T(0,0,5)·v.
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    let nodes = format!(
+        r#"[{{"translation":[10,0,0],"rotation":[0,0,{s},{s}],"scale":[2,2,2],"children":[1]}},
+           {{"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1],"mesh":0}}]"#
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("h.gltf");
+    std::fs::write(&p, gltf_with_nodes(&nodes, "[0]", "")).unwrap();
+    let (m, report) = load(&p).unwrap();
+    assert!(!report.normals_from_file, "the file has no normals");
+    let expect = |v: DVec3| {
+        let v = v + DVec3::new(0., 0., 5.);
+        let v = v * 2.0;
+        let v = DVec3::new(-v.y, v.x, v.z);
+        v + DVec3::new(10., 0., 0.)
+    };
+    assert_eq!(m.triangles.len(), 1);
+    for (got, local) in m.positions.iter().zip([DVec3::ZERO, DVec3::X, DVec3::Y]) {
+        assert!(close(*got, expect(local), 1e-6), "{got} vs {}", expect(local));
+    }
+    // Computed normal: the triangle's plane, CCW → +z.
+    assert!(close(m.normals.as_ref().unwrap()[0], DVec3::Z, 1e-9));
+}
+
+#[test]
+fn gltf_mirroring_node_reverses_winding_and_other_modes_are_skipped() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("m.gltf");
+    // scale z by −1 flips handedness; a LINES primitive (mode 1) is skipped.
+    std::fs::write(
+        &p,
+        gltf_with_nodes(r#"[{"scale":[1,1,-1],"mesh":0}]"#, "[0]", r#",{"attributes":{"POSITION":0},"mode":1}"#),
+    )
+    .unwrap();
+    let (m, report) = load(&p).unwrap();
+    assert_eq!(m.triangles.len(), 1);
+    assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
+    assert!(report.warnings[0].contains("Lines"), "{:?}", report.warnings);
+    // The mirrored triangle (0,0,0),(1,0,0),(0,1,0) keeps its place, and its
+    // winding is reversed so that the front stays where glTF says it is.
+    assert!(m.face_normal(0).z < 0.0);
+}
+
+#[test]
+fn gltf_triangle_strips_fans_and_external_buffers() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bin = Vec::new();
+    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]] {
+        for c in v {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    std::fs::write(dir.path().join("quad.bin"), &bin).unwrap();
+    for (mode, n) in [(5, 2), (6, 2)] {
+        let text = format!(
+            r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":{mode}}}]}}],
+"buffers":[{{"byteLength":48,"uri":"quad.bin"}}],"bufferViews":[{{"buffer":0,"byteLength":48}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
+        );
+        let p = dir.path().join(format!("m{mode}.gltf"));
+        std::fs::write(&p, text).unwrap();
+        let (m, _) = load(&p).unwrap();
+        assert_eq!(m.triangles.len(), n, "mode {mode}");
+        assert!((m.area() - if mode == 5 { 1.0 } else { 1.0 }).abs() < 1e-6, "mode {mode}: area {}", m.area());
+    }
+}
+
+#[test]
+fn export_and_import_round_trip_in_every_format() {
+    let shape = Shape::Revolution(RevolutionQuadric::cone(63.2384, 229.0, 60.9121, 4.0, AzimuthRange { start_deg: -15.0, span_deg: 30.0 }));
+    let m = shape.tessellate(Resolution { segments: 50, rings: 5 });
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["c.gltf", "c.glb", "c.obj"] {
+        let p = dir.path().join(name);
+        if name.ends_with("obj") {
+            write_obj(&p, &m, "cone").unwrap();
+        } else {
+            write_gltf(&p, &m, "cone").unwrap();
+        }
+        let (back, report) = load(&p).unwrap();
+        assert!(report.normals_from_file && report.warnings.is_empty(), "{name}");
+        // OBJ readers may renumber vertices: compare triangle by triangle.
+        assert_eq!(back.triangles.len(), m.triangles.len(), "{name}");
+        // glTF stores f32; OBJ keeps f64 text.
+        let tol = if name.ends_with("obj") { 1e-12 } else { 1e-5 };
+        let (bn, mn) = (back.normals.as_ref().unwrap(), m.normals.as_ref().unwrap());
+        for (tb, tm) in back.triangles.iter().zip(&m.triangles) {
+            for (&kb, &km) in tb.iter().zip(tm) {
+                let (a, b) = (back.positions[kb as usize], m.positions[km as usize]);
+                assert!(close(a, b, tol), "{name}: {a} vs {b}");
+                assert!(close(bn[kb as usize], mn[km as usize], 1e-6), "{name}: normals differ");
+            }
+        }
+    }
+}
+
+#[test]
+fn obj_polygons_are_triangulated_and_normals_kept_or_computed() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("q.obj");
+    std::fs::write(&p, "v 0 0 0\nv 2 0 0\nv 2 3 0\nv 0 3 0\nf 1 2 3 4\n").unwrap();
+    let (m, r) = load(&p).unwrap();
+    assert_eq!(m.triangles.len(), 2);
+    assert!((m.area() - 6.0).abs() < 1e-12);
+    assert!(!r.normals_from_file);
+    assert!(m.normals.unwrap().iter().all(|n| close(*n, DVec3::Z, 1e-12)));
+    std::fs::write(&p, "v 0 0 0\nv 2 0 0\nv 2 3 0\nvn 0 0.6 0.8\nf 1//1 2//1 3//1\n").unwrap();
+    let (m, r) = load(&p).unwrap();
+    assert!(r.normals_from_file);
+    assert!(m.normals.unwrap().iter().all(|n| close(*n, DVec3::new(0.0, 0.6, 0.8), 1e-6)));
+}
