@@ -131,7 +131,11 @@ fn candidate_dirs() -> (Vec<PathBuf>, Vec<PathBuf>) {
         lib.push(d.join("lib64"));
     }
     if inc.is_empty() {
-        for p in ["/usr/local/include", "/usr/include", "/opt/homebrew/include"] {
+        for p in [
+            "/usr/local/include",
+            "/usr/include",
+            "/opt/homebrew/include",
+        ] {
             inc.push(PathBuf::from(p));
         }
     }

@@ -36,18 +36,33 @@ impl QueryHook for Recorder {
 
 /// Traces `photons` photons with `threads` threads (0 = all cores), then replays
 /// the queries of the first `raw_photons` of them through plain `rtcIntersect1`.
-pub fn run(scene: &Scene, photons: u64, threads: usize, raw_photons: u64) -> Result<BenchReport, rayon::ThreadPoolBuildError> {
+pub fn run(
+    scene: &Scene,
+    photons: u64,
+    threads: usize,
+    raw_photons: u64,
+) -> Result<BenchReport, rayon::ThreadPoolBuildError> {
     // Warm-up (page faults, lazy Embree initialisation).
     trace::trace_range(scene, 7, 0, 20_000.min(photons));
-    let cfg = RunConfig { photons, seed: 1, threads, progress: false, first_photon: 0 };
+    let cfg = RunConfig {
+        photons,
+        seed: 1,
+        threads,
+        progress: false,
+        first_photon: 0,
+    };
     let r = trace::run(scene, &cfg)?;
 
     let mut rec = Recorder(Vec::new());
     trace::trace_range_with(scene, 1, 0, raw_photons.min(photons), &mut rec);
     let rays = rec.0;
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
     let raw = |_| -> usize {
-        rays.par_chunks(4096).map(|c| scene.embree.intersect_raw(c)).sum()
+        rays.par_chunks(4096)
+            .map(|c| scene.embree.intersect_raw(c))
+            .sum()
     };
     pool.install(|| raw(())); // warm-up
     let t = Instant::now();

@@ -5,14 +5,14 @@
 //! `trace` (photon loop, materials) → `sensor` (images) → `output` (files).
 #![deny(unsafe_code)]
 
+pub mod bench;
 pub mod embree;
 pub mod geometry;
+pub mod material;
 pub mod mesh;
 pub mod output;
-pub mod material;
 pub mod random;
 pub mod scene;
 pub mod sensor;
 pub mod source;
 pub mod trace;
-pub mod bench;

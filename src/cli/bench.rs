@@ -39,12 +39,32 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        println!("scene {} ({} triangles), {} threads", a.scene.display(), r.triangles, r.threads);
-        println!("  traced           {:>12.0} photons/s ({} photons in {:.2} s)", r.photons_per_second, r.photons, r.seconds);
-        println!("  reaching sensor  {:>12.0} photons/s", r.sensor_photons_per_second);
-        println!("  Embree queries   {:>12.3} per photon", r.queries_per_photon);
-        println!("  raw rtcIntersect1{:>12.0} rays/s (same {} rays, no traxer work)", r.raw_rays_per_second, r.raw_rays);
-        println!("  photons/s × queries/photon ÷ raw rays/s = {:.2}", r.embree_fraction);
+        println!(
+            "scene {} ({} triangles), {} threads",
+            a.scene.display(),
+            r.triangles,
+            r.threads
+        );
+        println!(
+            "  traced           {:>12.0} photons/s ({} photons in {:.2} s)",
+            r.photons_per_second, r.photons, r.seconds
+        );
+        println!(
+            "  reaching sensor  {:>12.0} photons/s",
+            r.sensor_photons_per_second
+        );
+        println!(
+            "  Embree queries   {:>12.3} per photon",
+            r.queries_per_photon
+        );
+        println!(
+            "  raw rtcIntersect1{:>12.0} rays/s (same {} rays, no traxer work)",
+            r.raw_rays_per_second, r.raw_rays
+        );
+        println!(
+            "  photons/s × queries/photon ÷ raw rays/s = {:.2}",
+            r.embree_fraction
+        );
     }
     Ok(())
 }

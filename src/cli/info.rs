@@ -33,7 +33,9 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
             cpu.push("avx512f");
         }
     }
-    let threads = std::thread::available_parallelism().map(|n| n.get()).unwrap_or(1);
+    let threads = std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1);
     if a.json {
         let v = serde_json::json!({
             "traxer_version": env!("CARGO_PKG_VERSION"),
@@ -45,8 +47,15 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
         });
         println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        println!("traxer {} ({})", env!("CARGO_PKG_VERSION"), traxer::output::git_hash());
-        println!("Embree {} (API {}), tasking: {}", e.version, e.major, e.tasking_system);
+        println!(
+            "traxer {} ({})",
+            env!("CARGO_PKG_VERSION"),
+            traxer::output::git_hash()
+        );
+        println!(
+            "Embree {} (API {}), tasking: {}",
+            e.version, e.major, e.tasking_system
+        );
         println!("Embree ISA: {isa}; robust scenes: yes");
         println!("CPU features: {}", cpu.join(" "));
         println!("threads (default for --threads 0): {threads}");

@@ -29,7 +29,10 @@ pub fn parse_define(s: &str) -> Result<String, String> {
 }
 
 /// Loads a scene with a fresh Embree device, printing the scene's warnings.
-pub fn load_scene(path: &std::path::Path, defines: &[String]) -> anyhow::Result<traxer::scene::Scene> {
+pub fn load_scene(
+    path: &std::path::Path,
+    defines: &[String],
+) -> anyhow::Result<traxer::scene::Scene> {
     let device = traxer::embree::Device::new()?;
     let scene = traxer::scene::Scene::load(&device, path, defines)?;
     for w in &scene.warnings {

@@ -70,13 +70,18 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         for name in &a.object {
             if !shapes.iter().any(|s| &s.name == name) {
                 let known: Vec<&str> = shapes.iter().map(|s| s.name.as_str()).collect();
-                return Err(InputError(format!("--object {name}: no analytic object of that name (have: {known:?})")).into());
+                return Err(InputError(format!(
+                    "--object {name}: no analytic object of that name (have: {known:?})"
+                ))
+                .into());
             }
         }
         shapes.retain(|s| a.object.contains(&s.name));
     }
     if shapes.is_empty() {
-        return Err(InputError("nothing to tessellate: the scene has no analytic objects".into()).into());
+        return Err(
+            InputError("nothing to tessellate: the scene has no analytic objects".into()).into(),
+        );
     }
     let is_file = a
         .out
@@ -92,11 +97,15 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         .into());
     }
     if !is_file {
-        std::fs::create_dir_all(&a.out).with_context(|| format!("cannot create {}", a.out.display()))?;
+        std::fs::create_dir_all(&a.out)
+            .with_context(|| format!("cannot create {}", a.out.display()))?;
     }
     for s in &shapes {
         let res = Resolution {
-            segments: a.segments.or(s.resolution.map(|r| r.segments)).unwrap_or(360),
+            segments: a
+                .segments
+                .or(s.resolution.map(|r| r.segments))
+                .unwrap_or(360),
             rings: a.rings.or(s.resolution.map(|r| r.rings)).unwrap_or(16),
         };
         let mut mesh = s.shape.tessellate(res);
@@ -106,10 +115,14 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         let targets: Vec<PathBuf> = if is_file {
             vec![a.out.clone()]
         } else {
-            a.format.iter().map(|f| a.out.join(format!("{}.{f}", file_stem(&s.name)))).collect()
+            a.format
+                .iter()
+                .map(|f| a.out.join(format!("{}.{f}", file_stem(&s.name))))
+                .collect()
         };
         for t in targets {
-            write_mesh(&t, &mesh, &s.name).with_context(|| format!("cannot write {}", t.display()))?;
+            write_mesh(&t, &mesh, &s.name)
+                .with_context(|| format!("cannot write {}", t.display()))?;
             println!(
                 "{}: {} triangles, {} vertices ({} × {}) → {}",
                 s.name,

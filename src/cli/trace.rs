@@ -81,7 +81,9 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         let s = &result.stats;
         println!(
             "traced {} photons in {:.2} s with {} threads ({:.0} photons/s)",
-            s.photons_emitted, result.seconds, result.threads,
+            s.photons_emitted,
+            result.seconds,
+            result.threads,
             s.photons_emitted as f64 / result.seconds
         );
         println!(
@@ -93,7 +95,9 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         for (spec, img) in scene.sensors.iter().zip(&result.images) {
             println!(
                 "  sensor {}: {} photons, flux {:.6e}",
-                spec.name, img.total_counts(), img.total_flux()
+                spec.name,
+                img.total_counts(),
+                img.total_flux()
             );
         }
         println!("wrote {} files to {}", files.len(), a.out.display());

@@ -66,8 +66,13 @@ pub trait UserGeometry: Send + Sync + 'static {
     /// `starts_on_surface` is true when the ray leaves a point of this same
     /// surface (after a reflection): the root at t ≈ 0 must then be ignored, but a
     /// genuine second hit on the same (concave) surface must not.
-    fn intersect(&self, origin: [f64; 3], dir: [f64; 3], t_max: f64, starts_on_surface: bool)
-        -> Option<f64>;
+    fn intersect(
+        &self,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64>;
 }
 
 /// One ray query, in f64. Embree's triangle test sees the f32 rounding of it;
@@ -139,7 +144,11 @@ pub struct Device {
     inner: Arc<DeviceInner>,
 }
 
-unsafe extern "C" fn error_callback(user: *mut c_void, code: sys::RTCError, message: *const c_char) {
+unsafe extern "C" fn error_callback(
+    user: *mut c_void,
+    code: sys::RTCError,
+    message: *const c_char,
+) {
     if user.is_null() {
         return;
     }
@@ -150,11 +159,16 @@ unsafe extern "C" fn error_callback(user: *mut c_void, code: sys::RTCError, mess
         String::from("(no message)")
     } else {
         // SAFETY: Embree passes a NUL-terminated string valid for this call.
-        unsafe { CStr::from_ptr(message) }.to_string_lossy().into_owned()
+        unsafe { CStr::from_ptr(message) }
+            .to_string_lossy()
+            .into_owned()
     };
     if let Ok(mut first) = slot.lock() {
         if first.is_none() {
-            *first = Some((code as u32, text));
+            // RTCError's Rust type differs between bindgen/Embree versions.
+            #[allow(clippy::unnecessary_cast)]
+            let code = code as u32;
+            *first = Some((code, text));
         }
     }
 }
@@ -196,7 +210,10 @@ impl Device {
 
     fn property(&self, p: sys::RTCDeviceProperty) -> isize {
         // SAFETY: valid device and a property constant from the headers.
-        unsafe { sys::rtcGetDeviceProperty(self.inner.raw, p) as isize }
+        let v = unsafe { sys::rtcGetDeviceProperty(self.inner.raw, p) };
+        #[allow(clippy::unnecessary_cast)] // ssize_t maps to isize or i64
+        let v = v as isize;
+        v
     }
 
     /// Version, native packet widths and tasking system of the linked library.
@@ -305,7 +322,9 @@ impl<U: UserGeometry> SceneBuilder<U> {
             if vb.is_null() || ib.is_null() {
                 sys::rtcReleaseGeometry(geom);
                 self.device.check()?;
-                return Err(EmbreeError::NoDevice("cannot allocate geometry buffers".into()));
+                return Err(EmbreeError::NoDevice(
+                    "cannot allocate geometry buffers".into(),
+                ));
             }
             std::ptr::copy_nonoverlapping(vertices.as_ptr(), vb, vertices.len());
             std::ptr::copy_nonoverlapping(triangles.as_ptr(), ib, triangles.len());
@@ -334,7 +353,11 @@ impl<U: UserGeometry> SceneBuilder<U> {
             }
             sys::rtcSetGeometryUserPrimitiveCount(geom, 1);
             sys::rtcSetGeometryUserData(geom, ptr);
-            sys::rtcSetGeometryBoundsFunction(geom, Some(bounds_callback::<U>), std::ptr::null_mut());
+            sys::rtcSetGeometryBoundsFunction(
+                geom,
+                Some(bounds_callback::<U>),
+                std::ptr::null_mut(),
+            );
             sys::rtcSetGeometryIntersectFunction(geom, Some(intersect_callback::<U>));
             sys::rtcSetGeometryOccludedFunction(geom, Some(occluded_callback::<U>));
             sys::rtcCommitGeometry(geom);
@@ -414,7 +437,11 @@ impl<U: UserGeometry> CommittedScene<U> {
                 dir_y: q.dir[1] as f32,
                 dir_z: q.dir[2] as f32,
                 time: 0.0,
-                tfar: if q.t_max.is_finite() { q.t_max as f32 } else { f32::INFINITY },
+                tfar: if q.t_max.is_finite() {
+                    q.t_max as f32
+                } else {
+                    f32::INFINITY
+                },
                 mask: u32::MAX,
                 id: 0,
                 flags: 0,
@@ -447,7 +474,9 @@ impl<U: UserGeometry> CommittedScene<U> {
     }
 }
 
-unsafe extern "C" fn bounds_callback<U: UserGeometry>(args: *const sys::RTCBoundsFunctionArguments) {
+unsafe extern "C" fn bounds_callback<U: UserGeometry>(
+    args: *const sys::RTCBoundsFunctionArguments,
+) {
     // SAFETY: Embree passes valid arguments; geometryUserPtr is the Box<U> set in
     // add_user, alive as long as the scene; bounds_o points to writable RTCBounds.
     unsafe {
@@ -571,13 +600,7 @@ mod version {
     pub unsafe fn intersect1(scene: sys::RTCScene, ctx: &QueryContext, rh: &mut sys::RTCRayHit) {
         // SAFETY: forwarded from the caller. Embree takes a mutable context pointer
         // but does not write the base context during traversal.
-        unsafe {
-            sys::rtcIntersect1(
-                scene,
-                &ctx.rtc as *const Context as *mut Context,
-                rh,
-            )
-        }
+        unsafe { sys::rtcIntersect1(scene, &ctx.rtc as *const Context as *mut Context, rh) }
     }
 }
 
@@ -623,4 +646,3 @@ mod version {
         unsafe { sys::rtcIntersect1(scene, rh, &mut args) }
     }
 }
-

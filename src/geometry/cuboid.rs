@@ -12,7 +12,13 @@ pub struct Cuboid {
 
 impl Cuboid {
     #[inline]
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
         let h = 0.5 * self.size;
         let inv = d.recip();
         let t0 = (-h - o) * inv;
@@ -21,7 +27,11 @@ impl Cuboid {
         // follow f64::min/max, which ignore NaN.
         let t_enter = t0.min(t1).max_element();
         let t_exit = t0.max(t1).min_element();
-        if !(t_enter <= t_exit) {
+        // Written so that NaN also means "no hit".
+        if t_enter.partial_cmp(&t_exit) == Some(std::cmp::Ordering::Greater)
+            || t_enter.is_nan()
+            || t_exit.is_nan()
+        {
             return None;
         }
         let mut roots = [t_enter, t_exit];

@@ -13,7 +13,13 @@ pub struct Disk {
 
 impl Disk {
     #[inline]
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
         if starts_on_surface || d.z == 0.0 {
             return None; // a plane cannot be hit again by a ray leaving it
         }
@@ -56,10 +62,12 @@ impl Disk {
         let cols = if closed { n_phi } else { n_phi + 1 };
         let mut mesh = TriangleMesh::default();
         for j in 0..=n_r {
-            let r = self.inner_radius + (self.outer_radius - self.inner_radius) * j as f64 / n_r as f64;
+            let r =
+                self.inner_radius + (self.outer_radius - self.inner_radius) * j as f64 / n_r as f64;
             for i in 0..cols {
                 let phi = (self.azimuth.start_deg + span * i as f64 / n_phi as f64).to_radians();
-                mesh.positions.push(DVec3::new(r * phi.cos(), r * phi.sin(), 0.0));
+                mesh.positions
+                    .push(DVec3::new(r * phi.cos(), r * phi.sin(), 0.0));
             }
         }
         for j in 0..n_r {

@@ -124,7 +124,13 @@ impl RevolutionQuadric {
     }
 
     #[inline]
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
         let qa = d.x * d.x + d.y * d.y - self.c * d.z * d.z;
         let qb = 2.0 * (o.x * d.x + o.y * d.y) - self.b * d.z - 2.0 * self.c * o.z * d.z;
         let qc = o.x * o.x + o.y * o.y - self.radius_squared(o.z);

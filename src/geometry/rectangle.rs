@@ -13,7 +13,13 @@ pub struct Rectangle {
 
 impl Rectangle {
     #[inline]
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
         if starts_on_surface || d.z == 0.0 {
             return None;
         }

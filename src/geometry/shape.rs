@@ -27,7 +27,13 @@ pub enum Shape {
 impl Shape {
     /// Nearest hit (t in units of `d`) with 0 < t < t_max, in the local frame.
     #[inline]
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+    pub fn intersect(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
         match self {
             Shape::Revolution(s) => s.intersect(o, d, t_max, starts_on_surface),
             Shape::Disk(s) => s.intersect(o, d, t_max, starts_on_surface),
@@ -83,7 +89,13 @@ impl AnalyticObject {
     /// Nearest hit of a world-space ray. The affine map keeps t unchanged, so the
     /// local ray is simply the mapped origin and (unnormalised) direction.
     #[inline]
-    pub fn intersect_world(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+    pub fn intersect_world(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
         let lo = self.transform.to_local.transform_point3(o);
         let ld = self.transform.to_local.transform_vector3(d);
         self.shape.intersect(lo, ld, t_max, starts_on_surface)
@@ -121,10 +133,24 @@ impl UserGeometry for AnalyticObject {
         let pad = 1e-6 * (lo.abs().max(hi.abs()).max_element() + 1.0);
         let down = |x: f64| ((x - pad) as f32).next_down();
         let up = |x: f64| ((x + pad) as f32).next_up();
-        ([down(lo.x), down(lo.y), down(lo.z)], [up(hi.x), up(hi.y), up(hi.z)])
+        (
+            [down(lo.x), down(lo.y), down(lo.z)],
+            [up(hi.x), up(hi.y), up(hi.z)],
+        )
     }
 
-    fn intersect(&self, origin: [f64; 3], dir: [f64; 3], t_max: f64, starts_on_surface: bool) -> Option<f64> {
-        self.intersect_world(DVec3::from(origin), DVec3::from(dir), t_max, starts_on_surface)
+    fn intersect(
+        &self,
+        origin: [f64; 3],
+        dir: [f64; 3],
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
+        self.intersect_world(
+            DVec3::from(origin),
+            DVec3::from(dir),
+            t_max,
+            starts_on_surface,
+        )
     }
 }

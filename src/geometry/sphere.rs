@@ -11,8 +11,18 @@ pub struct Sphere {
 
 impl Sphere {
     #[inline]
-    pub fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
-        let (t1, t2) = solve_quadratic(d.length_squared(), 2.0 * o.dot(d), o.length_squared() - self.radius * self.radius)?;
+    pub fn intersect(
+        &self,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
+        let (t1, t2) = solve_quadratic(
+            d.length_squared(),
+            2.0 * o.dot(d),
+            o.length_squared() - self.radius * self.radius,
+        )?;
         let mut roots = [t1, t2];
         nearest_root(&mut roots, starts_on_surface, t_max, |_| true)
     }
@@ -36,7 +46,11 @@ impl Sphere {
                 let phi = 2.0 * std::f64::consts::PI * i as f64 / n_phi as f64;
                 mesh.positions.push(
                     self.radius
-                        * DVec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()),
+                        * DVec3::new(
+                            theta.sin() * phi.cos(),
+                            theta.sin() * phi.sin(),
+                            theta.cos(),
+                        ),
                 );
             }
         }

@@ -11,12 +11,20 @@ use std::path::Path;
 
 /// Writes `.gltf`, `.glb` or `.obj`, chosen by the file extension.
 pub fn write_mesh(path: &Path, mesh: &TriangleMesh, name: &str) -> std::io::Result<()> {
-    match path.extension().and_then(|e| e.to_str()).map(|e| e.to_ascii_lowercase()).as_deref() {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .as_deref()
+    {
         Some("obj") => write_obj(path, mesh, name),
         Some("gltf") | Some("glb") => write_gltf(path, mesh, name),
         _ => Err(std::io::Error::new(
             std::io::ErrorKind::InvalidInput,
-            format!("{}: unknown mesh extension (use .gltf, .glb or .obj)", path.display()),
+            format!(
+                "{}: unknown mesh extension (use .gltf, .glb or .obj)",
+                path.display()
+            ),
         )),
     }
 }
@@ -61,7 +69,9 @@ pub fn write_gltf(path: &Path, mesh: &TriangleMesh, name: &str) -> std::io::Resu
                 "min": f32s(lo), "max": f32s(hi) }),
     ];
     if mesh.normals.is_some() {
-        buffer_views.push(json!({ "buffer": 0, "byteOffset": nrm_off, "byteLength": nrm_len, "target": 34962 }));
+        buffer_views.push(
+            json!({ "buffer": 0, "byteOffset": nrm_off, "byteLength": nrm_len, "target": 34962 }),
+        );
         accessors.push(json!({ "bufferView": 2, "componentType": 5126, "count": mesh.positions.len(), "type": "VEC3" }));
         attributes["NORMAL"] = json!(2);
     }
@@ -112,7 +122,11 @@ fn push_vec3s(bin: &mut Vec<u8>, v: &[DVec3]) {
 /// Wavefront OBJ with `v`, `vn` (when present) and `f` lines; full f64 precision.
 pub fn write_obj(path: &Path, mesh: &TriangleMesh, name: &str) -> std::io::Result<()> {
     let mut s = String::new();
-    let _ = writeln!(s, "# traxer {} tessellation, units: mm", env!("CARGO_PKG_VERSION"));
+    let _ = writeln!(
+        s,
+        "# traxer {} tessellation, units: mm",
+        env!("CARGO_PKG_VERSION")
+    );
     let _ = writeln!(s, "o {name}");
     for p in &mesh.positions {
         let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);

@@ -14,7 +14,7 @@ const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_me
 pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
     let gltf = gltf::Gltf::open(path).map_err(|e| bad(describe(&e)))?;
-    for ext in gltf.document.extensions_required() {
+    if let Some(ext) = gltf.document.extensions_required().next() {
         let why = if COMPRESSION_EXTENSIONS.contains(&ext) {
             "compressed geometry is not supported; export the file without mesh compression"
         } else {
@@ -40,14 +40,18 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
                 .nodes()
                 .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
                 .collect();
-            doc.nodes().filter(|n| !children.contains(&n.index())).collect()
+            doc.nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
         }
     };
     let mut stack: Vec<(gltf::Node, DMat4, usize)> =
         roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
     while let Some((node, parent, depth)) = stack.pop() {
         if depth > 1000 {
-            return Err(bad("node hierarchy deeper than 1000 levels (a cycle?)".into()));
+            return Err(bad(
+                "node hierarchy deeper than 1000 levels (a cycle?)".into()
+            ));
         }
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
@@ -56,7 +60,9 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
                 let label = format!(
                     "primitive {} of mesh {}",
                     prim.index(),
-                    m.name().map(|n| format!("'{n}'")).unwrap_or(format!("#{}", m.index()))
+                    m.name()
+                        .map(|n| format!("'{n}'"))
+                        .unwrap_or(format!("#{}", m.index()))
                 );
                 // Reading accessors walks offsets from the file; guard against a
                 // malformed file making the gltf crate panic.
@@ -88,7 +94,10 @@ fn read_primitive(
     world: &DMat4,
 ) -> Result<(TriangleMesh, bool), Skip> {
     let mode = prim.mode();
-    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+    if !matches!(
+        mode,
+        Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
+    ) {
         return Err(Skip(format!("mode {mode:?} has no triangles")));
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
@@ -102,7 +111,10 @@ fn read_primitive(
         None => (0..positions.len() as u32).collect(),
     };
     let mut triangles: Vec<[u32; 3]> = match mode {
-        Mode::Triangles => indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        Mode::Triangles => indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect(),
         Mode::TriangleStrip => (2..indices.len())
             .map(|i| {
                 if i % 2 == 0 {

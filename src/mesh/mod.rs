@@ -65,7 +65,11 @@ pub fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
     let (mesh, report) = match ext.as_str() {
         "gltf" | "glb" => gltf_import::load(path)?,
         "obj" => obj_import::load(path)?,
-        _ => return Err(MeshError::UnknownFormat { path: path.to_path_buf() }),
+        _ => {
+            return Err(MeshError::UnknownFormat {
+                path: path.to_path_buf(),
+            })
+        }
     };
     mesh.validate().map_err(|m| MeshError::invalid(path, m))?;
     Ok((mesh, report))
@@ -79,7 +83,10 @@ impl TriangleMesh {
             return Err("contains no triangles".into());
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(format!("vertex {i} has a non-finite coordinate {:?}", self.positions[i]));
+            return Err(format!(
+                "vertex {i} has a non-finite coordinate {:?}",
+                self.positions[i]
+            ));
         }
         let n = self.positions.len();
         if n > u32::MAX as usize {
@@ -158,8 +165,12 @@ impl TriangleMesh {
             _ => None,
         };
         self.positions.extend(other.positions);
-        self.triangles
-            .extend(other.triangles.iter().map(|t| [t[0] + base, t[1] + base, t[2] + base]));
+        self.triangles.extend(
+            other
+                .triangles
+                .iter()
+                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
+        );
     }
 
     /// The mesh mapped by a transform (normals by its inverse transpose; winding

@@ -38,22 +38,29 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
         let positions: Vec<DVec3> = m
             .positions
             .chunks_exact(3)
-            .map(|p| DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64))
+            .map(|p| DVec3::new(p[0], p[1], p[2]))
             .collect();
-        let triangles: Vec<[u32; 3]> = m.indices.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+        let triangles: Vec<[u32; 3]> = m
+            .indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
         let mut part = TriangleMesh {
             positions,
             normals: None,
             triangles,
         };
         let n = part.positions.len();
-        let indices_ok = part.triangles.iter().all(|t| t.iter().all(|&k| (k as usize) < n));
+        let indices_ok = part
+            .triangles
+            .iter()
+            .all(|t| t.iter().all(|&k| (k as usize) < n));
         if m.normals.len() == 3 * n && n > 0 {
             part.normals = Some(
                 m.normals
                     .chunks_exact(3)
                     .map(|v| {
-                        DVec3::new(v[0] as f64, v[1] as f64, v[2] as f64)
+                        DVec3::new(v[0], v[1], v[2])
                             .try_normalize()
                             .unwrap_or(DVec3::NAN)
                     })

@@ -14,7 +14,13 @@ pub enum Scale {
 
 /// Writes a `nx × ny` image stored row-major with row 0 at the *bottom* (lowest
 /// local y), as in the `.npy` files; the PNG shows +y up.
-pub fn write_png(path: &Path, nx: usize, ny: usize, data: &[f64], scale: Scale) -> std::io::Result<()> {
+pub fn write_png(
+    path: &Path,
+    nx: usize,
+    ny: usize,
+    data: &[f64],
+    scale: Scale,
+) -> std::io::Result<()> {
     let max = data.iter().cloned().fold(0.0, f64::max);
     let mut img = image::RgbImage::new(nx as u32, ny as u32);
     for iy in 0..ny {
@@ -36,7 +42,10 @@ pub fn write_png(path: &Path, nx: usize, ny: usize, data: &[f64], scale: Scale) 
         }
     }
     let mut bytes = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .map_err(std::io::Error::other)?;
+    img.write_to(
+        &mut std::io::Cursor::new(&mut bytes),
+        image::ImageFormat::Png,
+    )
+    .map_err(std::io::Error::other)?;
     atomic_write(path, &bytes)
 }

@@ -19,7 +19,11 @@ fn write<T: npyz::Serialize + npyz::AutoSerialize + Copy>(
     shape: &[u64],
     data: &[T],
 ) -> std::io::Result<()> {
-    assert_eq!(shape.iter().product::<u64>() as usize, data.len(), "npy shape mismatch");
+    assert_eq!(
+        shape.iter().product::<u64>() as usize,
+        data.len(),
+        "npy shape mismatch"
+    );
     let mut buf = Vec::with_capacity(128 + data.len() * 8);
     {
         let mut w = npyz::WriteOptions::new()

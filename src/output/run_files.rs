@@ -1,7 +1,7 @@
 //! The files of a trace run: per sensor `NAME.npy` (flux), `NAME_counts.npy`,
 //! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
 
-use super::{write_npy_f64, write_npy_u64, write_png, atomic_write, Provenance, Scale};
+use super::{atomic_write, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
 use crate::scene::Scene;
 use crate::source::Source;
 use crate::trace::RunResult;
@@ -9,8 +9,14 @@ use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
 /// Writes every output of a run into `dir` (created if needed); returns the paths.
-pub fn write_run(dir: &Path, scene: &Scene, result: &RunResult, provenance: &Provenance) -> std::io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+pub fn write_run(
+    dir: &Path,
+    scene: &Scene,
+    result: &RunResult,
+    provenance: &Provenance,
+) -> std::io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
     let mut written = Vec::new();
     let stats = statistics_json(scene, result);
     let sources = sources_json(scene);
@@ -83,7 +89,13 @@ pub fn write_json(path: &Path, v: &Value) -> std::io::Result<()> {
 /// Object names may hold anything; file names get letters, digits, '-', '_', '.'.
 pub fn file_stem(name: &str) -> String {
     name.chars()
-        .map(|c| if c.is_ascii_alphanumeric() || "-_.".contains(c) { c } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
         .collect()
 }
 

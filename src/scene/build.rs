@@ -44,6 +44,8 @@ pub struct Object {
     pub geometry: ObjectGeometry,
 }
 
+// Few objects per scene: keeping the analytic shape inline costs nothing.
+#[allow(clippy::large_enum_variant)]
 pub enum ObjectGeometry {
     Analytic(AnalyticObject),
     Mesh(MeshObject),
@@ -59,11 +61,7 @@ pub struct MeshObject {
 
 impl Scene {
     /// Reads, substitutes, parses, validates and builds a scene file.
-    pub fn load(
-        device: &Device,
-        path: &Path,
-        overrides: &[String],
-    ) -> Result<Scene, SceneError> {
+    pub fn load(device: &Device, path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
         let original = std::fs::read_to_string(path)
             .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
         let (text, vars) = vars::substitute(path, &original, overrides)?;
@@ -94,7 +92,11 @@ struct Builder<'a> {
 }
 
 impl Builder<'_> {
-    fn err<T>(&self, span: std::ops::Range<usize>, msg: impl Into<String>) -> Result<T, SceneError> {
+    fn err<T>(
+        &self,
+        span: std::ops::Range<usize>,
+        msg: impl Into<String>,
+    ) -> Result<T, SceneError> {
         if span.is_empty() && span.start == 0 {
             Err(SceneError::new(self.path, None, msg))
         } else {
@@ -105,12 +107,27 @@ impl Builder<'_> {
     fn build(&mut self, device: &Device, desc: SceneDesc) -> Result<Scene, SceneError> {
         let max_interactions = *desc.max_interactions.get_ref();
         if max_interactions == 0 {
-            return self.err(desc.max_interactions.span(), "max_interactions must be at least 1");
+            return self.err(
+                desc.max_interactions.span(),
+                "max_interactions must be at least 1",
+            );
         }
         // Materials: the file's, plus the two built-in names.
-        let mut materials: BTreeMap<String, (MaterialDesc, std::ops::Range<usize>)> = BTreeMap::new();
-        materials.insert("mirror".into(), (MaterialDesc::Mirror(MirrorDesc { side: SideDesc::Both }), 0..0));
-        materials.insert("absorber".into(), (MaterialDesc::Absorber(AbsorberDesc {}), 0..0));
+        let mut materials: BTreeMap<String, (MaterialDesc, std::ops::Range<usize>)> =
+            BTreeMap::new();
+        materials.insert(
+            "mirror".into(),
+            (
+                MaterialDesc::Mirror(MirrorDesc {
+                    side: SideDesc::Both,
+                }),
+                0..0,
+            ),
+        );
+        materials.insert(
+            "absorber".into(),
+            (MaterialDesc::Absorber(AbsorberDesc {}), 0..0),
+        );
         for (name, m) in desc.materials {
             let span = m.span();
             materials.insert(name, (m.into_inner(), span));
@@ -128,7 +145,10 @@ impl Builder<'_> {
             let od = od.into_inner();
             let name = od.name.clone().unwrap_or_else(|| format!("object{index}"));
             if !names.insert(name.clone()) {
-                return self.err(ospan, format!("two objects are named `{name}`; names must be unique"));
+                return self.err(
+                    ospan,
+                    format!("two objects are named `{name}`; names must be unique"),
+                );
             }
             let transform = self.transform(&od.transform)?;
             let mname = od.material.get_ref();
@@ -151,9 +171,14 @@ impl Builder<'_> {
                 MaterialDesc::Absorber(_) => Material::Absorber,
                 MaterialDesc::Sensor(s) => {
                     if !(s.size.iter().all(|v| v.is_finite() && *v > 0.0)) {
-                        return self.err(mspan.clone(), format!("material `{mname}`: size must be two positive lengths (mm)"));
+                        return self.err(
+                            mspan.clone(),
+                            format!("material `{mname}`: size must be two positive lengths (mm)"),
+                        );
                     }
-                    if s.pixels.contains(&0) || (s.pixels[0] as u64 * s.pixels[1] as u64) > (1 << 28) {
+                    if s.pixels.contains(&0)
+                        || (s.pixels[0] as u64 * s.pixels[1] as u64) > (1 << 28)
+                    {
                         return self.err(mspan.clone(), format!("material `{mname}`: pixels must be positive (and at most 2^28 in all)"));
                     }
                     sensors.push(SensorSpec {
@@ -162,10 +187,13 @@ impl Builder<'_> {
                         size: s.size,
                         pixels: s.pixels,
                     });
-                    Material::Sensor { sensor: sensors.len() - 1 }
+                    Material::Sensor {
+                        sensor: sensors.len() - 1,
+                    }
                 }
             };
-            let id = u32::try_from(index).map_err(|_| SceneError::new(self.path, None, "too many objects"))?;
+            let id = u32::try_from(index)
+                .map_err(|_| SceneError::new(self.path, None, "too many objects"))?;
             let sspan = od.shape.span();
             let geometry = match od.shape.get_ref() {
                 ShapeDesc::Mesh(m) => {
@@ -174,12 +202,28 @@ impl Builder<'_> {
                     }
                     let file = self.dir.join(&m.file);
                     if !file.is_file() {
-                        return self.err(sspan, format!("object `{name}`: mesh file {} does not exist", file.display()));
+                        return self.err(
+                            sspan,
+                            format!(
+                                "object `{name}`: mesh file {} does not exist",
+                                file.display()
+                            ),
+                        );
                     }
                     let (mesh, report) = mesh::load(&file).map_err(|e| {
-                        SceneError::at(self.path, self.text, sspan.start, format!("object `{name}`: {e}"))
+                        SceneError::at(
+                            self.path,
+                            self.text,
+                            sspan.start,
+                            format!("object `{name}`: {e}"),
+                        )
                     })?;
-                    warnings.extend(report.warnings.iter().map(|w| format!("{}: {w}", file.display())));
+                    warnings.extend(
+                        report
+                            .warnings
+                            .iter()
+                            .map(|w| format!("{}: {w}", file.display())),
+                    );
                     self.mesh_object(mesh, &transform, od.smooth_normals)
                 }
                 shape => {
@@ -187,10 +231,14 @@ impl Builder<'_> {
                     match &od.tessellate {
                         Some(t) => {
                             let r = t.get_ref();
-                            if r.segments == 0 || r.rings == 0 || r.segments * r.rings > 50_000_000 {
+                            if r.segments == 0 || r.rings == 0 || r.segments * r.rings > 50_000_000
+                            {
                                 return self.err(t.span(), "tessellate: segments and rings must be positive (and their product at most 5e7)");
                             }
-                            let mesh = shape.tessellate(Resolution { segments: r.segments, rings: r.rings });
+                            let mesh = shape.tessellate(Resolution {
+                                segments: r.segments,
+                                rings: r.rings,
+                            });
                             self.mesh_object(mesh, &transform, od.smooth_normals)
                         }
                         None => {
@@ -206,29 +254,46 @@ impl Builder<'_> {
                 ObjectGeometry::Analytic(a) => embree.add_user(id, *a),
                 ObjectGeometry::Mesh(m) => {
                     triangle_count += m.triangles.len();
-                    let v32: Vec<[f32; 3]> = m.positions.iter().map(|p| p.as_vec3().to_array()).collect();
+                    let v32: Vec<[f32; 3]> =
+                        m.positions.iter().map(|p| p.as_vec3().to_array()).collect();
                     embree.add_triangles(id, &v32, &m.triangles)
                 }
             }
             .map_err(|e| SceneError::new(self.path, None, format!("object `{name}`: {e}")))?;
-            objects.push(Object { name, material, transform, geometry });
+            objects.push(Object {
+                name,
+                material,
+                transform,
+                geometry,
+            });
         }
         for (name, (_, span)) in &materials {
             if !used_materials.contains(name) && !span.is_empty() {
-                return self.err(span.clone(), format!("material `{name}` is not used by any object"));
+                return self.err(
+                    span.clone(),
+                    format!("material `{name}` is not used by any object"),
+                );
             }
         }
         if desc.sources.is_empty() {
-            return Err(SceneError::new(self.path, None, "the scene has no [[sources]]"));
+            return Err(SceneError::new(
+                self.path,
+                None,
+                "the scene has no [[sources]]",
+            ));
         }
         let sources = desc
             .sources
             .iter()
             .map(|s| self.source(s.get_ref(), s.span()))
             .collect::<Result<Vec<_>, _>>()?;
-        let embree = embree
-            .commit()
-            .map_err(|e| SceneError::new(self.path, None, format!("Embree could not build the scene: {e}")))?;
+        let embree = embree.commit().map_err(|e| {
+            SceneError::new(
+                self.path,
+                None,
+                format!("Embree could not build the scene: {e}"),
+            )
+        })?;
         Ok(Scene {
             path: self.path.to_path_buf(),
             text_sha256: String::new(),
@@ -244,7 +309,12 @@ impl Builder<'_> {
         })
     }
 
-    fn mesh_object(&self, mesh: TriangleMesh, transform: &Transform, smooth: bool) -> ObjectGeometry {
+    fn mesh_object(
+        &self,
+        mesh: TriangleMesh,
+        transform: &Transform,
+        smooth: bool,
+    ) -> ObjectGeometry {
         let world = mesh.transformed(transform);
         ObjectGeometry::Mesh(MeshObject {
             positions: world.positions,
@@ -258,7 +328,9 @@ impl Builder<'_> {
         for step in steps {
             let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
             let next = match step.get_ref() {
-                TransformStep::Translate(t) if finite(t) => DAffine3::from_translation(DVec3::from(*t)),
+                TransformStep::Translate(t) if finite(t) => {
+                    DAffine3::from_translation(DVec3::from(*t))
+                }
                 TransformStep::Rotate(r) if finite(&r.axis) && r.angle.is_finite() => {
                     let Some(axis) = DVec3::from(r.axis).try_normalize() else {
                         return self.err(step.span(), "rotate: axis must not be zero");
@@ -283,67 +355,122 @@ impl Builder<'_> {
     }
 
     fn shape(&self, d: &ShapeDesc, span: std::ops::Range<usize>) -> Result<Shape, SceneError> {
-        let bad = |msg: &str| -> Result<Shape, SceneError> { self.err(span.clone(), format!("shape: {msg}")) };
+        let bad = |msg: &str| -> Result<Shape, SceneError> {
+            self.err(span.clone(), format!("shape: {msg}"))
+        };
         let all_finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
         let azimuth = |a: &Option<[f64; 2]>| -> Result<AzimuthRange, SceneError> {
             match a {
                 None => Ok(AzimuthRange::FULL),
-                Some([from, to]) if from.is_finite() && to.is_finite() && to > from && to - from <= 360.0 => {
-                    Ok(AzimuthRange { start_deg: *from, span_deg: to - from })
+                Some([from, to])
+                    if from.is_finite() && to.is_finite() && to > from && to - from <= 360.0 =>
+                {
+                    Ok(AzimuthRange {
+                        start_deg: *from,
+                        span_deg: to - from,
+                    })
                 }
-                Some(_) => self.err(span.clone(), "shape: azimuth = [from, to] needs from < to ≤ from + 360 (degrees)"),
+                Some(_) => self.err(
+                    span.clone(),
+                    "shape: azimuth = [from, to] needs from < to ≤ from + 360 (degrees)",
+                ),
             }
         };
         Ok(match d {
             ShapeDesc::Cone(c) => {
                 if !all_finite(&[c.radius_start, c.radius_end, c.z_start, c.z_end])
-                    || c.radius_start < 0.0 || c.radius_end < 0.0 || c.z_start == c.z_end
+                    || c.radius_start < 0.0
+                    || c.radius_end < 0.0
+                    || c.z_start == c.z_end
                     || (c.radius_start == 0.0 && c.radius_end == 0.0)
                 {
                     return bad("cone needs radii ≥ 0 (not both 0) and z_start ≠ z_end");
                 }
-                Shape::Revolution(RevolutionQuadric::cone(c.radius_start, c.z_start, c.radius_end, c.z_end, azimuth(&c.azimuth)?))
+                Shape::Revolution(RevolutionQuadric::cone(
+                    c.radius_start,
+                    c.z_start,
+                    c.radius_end,
+                    c.z_end,
+                    azimuth(&c.azimuth)?,
+                ))
             }
             ShapeDesc::Cylinder(c) => {
-                if !all_finite(&[c.radius, c.z_start, c.z_end]) || c.radius <= 0.0 || c.z_start == c.z_end {
+                if !all_finite(&[c.radius, c.z_start, c.z_end])
+                    || c.radius <= 0.0
+                    || c.z_start == c.z_end
+                {
                     return bad("cylinder needs radius > 0 and z_start ≠ z_end");
                 }
-                Shape::Revolution(RevolutionQuadric::cylinder(c.radius, c.z_start, c.z_end, azimuth(&c.azimuth)?))
+                Shape::Revolution(RevolutionQuadric::cylinder(
+                    c.radius,
+                    c.z_start,
+                    c.z_end,
+                    azimuth(&c.azimuth)?,
+                ))
             }
             ShapeDesc::Paraboloid(p) => {
-                if !all_finite(&[p.focal_length, p.z_start, p.z_end]) || p.focal_length <= 0.0 || p.z_start == p.z_end
+                if !all_finite(&[p.focal_length, p.z_start, p.z_end])
+                    || p.focal_length <= 0.0
+                    || p.z_start == p.z_end
                     || p.z_start.min(p.z_end) < -p.focal_length
                 {
                     return bad("paraboloid needs focal_length > 0 and z_start ≠ z_end, both ≥ −focal_length (the vertex)");
                 }
-                Shape::Revolution(RevolutionQuadric::paraboloid(p.focal_length, p.z_start, p.z_end, azimuth(&p.azimuth)?))
+                Shape::Revolution(RevolutionQuadric::paraboloid(
+                    p.focal_length,
+                    p.z_start,
+                    p.z_end,
+                    azimuth(&p.azimuth)?,
+                ))
             }
             ShapeDesc::Hyperboloid(h) => {
                 let (lo, hi) = (h.z_start.min(h.z_end), h.z_start.max(h.z_end));
-                if !all_finite(&[h.semi_axis_a, h.semi_axis_b, lo, hi]) || h.semi_axis_a <= 0.0 || h.semi_axis_b <= 0.0
-                    || lo == hi || !(lo >= h.semi_axis_a || hi <= -h.semi_axis_a)
+                if !all_finite(&[h.semi_axis_a, h.semi_axis_b, lo, hi])
+                    || h.semi_axis_a <= 0.0
+                    || h.semi_axis_b <= 0.0
+                    || lo == hi
+                    || !(lo >= h.semi_axis_a || hi <= -h.semi_axis_a)
                 {
                     return bad("hyperboloid needs semi axes > 0 and a z range on one sheet (|z| ≥ semi_axis_a)");
                 }
-                Shape::Revolution(RevolutionQuadric::hyperboloid(h.semi_axis_a, h.semi_axis_b, h.z_start, h.z_end, azimuth(&h.azimuth)?))
+                Shape::Revolution(RevolutionQuadric::hyperboloid(
+                    h.semi_axis_a,
+                    h.semi_axis_b,
+                    h.z_start,
+                    h.z_end,
+                    azimuth(&h.azimuth)?,
+                ))
             }
             ShapeDesc::Disk(c) => {
-                if !all_finite(&[c.radius, c.inner_radius]) || c.radius <= 0.0 || c.inner_radius < 0.0 || c.inner_radius >= c.radius {
+                if !all_finite(&[c.radius, c.inner_radius])
+                    || c.radius <= 0.0
+                    || c.inner_radius < 0.0
+                    || c.inner_radius >= c.radius
+                {
                     return bad("disk needs 0 ≤ inner_radius < radius");
                 }
-                Shape::Disk(Disk { inner_radius: c.inner_radius, outer_radius: c.radius, azimuth: azimuth(&c.azimuth)? })
+                Shape::Disk(Disk {
+                    inner_radius: c.inner_radius,
+                    outer_radius: c.radius,
+                    azimuth: azimuth(&c.azimuth)?,
+                })
             }
             ShapeDesc::Rectangle(r) => {
                 if !all_finite(&r.size) || r.size.iter().any(|v| *v <= 0.0) {
                     return bad("rectangle needs size = [width, height] > 0");
                 }
-                Shape::Rectangle(Rectangle { width: r.size[0], height: r.size[1] })
+                Shape::Rectangle(Rectangle {
+                    width: r.size[0],
+                    height: r.size[1],
+                })
             }
             ShapeDesc::Box(b) => {
                 if !all_finite(&b.size) || b.size.iter().any(|v| *v <= 0.0) {
                     return bad("box needs size = [x, y, z] > 0");
                 }
-                Shape::Cuboid(Cuboid { size: DVec3::from(b.size) })
+                Shape::Cuboid(Cuboid {
+                    size: DVec3::from(b.size),
+                })
             }
             ShapeDesc::Sphere(s) => {
                 if !s.radius.is_finite() || s.radius <= 0.0 {
@@ -365,7 +492,11 @@ impl Builder<'_> {
             }
         };
         let aperture_ok = |a: &ApertureDesc| {
-            finite(&a.center) && finite(&[a.radius, a.inner_radius]) && a.radius > 0.0 && a.inner_radius >= 0.0 && a.inner_radius < a.radius
+            finite(&a.center)
+                && finite(&[a.radius, a.inner_radius])
+                && a.radius > 0.0
+                && a.inner_radius >= 0.0
+                && a.inner_radius < a.radius
         };
         match d {
             SourceDesc::Parallel(p) => {
@@ -379,13 +510,21 @@ impl Builder<'_> {
                     return self.err(span, "parallel source: off_axis must be below 90 degrees");
                 }
                 Ok(Source::Parallel(ParallelBeam::new(
-                    DVec3::from(p.aperture.center), axis, p.off_axis, p.off_axis_azimuth,
-                    p.aperture.inner_radius, p.aperture.radius, spectrum(&p.energy)?,
+                    DVec3::from(p.aperture.center),
+                    axis,
+                    p.off_axis,
+                    p.off_axis_azimuth,
+                    p.aperture.inner_radius,
+                    p.aperture.radius,
+                    spectrum(&p.energy)?,
                 )))
             }
             SourceDesc::Point(p) => {
                 if !aperture_ok(&p.target) {
-                    return self.err(span, "point source: target needs finite center and 0 ≤ inner_radius < radius");
+                    return self.err(
+                        span,
+                        "point source: target needs finite center and 0 ≤ inner_radius < radius",
+                    );
                 }
                 if !finite(&p.position) || !p.radius.is_finite() || p.radius < 0.0 {
                     return self.err(span, "point source: position must be finite and radius ≥ 0");
@@ -395,8 +534,12 @@ impl Builder<'_> {
                     return self.err(span, "point source: the source must be farther from the target centre than both radii");
                 }
                 Ok(Source::Point(PointSource::new(
-                    DVec3::from(p.position), p.radius, DVec3::from(p.target.center),
-                    p.target.inner_radius, p.target.radius, spectrum(&p.energy)?,
+                    DVec3::from(p.position),
+                    p.radius,
+                    DVec3::from(p.target.center),
+                    p.target.inner_radius,
+                    p.target.radius,
+                    spectrum(&p.energy)?,
                 )))
             }
         }
@@ -417,8 +560,13 @@ pub fn analytic_shapes(path: &Path, overrides: &[String]) -> Result<Vec<NamedSha
     let original = std::fs::read_to_string(path)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let (text, _) = vars::substitute(path, &original, overrides)?;
-    let desc: SceneDesc = toml::from_str(&text).map_err(|e| SceneError::from_toml(path, &text, &e))?;
-    let b = Builder { path, text: &text, dir: PathBuf::new() };
+    let desc: SceneDesc =
+        toml::from_str(&text).map_err(|e| SceneError::from_toml(path, &text, &e))?;
+    let b = Builder {
+        path,
+        text: &text,
+        dir: PathBuf::new(),
+    };
     let mut out = Vec::new();
     for (index, od) in desc.objects.iter().enumerate() {
         let od = od.get_ref();
@@ -429,7 +577,10 @@ pub fn analytic_shapes(path: &Path, overrides: &[String]) -> Result<Vec<NamedSha
             name: od.name.clone().unwrap_or_else(|| format!("object{index}")),
             shape: b.shape(od.shape.get_ref(), od.shape.span())?,
             transform: b.transform(&od.transform)?,
-            resolution: od.tessellate.as_ref().map(|t| Resolution { segments: t.get_ref().segments, rings: t.get_ref().rings }),
+            resolution: od.tessellate.as_ref().map(|t| Resolution {
+                segments: t.get_ref().segments,
+                rings: t.get_ref().rings,
+            }),
         });
     }
     Ok(out)
@@ -445,10 +596,19 @@ pub fn inline_shape(text: &str) -> Result<Shape, SceneError> {
     }
     let path = Path::new("--shape");
     let full = format!("shape = {{ {text} }}");
-    let w: Wrapper = toml::from_str(&full).map_err(|e| SceneError::new(path, None, e.message().to_string()))?;
+    let w: Wrapper =
+        toml::from_str(&full).map_err(|e| SceneError::new(path, None, e.message().to_string()))?;
     if matches!(w.shape.get_ref(), ShapeDesc::Mesh(_)) {
-        return Err(SceneError::new(path, None, "a mesh is already a mesh; give an analytic shape"));
+        return Err(SceneError::new(
+            path,
+            None,
+            "a mesh is already a mesh; give an analytic shape",
+        ));
     }
-    let b = Builder { path, text: &full, dir: PathBuf::new() };
+    let b = Builder {
+        path,
+        text: &full,
+        dir: PathBuf::new(),
+    };
     b.shape(w.shape.get_ref(), w.shape.span())
 }

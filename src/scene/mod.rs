@@ -9,5 +9,7 @@ pub mod desc;
 mod error;
 mod vars;
 
-pub use build::{analytic_shapes, inline_shape, MeshObject, NamedShape, Object, ObjectGeometry, Scene};
+pub use build::{
+    analytic_shapes, inline_shape, MeshObject, NamedShape, Object, ObjectGeometry, Scene,
+};
 pub use error::SceneError;

@@ -16,15 +16,26 @@ pub fn substitute(
     text: &str,
     overrides: &[String],
 ) -> Result<(String, BTreeMap<String, toml::Value>), SceneError> {
-    let raw: toml::Table = toml::from_str(text).map_err(|e| SceneError::from_toml(file, text, &e))?;
+    let raw: toml::Table =
+        toml::from_str(text).map_err(|e| SceneError::from_toml(file, text, &e))?;
     let mut vars: BTreeMap<String, toml::Value> = match raw.get("vars") {
         None => BTreeMap::new(),
         Some(toml::Value::Table(t)) => t.iter().map(|(k, v)| (k.clone(), v.clone())).collect(),
-        Some(_) => return Err(SceneError::new(file, None, "`vars` must be a table of name = value")),
+        Some(_) => {
+            return Err(SceneError::new(
+                file,
+                None,
+                "`vars` must be a table of name = value",
+            ))
+        }
     };
     for o in overrides {
         let Some((name, value)) = o.split_once('=') else {
-            return Err(SceneError::new(file, None, format!("-D {o}: expected name=value")));
+            return Err(SceneError::new(
+                file,
+                None,
+                format!("-D {o}: expected name=value"),
+            ));
         };
         let name = name.trim();
         if !vars.contains_key(name) {
@@ -34,7 +45,11 @@ pub fn substitute(
                 None,
                 format!(
                     "-D {o}: the scene has no variable `{name}` (declare it in [vars]; known: {})",
-                    if known.is_empty() { "none".to_string() } else { known.join(", ") }
+                    if known.is_empty() {
+                        "none".to_string()
+                    } else {
+                        known.join(", ")
+                    }
                 ),
             ));
         }

@@ -59,7 +59,11 @@ impl Source {
 /// world +x perpendicular to the axis (world +y if the axis is along x), and
 /// e2 = e1 × axis.
 pub(crate) fn frame(axis: DVec3) -> (DVec3, DVec3) {
-    let pick = if axis.x.abs() < 0.9 { DVec3::X } else { DVec3::Y };
+    let pick = if axis.x.abs() < 0.9 {
+        DVec3::X
+    } else {
+        DVec3::Y
+    };
     let e1 = (pick - axis * pick.dot(axis)).normalize();
     (e1, e1.cross(axis))
 }

@@ -23,12 +23,29 @@ pub struct ParallelBeam {
 impl ParallelBeam {
     /// `off_axis` and `azimuth` in degrees; the tilt is towards
     /// cos(azimuth)·e1 + sin(azimuth)·e2 of [`frame`].
-    pub fn new(center: DVec3, axis: DVec3, off_axis: f64, azimuth: f64, inner_radius: f64, radius: f64, spectrum: Spectrum) -> Self {
+    pub fn new(
+        center: DVec3,
+        axis: DVec3,
+        off_axis: f64,
+        azimuth: f64,
+        inner_radius: f64,
+        radius: f64,
+        spectrum: Spectrum,
+    ) -> Self {
         let axis = axis.normalize();
         let (e1, e2) = frame(axis);
         let (th, ps) = (off_axis.to_radians(), azimuth.to_radians());
         let direction = (axis * th.cos() + (e1 * ps.cos() + e2 * ps.sin()) * th.sin()).normalize();
-        ParallelBeam { center, axis, inner_radius, radius, direction, spectrum, e1, e2 }
+        ParallelBeam {
+            center,
+            axis,
+            inner_radius,
+            radius,
+            direction,
+            spectrum,
+            e1,
+            e2,
+        }
     }
 
     /// Area of the aperture (mm²): each of N photons stands for area / N.

@@ -8,7 +8,9 @@
 mod photon;
 mod stats;
 
-pub use photon::{intersect, intersect_query, query_leaving, reflect, trace_photon, QueryHook, Record, SurfaceHit};
+pub use photon::{
+    intersect, intersect_query, query_leaving, reflect, trace_photon, QueryHook, Record, SurfaceHit,
+};
 pub use stats::Statistics;
 
 use crate::random::PhotonRng;
@@ -47,7 +49,9 @@ pub struct RunResult {
 
 /// Traces `cfg.photons` photons through the scene.
 pub fn run(scene: &Scene, cfg: &RunConfig) -> Result<RunResult, rayon::ThreadPoolBuildError> {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(cfg.threads).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(cfg.threads)
+        .build()?;
     let threads = pool.current_num_threads();
     let bar = if cfg.progress {
         let b = indicatif::ProgressBar::new(cfg.photons);
@@ -75,7 +79,12 @@ pub fn run(scene: &Scene, cfg: &RunConfig) -> Result<RunResult, rayon::ThreadPoo
                 .map(|c| {
                     let lo = c * CHUNK;
                     let hi = (lo + CHUNK).min(cfg.photons);
-                    let r = trace_range(scene, cfg.seed, cfg.first_photon + lo, cfg.first_photon + hi);
+                    let r = trace_range(
+                        scene,
+                        cfg.seed,
+                        cfg.first_photon + lo,
+                        cfg.first_photon + hi,
+                    );
                     bar.inc(hi - lo);
                     r
                 })

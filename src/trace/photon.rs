@@ -59,8 +59,15 @@ fn surface_offset(p: DVec3) -> f64 {
 pub fn query_leaving(origin: DVec3, dir: DVec3, start: Option<&SurfaceHit>) -> Query {
     let (origin, start_geometry) = match start {
         Some(h) if h.on_mesh => {
-            let side = if dir.dot(h.geometric_normal) >= 0.0 { 1.0 } else { -1.0 };
-            (h.point + h.geometric_normal * (side * surface_offset(h.point)), INVALID_ID)
+            let side = if dir.dot(h.geometric_normal) >= 0.0 {
+                1.0
+            } else {
+                -1.0
+            };
+            (
+                h.point + h.geometric_normal * (side * surface_offset(h.point)),
+                INVALID_ID,
+            )
         }
         Some(h) => (origin, h.object as u32),
         None => (origin, INVALID_ID),
@@ -75,7 +82,12 @@ pub fn query_leaving(origin: DVec3, dir: DVec3, start: Option<&SurfaceHit>) -> Q
 
 /// Nearest surface along a ray; `start` is the surface the ray leaves, if any.
 #[inline]
-pub fn intersect(scene: &Scene, origin: DVec3, dir: DVec3, start: Option<&SurfaceHit>) -> Option<SurfaceHit> {
+pub fn intersect(
+    scene: &Scene,
+    origin: DVec3,
+    dir: DVec3,
+    start: Option<&SurfaceHit>,
+) -> Option<SurfaceHit> {
     intersect_query(scene, &query_leaving(origin, dir, start), &mut ())
 }
 
@@ -108,16 +120,25 @@ pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> 
             let n = (p1 - p0).cross(p2 - p0);
             // Refine Embree's f32 distance on the f64 plane of the triangle.
             let denom = dir.dot(n);
-            let t = if denom != 0.0 { (p0 - origin).dot(n) / denom } else { hit.t };
+            let t = if denom != 0.0 {
+                (p0 - origin).dot(n) / denom
+            } else {
+                hit.t
+            };
             let point = origin + dir * t;
             let geometric_normal = n.normalize();
             let shading_normal = match &m.smooth_normals {
                 Some(ns) => {
                     let (u, v) = (hit.u as f64, hit.v as f64);
-                    let s = ns[i0 as usize] * (1.0 - u - v) + ns[i1 as usize] * u + ns[i2 as usize] * v;
+                    let s =
+                        ns[i0 as usize] * (1.0 - u - v) + ns[i1 as usize] * u + ns[i2 as usize] * v;
                     let s = s.try_normalize().unwrap_or(geometric_normal);
                     // Keep the interpolated normal on the facet's front side.
-                    if s.dot(geometric_normal) < 0.0 { -s } else { s }
+                    if s.dot(geometric_normal) < 0.0 {
+                        -s
+                    } else {
+                        s
+                    }
                 }
                 None => geometric_normal,
             };

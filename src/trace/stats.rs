@@ -49,7 +49,11 @@ impl Statistics {
         for (a, b) in self.hits_per_object.iter_mut().zip(&o.hits_per_object) {
             *a += b;
         }
-        for (a, b) in self.recorded_per_sensor.iter_mut().zip(&o.recorded_per_sensor) {
+        for (a, b) in self
+            .recorded_per_sensor
+            .iter_mut()
+            .zip(&o.recorded_per_sensor)
+        {
             *a += b;
         }
     }

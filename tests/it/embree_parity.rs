@@ -32,7 +32,11 @@ fn embree_mesh_hits_agree_with_brute_force_f64() {
     let mut obj = String::new();
     let n_tri = 400;
     for _ in 0..n_tri {
-        let c = DVec3::new(rng.range(-50., 50.), rng.range(-50., 50.), rng.range(-50., 50.));
+        let c = DVec3::new(
+            rng.range(-50., 50.),
+            rng.range(-50., 50.),
+            rng.range(-50., 50.),
+        );
         for _ in 0..3 {
             let v = c + rng.unit() * rng.range(1.0, 15.0);
             obj += &format!("v {} {} {}\n", v.x, v.y, v.z);
@@ -65,7 +69,9 @@ tessellate = { segments = 200, rings = 10 }
     // All triangles of the scene, in world space.
     let mut tris = Vec::new();
     for (oi, o) in s.objects.iter().enumerate() {
-        let ObjectGeometry::Mesh(m) = &o.geometry else { panic!("meshes only") };
+        let ObjectGeometry::Mesh(m) = &o.geometry else {
+            panic!("meshes only")
+        };
         for (pi, t) in m.triangles.iter().enumerate() {
             tris.push((oi, pi, t.map(|k| m.positions[k as usize])));
         }
@@ -74,24 +80,38 @@ tessellate = { segments = 200, rings = 10 }
     for k in 0..6000 {
         // Half the rays are aimed at a random point of a random triangle (so they
         // hit), half go in random directions.
-        let o = DVec3::new(rng.range(-120., 120.), rng.range(-120., 120.), rng.range(-120., 120.));
+        let o = DVec3::new(
+            rng.range(-120., 120.),
+            rng.range(-120., 120.),
+            rng.range(-120., 120.),
+        );
         let d = if k % 2 == 0 {
             let (_, _, [a, b, c]) = tris[(rng.next() * tris.len() as f64) as usize];
             let (u, v) = (rng.next(), rng.next());
-            let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+            let (u, v) = if u + v > 1.0 {
+                (1.0 - u, 1.0 - v)
+            } else {
+                (u, v)
+            };
             (a + (b - a) * u + (c - a) * v - o).normalize()
         } else {
             rng.unit()
         };
         let brute = tris
             .iter()
-            .filter_map(|(oi, pi, [a, b, c])| ray_triangle(o, d, *a, *b, *c).map(|(t, u, v)| (t, u, v, *oi, *pi)))
+            .filter_map(|(oi, pi, [a, b, c])| {
+                ray_triangle(o, d, *a, *b, *c).map(|(t, u, v)| (t, u, v, *oi, *pi))
+            })
             .min_by(|x, y| x.0.total_cmp(&y.0));
         let embree = intersect(&s, o, d, None);
         total += 1;
         match (brute, embree) {
             (None, None) => agree += 1,
-            (Some((t, _, _, oi, _)), Some(h)) if h.object == oi && ((h.point - o).length() - t).abs() < 1e-9 * (1.0 + t) => agree += 1,
+            (Some((t, _, _, oi, _)), Some(h))
+                if h.object == oi && ((h.point - o).length() - t).abs() < 1e-9 * (1.0 + t) =>
+            {
+                agree += 1
+            }
             (b, e) => {
                 // Acceptable only where f32 rounding decides: a hit within 1e-5 of a
                 // triangle edge (barycentric) or two surfaces at almost the same t.
@@ -102,15 +122,23 @@ tessellate = { segments = 200, rings = 10 }
                 };
                 let embree_near_edge = e.is_some_and(|h| {
                     tris.iter().any(|(oi, _, [a, b, c])| {
-                        *oi == h.object && ray_triangle(o, d, *a, *b, *c).is_some_and(|(_, u, v)| u.min(v).min(1.0 - u - v) < 1e-5)
+                        *oi == h.object
+                            && ray_triangle(o, d, *a, *b, *c)
+                                .is_some_and(|(_, u, v)| u.min(v).min(1.0 - u - v) < 1e-5)
                     })
                 });
-                assert!(near_edge || near_tie || embree_near_edge, "ray {k}: brute force {b:?} vs Embree {e:?}");
+                assert!(
+                    near_edge || near_tie || embree_near_edge,
+                    "ray {k}: brute force {b:?} vs Embree {e:?}"
+                );
                 edge_cases += 1;
             }
         }
     }
-    assert!(edge_cases * 1000 < total, "{edge_cases} edge cases out of {total}: more than 0.1 %");
+    assert!(
+        edge_cases * 1000 < total,
+        "{edge_cases} edge cases out of {total}: more than 0.1 %"
+    );
     assert!(agree + edge_cases == total);
 }
 
@@ -146,7 +174,11 @@ shape = {{ type = "cone", radius_start = 63.2384, z_start = 229.0, radius_end = 
         if k % 3 == 0 && !mesh_vertices.is_empty() {
             let i = (rng.next() * mesh_vertices.len() as f64) as usize;
             let j = (i + 1).min(mesh_vertices.len() - 1);
-            target = if k % 2 == 0 { mesh_vertices[i] } else { 0.5 * (mesh_vertices[i] + mesh_vertices[j]) };
+            target = if k % 2 == 0 {
+                mesh_vertices[i]
+            } else {
+                0.5 * (mesh_vertices[i] + mesh_vertices[j])
+            };
             if target.z < 10.0 || target.z > 220.0 || target.y.abs() > 0.24 * target.x {
                 continue;
             }
@@ -157,12 +189,18 @@ shape = {{ type = "cone", radius_start = 63.2384, z_start = 229.0, radius_end = 
         let tilt = cone_slope + graze;
         let d = (radial * tilt.sin() - DVec3::Z * tilt.cos()).normalize();
         let o = target - d * 30.0;
-        let Some(h) = intersect(&s, o, d, None) else { continue };
+        let Some(h) = intersect(&s, o, d, None) else {
+            continue;
+        };
         let out = reflect(d, h.shading_normal);
         if let Some(h2) = intersect(&s, h.point, out, Some(&h)) {
             // A second hit on a cone segment this narrow needs the ray to cross the
             // axis region: it can only be far away, never at the start point.
-            assert!((h2.point - h.point).length() > 10.0, "ray {k}: re-hit its own surface {} mm away", (h2.point - h.point).length());
+            assert!(
+                (h2.point - h.point).length() > 10.0,
+                "ray {k}: re-hit its own surface {} mm away",
+                (h2.point - h.point).length()
+            );
         }
         count += 1;
     }
@@ -176,6 +214,8 @@ fn analytic_reflections_never_rehit_their_surface() {
 
 #[test]
 fn mesh_reflections_never_rehit_their_surface() {
-    reflected_rays_never_rehit_their_surface("tessellate = { segments = 500, rings = 20 }\nsmooth_normals = true");
+    reflected_rays_never_rehit_their_surface(
+        "tessellate = { segments = 500, rings = 20 }\nsmooth_normals = true",
+    );
     reflected_rays_never_rehit_their_surface("tessellate = { segments = 100, rings = 4 }");
 }

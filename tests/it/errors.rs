@@ -49,7 +49,13 @@ fn expect_input_error(scene_text: &str, extra: &[&str], needles: &[&str]) {
         assert!(err.contains(n), "stderr lacks {n:?}:\n{err}");
     }
     // Nothing half-written.
-    assert!(!dir.path().join("out").exists() || std::fs::read_dir(dir.path().join("out")).unwrap().next().is_none());
+    assert!(
+        !dir.path().join("out").exists()
+            || std::fs::read_dir(dir.path().join("out"))
+                .unwrap()
+                .next()
+                .is_none()
+    );
 }
 
 #[test]
@@ -57,14 +63,26 @@ fn the_good_scene_runs() {
     let dir = tempfile::tempdir().unwrap();
     let (code, err) = trace(dir.path(), GOOD, &[]);
     assert_eq!(code, 0, "{err}");
-    for f in ["sensor.npy", "sensor_counts.npy", "sensor.png", "sensor_log.png", "sensor.json", "summary.json"] {
+    for f in [
+        "sensor.npy",
+        "sensor_counts.npy",
+        "sensor.png",
+        "sensor_log.png",
+        "sensor.json",
+        "summary.json",
+    ] {
         assert!(dir.path().join("out").join(f).is_file(), "{f} missing");
     }
-    let json: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/sensor.json")).unwrap()).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("out/sensor.json")).unwrap())
+            .unwrap();
     assert_eq!(json["statistics"]["reached_sensor"], 100);
     assert_eq!(json["sensor"]["pixel_pitch_mm"][0], 1.4);
     assert_eq!(json["provenance"]["photons"], 100);
-    assert_eq!(json["provenance"]["scene_sha256"].as_str().unwrap().len(), 64);
+    assert_eq!(
+        json["provenance"]["scene_sha256"].as_str().unwrap().len(),
+        64
+    );
     // The .npy loads as a (10, 10) float64 array whose sum is the photon count.
     let bytes = std::fs::read(dir.path().join("out/sensor.npy")).unwrap();
     let npy = npyz::NpyFile::new(&bytes[..]).unwrap();
@@ -91,14 +109,25 @@ fn unknown_shape_key_and_shape_type() {
 fn wrong_type_names_the_line() {
     let bad = GOOD.replace("pixels = [10, 10]", "pixels = \"many\"");
     // Inside a `type = ...` table the TOML parser reports the table's line.
-    expect_input_error(&bad, &[], &["scene.toml:5", "invalid type: string \"many\""]);
+    expect_input_error(
+        &bad,
+        &[],
+        &["scene.toml:5", "invalid type: string \"many\""],
+    );
     let bad = GOOD.replace("radius = 1.0 }", "radius = \"wide\" }");
-    expect_input_error(&bad, &[], &["scene.toml:10", "invalid type: string \"wide\""]);
+    expect_input_error(
+        &bad,
+        &[],
+        &["scene.toml:10", "invalid type: string \"wide\""],
+    );
 }
 
 #[test]
 fn missing_mesh_file_unknown_material_and_bad_values() {
-    let bad = GOOD.replace("{ type = \"rectangle\", size = [14.0, 14.0] }", "{ type = \"mesh\", file = \"nope.obj\" }");
+    let bad = GOOD.replace(
+        "{ type = \"rectangle\", size = [14.0, 14.0] }",
+        "{ type = \"mesh\", file = \"nope.obj\" }",
+    );
     expect_input_error(&bad, &[], &["scene.toml:18", "nope.obj does not exist"]);
     let bad = GOOD.replace("material = \"detector\"", "material = \"gold\"");
     expect_input_error(&bad, &[], &["scene.toml:17", "unknown material `gold`"]);
@@ -106,7 +135,10 @@ fn missing_mesh_file_unknown_material_and_bad_values() {
     expect_input_error(&bad, &[], &["scene.toml:18", "rectangle needs size"]);
     let bad = GOOD.replace("radius = 1.0 }", "radius = -1.0 }");
     expect_input_error(&bad, &[], &["scene.toml:1", "aperture"]);
-    let bad = GOOD.replace("[[objects]]", "[[objects]]\ntransform = [ { rotate = { axis = [0, 0, 0], angle = 3 } } ]");
+    let bad = GOOD.replace(
+        "[[objects]]",
+        "[[objects]]\ntransform = [ { rotate = { axis = [0, 0, 0], angle = 3 } } ]",
+    );
     expect_input_error(&bad, &[], &["scene.toml:16", "axis must not be zero"]);
 }
 
@@ -118,11 +150,18 @@ fn variables_and_overrides() {
     assert_eq!(code, 0, "{err}");
     let summary = std::fs::read_to_string(dir.path().join("out/summary.json")).unwrap();
     assert!(summary.contains("6.4"), "{summary}");
-    expect_input_error(GOOD, &["-D", "energi=6.4"], &["no variable `energi`", "energy"]);
+    expect_input_error(
+        GOOD,
+        &["-D", "energi=6.4"],
+        &["no variable `energi`", "energy"],
+    );
     let bad = GOOD.replace("\"$energy\"", "\"$enrgy\"");
     expect_input_error(&bad, &[], &["scene.toml:13", "unknown variable `$enrgy`"]);
-    let bad = GOOD.replace("\"$energy\"", "\"$energy\"");
-    expect_input_error(&bad, &["-D", "energy=hot"], &["invalid type: string \"hot\""]);
+    expect_input_error(
+        GOOD,
+        &["-D", "energy=hot"],
+        &["invalid type: string \"hot\""],
+    );
 }
 
 fn mesh_scene(file: &str) -> String {
@@ -142,21 +181,41 @@ fn expect_mesh_error(file: &str, content: &[u8], needles: &[&str]) {
 
 #[test]
 fn broken_meshes_give_clear_errors() {
-    expect_mesh_error("nan.obj", b"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n", &["non-finite"]);
+    expect_mesh_error(
+        "nan.obj",
+        b"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n",
+        &["non-finite"],
+    );
     expect_mesh_error("range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", &[]);
     expect_mesh_error("empty.obj", b"# nothing\nv 0 0 0\n", &["no triangles"]);
-    expect_mesh_error("garbage.obj", b"v 0 zero 0\nf 1 2 3\n", &["not a valid OBJ"]);
+    expect_mesh_error(
+        "garbage.obj",
+        b"v 0 zero 0\nf 1 2 3\n",
+        &["not a valid OBJ"],
+    );
     // glTF: truncated binary, broken JSON, compressed geometry, index out of range.
     let dir = tempfile::tempdir().unwrap();
-    let m = traxer::geometry::Shape::Sphere(traxer::geometry::Sphere { radius: 1.0 })
-        .tessellate(traxer::geometry::Resolution { segments: 8, rings: 4 });
+    let m = traxer::geometry::Shape::Sphere(traxer::geometry::Sphere { radius: 1.0 }).tessellate(
+        traxer::geometry::Resolution {
+            segments: 8,
+            rings: 4,
+        },
+    );
     let glb = dir.path().join("ok.glb");
     traxer::mesh::write_gltf(&glb, &m, "s").unwrap();
     let bytes = std::fs::read(&glb).unwrap();
     expect_mesh_error("truncated.glb", &bytes[..bytes.len() / 2], &[]);
-    expect_mesh_error("broken.gltf", b"{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ", &["not valid glTF JSON"]);
+    expect_mesh_error(
+        "broken.gltf",
+        b"{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ",
+        &["not valid glTF JSON"],
+    );
     let draco = r#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"meshes":[]}"#;
-    expect_mesh_error("draco.gltf", draco.as_bytes(), &["KHR_draco_mesh_compression", "compress"]);
+    expect_mesh_error(
+        "draco.gltf",
+        draco.as_bytes(),
+        &["KHR_draco_mesh_compression", "compress"],
+    );
     // Three vertices, indices [0, 1, 7].
     let mut bin = Vec::new();
     for c in [0f32, 0., 0., 1., 0., 0., 0., 1., 0.] {
@@ -175,15 +234,25 @@ fn broken_meshes_give_clear_errors() {
 "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
              {{"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}}]}}"#
     );
-    expect_mesh_error("badindex.gltf", bad.as_bytes(), &["vertex index", "only 3 vertices"]);
+    expect_mesh_error(
+        "badindex.gltf",
+        bad.as_bytes(),
+        &["vertex index", "only 3 vertices"],
+    );
 }
 
 #[test]
 fn missing_scene_bad_arguments_and_run_failures() {
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer")).args(["trace", "/nonexistent/scene.toml"]).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args(["trace", "/nonexistent/scene.toml"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/scene.toml"));
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer")).args(["trace", "--photons", "lots", "x.toml"]).output().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args(["trace", "--photons", "lots", "x.toml"])
+        .output()
+        .unwrap();
     assert_eq!(out.status.code(), Some(2));
     // The output folder cannot be created (a file is in the way): the run fails, 1.
     let dir = tempfile::tempdir().unwrap();

@@ -15,7 +15,9 @@ fn single_reflection_spots(s: &Scene, n: u64, z_plane: f64) -> Vec<DVec3> {
     for i in 0..n {
         let mut rng = PhotonRng::new(3, i);
         let p = s.sources[0].emit(&mut rng);
-        let Some(h) = intersect(s, p.origin, p.dir, None) else { continue };
+        let Some(h) = intersect(s, p.origin, p.dir, None) else {
+            continue;
+        };
         let d = reflect(p.dir, h.shading_normal);
         let t = (z_plane - h.point.z) / d.z;
         out.push(h.point + d * t);
@@ -44,7 +46,10 @@ shape = {{ type = "paraboloid", focal_length = 0.5, z_start = 790.0, z_end = 102
 }
 
 fn max_radius(spots: &[DVec3]) -> f64 {
-    spots.iter().map(|p| p.truncate().length()).fold(0.0, f64::max)
+    spots
+        .iter()
+        .map(|p| p.truncate().length())
+        .fold(0.0, f64::max)
 }
 
 #[test]
@@ -69,13 +74,21 @@ fn tessellated_paraboloid_focuses_within_the_stated_bound() {
     let spots = single_reflection_spots(&s, 20_000, 0.0);
     assert_eq!(spots.len(), 20_000);
     let smooth = max_radius(&spots);
-    assert!(smooth < 5e-3, "smooth-normal tessellated spot radius {smooth} mm");
+    assert!(
+        smooth < 5e-3,
+        "smooth-normal tessellated spot radius {smooth} mm"
+    );
 
     // Flat facets tilt the normal sideways by up to Δφ/2 = 0.25°; the reflected ray
     // then turns by ≈ 2 sin(θ) · 0.25° ≈ 2·0.013·4.4e-3 rad over ~900 mm: ~0.1 mm.
-    let s = scene(&paraboloid_scene("tessellate = { segments = 720, rings = 40 }"));
+    let s = scene(&paraboloid_scene(
+        "tessellate = { segments = 720, rings = 40 }",
+    ));
     let flat = max_radius(&single_reflection_spots(&s, 20_000, 0.0));
-    assert!(flat > 10.0 * smooth && flat < 0.3, "flat-facet spot radius {flat} mm");
+    assert!(
+        flat > 10.0 * smooth && flat < 0.3,
+        "flat-facet spot radius {flat} mm"
+    );
 }
 
 #[test]
@@ -86,7 +99,10 @@ fn tessellated_paraboloid_converges_with_resolution() {
             "tessellate = {{ segments = {segments}, rings = 20 }}\nsmooth_normals = true"
         )));
         let r = max_radius(&single_reflection_spots(&s, 5000, 0.0));
-        assert!(r < last, "{segments} segments: spot {r} mm not below {last} mm");
+        assert!(
+            r < last,
+            "{segments} segments: spot {r} mm not below {last} mm"
+        );
         last = r;
     }
 }
@@ -94,7 +110,11 @@ fn tessellated_paraboloid_converges_with_resolution() {
 fn flat_mirror_scene(graze_deg: f64, tessellate: bool) -> String {
     // A 20 × 100 mm flat mirror (a rectangle: local z = 0, facing +z) rotated
     // about x so that a beam along −z meets it at `graze_deg`; a screen 200 mm below.
-    let tess = if tessellate { "tessellate = { segments = 7, rings = 3 }" } else { "" };
+    let tess = if tessellate {
+        "tessellate = { segments = 7, rings = 3 }"
+    } else {
+        ""
+    };
     format!(
         r#"
 [[sources]]
@@ -138,17 +158,33 @@ fn flat_mirror_deflects_by_twice_the_grazing_angle() {
                 let h = intersect(&s, p.origin, p.dir, None).expect("hits the mirror");
                 let d = reflect(p.dir, h.shading_normal);
                 let angle = p.dir.angle_between(d).to_degrees();
-                assert!((angle - 2.0 * graze).abs() < 1e-9, "tess {tess}: deflection {angle} for θ = {graze}");
+                assert!(
+                    (angle - 2.0 * graze).abs() < 1e-9,
+                    "tess {tess}: deflection {angle} for θ = {graze}"
+                );
             }
             // Full trace: the mirror normal is (0, −cos θ, sin θ), so the reflected
             // direction is (0, −sin 2θ, −cos 2θ) and the spot on the screen 200 mm
             // below the mirror centre is at y = −200·tan(2θ).
-            let r = trace::run(&s, &RunConfig { photons: 20_000, seed: 1, threads: 0, progress: false, first_photon: 0 }).unwrap();
+            let r = trace::run(
+                &s,
+                &RunConfig {
+                    photons: 20_000,
+                    seed: 1,
+                    threads: 0,
+                    progress: false,
+                    first_photon: 0,
+                },
+            )
+            .unwrap();
             assert_eq!(r.stats.reached_sensor, 20_000, "tess {tess}, θ {graze}");
             let (_, cy, _) = centroid_rms(&r.images[0].flux, 1200);
             let y_mm = cy * 60.0 / 1200.0 - 30.0;
             let expected = -200.0 * (2.0 * graze.to_radians()).tan();
-            assert!((y_mm - expected).abs() < 0.02, "tess {tess}, θ {graze}: spot at y = {y_mm} mm, expected {expected}");
+            assert!(
+                (y_mm - expected).abs() < 0.02,
+                "tess {tess}, θ {graze}: spot at y = {y_mm} mm, expected {expected}"
+            );
         }
     }
 }
@@ -216,7 +252,17 @@ transform = [ { translate = [0, 0, -1500] } ]
     }
     let s = scene(&text);
     let n = 200_000;
-    let r = trace::run(&s, &RunConfig { photons: n, seed: 5, threads: 0, progress: false, first_photon: 0 }).unwrap();
+    let r = trace::run(
+        &s,
+        &RunConfig {
+            photons: n,
+            seed: 5,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        },
+    )
+    .unwrap();
     // Photons entering between a shell's front radius and its radius at the
     // intersection plane are reflected twice and reach the focus: the expected
     // fraction is Σ (R_front² − r0²) / (82² − 48²), with R_front² = 4q(L − z_p + q).
@@ -231,17 +277,33 @@ transform = [ { translate = [0, 0, -1500] } ]
     let expected = p * n as f64;
     let sigma = (n as f64 * p * (1.0 - p)).sqrt();
     let got = r.stats.reached_sensor as f64;
-    assert!((got - expected).abs() < 4.0 * sigma, "reached {got}, expected {expected} ± {sigma}");
+    assert!(
+        (got - expected).abs() < 4.0 * sigma,
+        "reached {got}, expected {expected} ± {sigma}"
+    );
     assert_eq!(r.stats.max_interactions_reached, 0);
     // All flux in the four pixels around the focus (10 µm pixels): the on-axis
     // Wolter-I image is a point.
     let img = &r.images[0].flux;
-    let central: f64 = [(99, 99), (99, 100), (100, 99), (100, 100)].iter().map(|&(y, x)| img[y * 200 + x]).sum();
+    let central: f64 = [(99, 99), (99, 100), (100, 99), (100, 100)]
+        .iter()
+        .map(|&(y, x)| img[y * 200 + x])
+        .sum();
     assert_eq!(central, r.images[0].total_flux());
     // And moving the sensor by 5 mm defocuses it into a ring of radius
     // ≈ 5 mm · tan(4θ) = 5 · r0/f for each shell: 0.167 … 0.267 mm.
     let s = scene(&text.replace("translate = [0, 0, -1500]", "translate = [0, 0, -1495]"));
-    let r = trace::run(&s, &RunConfig { photons: 200_000, seed: 5, threads: 0, progress: false, first_photon: 0 }).unwrap();
+    let r = trace::run(
+        &s,
+        &RunConfig {
+            photons: 200_000,
+            seed: 5,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        },
+    )
+    .unwrap();
     let img = &r.images[0].flux;
     let mut rmin = f64::INFINITY;
     let mut rmax: f64 = 0.0;
@@ -254,5 +316,8 @@ transform = [ { translate = [0, 0, -1500] } ]
             rmax = rmax.max(rr);
         }
     }
-    assert!((rmin - 5.0 * 50.0 / 1500.0).abs() < 0.02 && (rmax - 5.0 * 81.3 / 1500.0).abs() < 0.02, "defocus ring {rmin}..{rmax} mm");
+    assert!(
+        (rmin - 5.0 * 50.0 / 1500.0).abs() < 0.02 && (rmax - 5.0 * 81.3 / 1500.0).abs() < 0.02,
+        "defocus ring {rmin}..{rmax} mm"
+    );
 }

@@ -2,13 +2,18 @@
 //! bounds and tessellation.
 
 use glam::DVec3;
-use traxer::geometry::{AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape, Sphere};
+use traxer::geometry::{
+    AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape, Sphere,
+};
 
 /// Deterministic pseudo-random numbers for test inputs.
 pub struct Lcg(pub u64);
 impl Lcg {
     pub fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
         (self.0 >> 11) as f64 / (1u64 << 53) as f64
     }
     pub fn range(&mut self, a: f64, b: f64) -> f64 {
@@ -16,7 +21,11 @@ impl Lcg {
     }
     pub fn unit(&mut self) -> DVec3 {
         loop {
-            let v = DVec3::new(self.range(-1., 1.), self.range(-1., 1.), self.range(-1., 1.));
+            let v = DVec3::new(
+                self.range(-1., 1.),
+                self.range(-1., 1.),
+                self.range(-1., 1.),
+            );
             if v.length_squared() > 0.01 && v.length_squared() <= 1.0 {
                 return v.normalize();
             }
@@ -25,15 +34,39 @@ impl Lcg {
 }
 
 fn shapes() -> Vec<Shape> {
-    let seg = AzimuthRange { start_deg: -15.0, span_deg: 30.0 };
+    let seg = AzimuthRange {
+        start_deg: -15.0,
+        span_deg: 30.0,
+    };
     vec![
         Shape::Revolution(RevolutionQuadric::cone(63.2384, 229.0, 60.9121, 4.0, seg)),
-        Shape::Revolution(RevolutionQuadric::cylinder(21.5, -50.0, 50.0, AzimuthRange::FULL)),
-        Shape::Revolution(RevolutionQuadric::paraboloid(0.5, 800.0, 1000.0, AzimuthRange::FULL)),
-        Shape::Revolution(RevolutionQuadric::hyperboloid(700.0, 30.0, 760.0, 850.0, seg)),
-        Shape::Disk(Disk { inner_radius: 2.0, outer_radius: 10.0, azimuth: AzimuthRange::FULL }),
-        Shape::Rectangle(Rectangle { width: 14.0, height: 7.0 }),
-        Shape::Cuboid(Cuboid { size: DVec3::new(1.0, 2.0, 3.0) }),
+        Shape::Revolution(RevolutionQuadric::cylinder(
+            21.5,
+            -50.0,
+            50.0,
+            AzimuthRange::FULL,
+        )),
+        Shape::Revolution(RevolutionQuadric::paraboloid(
+            0.5,
+            800.0,
+            1000.0,
+            AzimuthRange::FULL,
+        )),
+        Shape::Revolution(RevolutionQuadric::hyperboloid(
+            700.0, 30.0, 760.0, 850.0, seg,
+        )),
+        Shape::Disk(Disk {
+            inner_radius: 2.0,
+            outer_radius: 10.0,
+            azimuth: AzimuthRange::FULL,
+        }),
+        Shape::Rectangle(Rectangle {
+            width: 14.0,
+            height: 7.0,
+        }),
+        Shape::Cuboid(Cuboid {
+            size: DVec3::new(1.0, 2.0, 3.0),
+        }),
         Shape::Sphere(Sphere { radius: 5.0 }),
     ]
 }
@@ -58,11 +91,19 @@ fn surface_points(s: &Shape) -> Vec<DVec3> {
                 let phi = rng.range(0.0, std::f64::consts::TAU);
                 DVec3::new(r * phi.cos(), r * phi.sin(), 0.0)
             }
-            Shape::Rectangle(r) => DVec3::new(r.width * rng.range(-0.499, 0.499), r.height * rng.range(-0.499, 0.499), 0.0),
+            Shape::Rectangle(r) => DVec3::new(
+                r.width * rng.range(-0.499, 0.499),
+                r.height * rng.range(-0.499, 0.499),
+                0.0,
+            ),
             Shape::Cuboid(c) => {
                 let h = 0.5 * c.size;
                 let axis = (rng.next() * 3.0) as usize % 3;
-                let mut p = DVec3::new(h.x * rng.range(-0.99, 0.99), h.y * rng.range(-0.99, 0.99), h.z * rng.range(-0.99, 0.99));
+                let mut p = DVec3::new(
+                    h.x * rng.range(-0.99, 0.99),
+                    h.y * rng.range(-0.99, 0.99),
+                    h.z * rng.range(-0.99, 0.99),
+                );
                 p[axis] = if rng.next() < 0.5 { -h[axis] } else { h[axis] };
                 p
             }
@@ -111,11 +152,20 @@ fn rays_aimed_at_surface_points_hit_them() {
             let d = rng.unit();
             let o = p - d * 50.0;
             let t = s.intersect(o, d, f64::INFINITY, false);
-            let Some(t) = t else { panic!("{s:?}: ray aimed at interior point {p} missed") };
-            assert!(t <= 50.0 + 1e-7, "{s:?} point {k}: hit at {t} beyond the target 50");
+            let Some(t) = t else {
+                panic!("{s:?}: ray aimed at interior point {p} missed")
+            };
+            assert!(
+                t <= 50.0 + 1e-7,
+                "{s:?} point {k}: hit at {t} beyond the target 50"
+            );
             let h = o + d * t;
             let tol = 1e-9 * (1.0 + p.length_squared());
-            assert!(residual(&s, h).abs() < tol, "{s:?}: residual {} at {h}", residual(&s, h));
+            assert!(
+                residual(&s, h).abs() < tol,
+                "{s:?}: residual {} at {h}",
+                residual(&s, h)
+            );
         }
     }
 }
@@ -125,7 +175,16 @@ fn most_rays_aimed_at_interior_points_hit_exactly_there() {
     // Aiming from the front side at points strictly inside a section must return
     // that very point (nothing else is in the way for these convex/concave pieces).
     let mut rng = Lcg(2);
-    let cone = RevolutionQuadric::cone(63.0, 200.0, 61.0, 0.0, AzimuthRange { start_deg: -15.0, span_deg: 30.0 });
+    let cone = RevolutionQuadric::cone(
+        63.0,
+        200.0,
+        61.0,
+        0.0,
+        AzimuthRange {
+            start_deg: -15.0,
+            span_deg: 30.0,
+        },
+    );
     for _ in 0..2000 {
         let z = rng.range(10.0, 190.0);
         let phi = rng.range(-14.0, 14.0).to_radians();
@@ -133,15 +192,28 @@ fn most_rays_aimed_at_interior_points_hit_exactly_there() {
         // Grazing X-ray-like direction: mostly −z, slightly outwards.
         let d = DVec3::new(phi.cos() * 0.02, phi.sin() * 0.02, -1.0).normalize();
         let o = p - d * 30.0;
-        let t = cone.intersect(o, d, f64::INFINITY, false).expect("must hit");
-        assert!((o + d * t - p).length() < 1e-9, "hit {} vs {}", o + d * t, p);
+        let t = cone
+            .intersect(o, d, f64::INFINITY, false)
+            .expect("must hit");
+        assert!(
+            (o + d * t - p).length() < 1e-9,
+            "hit {} vs {}",
+            o + d * t,
+            p
+        );
     }
 }
 
 #[test]
 fn normals_are_unit_perpendicular_and_face_the_documented_side() {
     for s in shapes() {
-        for p in s.tessellate(Resolution { segments: 24, rings: 6 }).positions {
+        for p in s
+            .tessellate(Resolution {
+                segments: 24,
+                rings: 6,
+            })
+            .positions
+        {
             let n = s.normal(p);
             assert!((n.length() - 1.0).abs() < 1e-12);
             // Perpendicular: moving along the surface keeps the residual ~0, so the
@@ -156,7 +228,10 @@ fn normals_are_unit_perpendicular_and_face_the_documented_side() {
                 continue; // residual is not smooth at edges
             }
             let g = g.normalize();
-            assert!(g.cross(n).length() < 1e-5, "{s:?}: normal {n} vs gradient {g} at {p}");
+            assert!(
+                g.cross(n).length() < 1e-5,
+                "{s:?}: normal {n} vs gradient {g} at {p}"
+            );
             // Documented side: surfaces of revolution face the axis.
             if let Shape::Revolution(_) = s {
                 assert!(n.x * p.x + n.y * p.y < 0.0);
@@ -172,23 +247,43 @@ fn concave_surface_can_be_hit_again_but_not_at_the_start_point() {
     let cyl = RevolutionQuadric::cylinder(10.0, -100.0, 100.0, AzimuthRange::FULL);
     let p = DVec3::new(10.0, 0.0, 0.0);
     let d = DVec3::new(-1.0, 0.2, -0.05).normalize();
-    let t = cyl.intersect(p, d, f64::INFINITY, true).expect("opposite wall");
+    let t = cyl
+        .intersect(p, d, f64::INFINITY, true)
+        .expect("opposite wall");
     let h = p + d * t;
     assert!(t > 5.0 && (h.x * h.x + h.y * h.y - 100.0).abs() < 1e-9);
     // A ray leaving the wall outwards has nothing left to hit.
-    assert!(cyl.intersect(p, DVec3::new(1.0, 0.0, 0.0), f64::INFINITY, true).is_none());
+    assert!(cyl
+        .intersect(p, DVec3::new(1.0, 0.0, 0.0), f64::INFINITY, true)
+        .is_none());
 }
 
 #[test]
 fn azimuth_range_and_z_range_clip_sections() {
-    let seg = RevolutionQuadric::cone(60.0, 100.0, 60.0, 0.0, AzimuthRange { start_deg: -15.0, span_deg: 30.0 });
+    let seg = RevolutionQuadric::cone(
+        60.0,
+        100.0,
+        60.0,
+        0.0,
+        AzimuthRange {
+            start_deg: -15.0,
+            span_deg: 30.0,
+        },
+    );
     // Aimed at azimuth 0 → hit; azimuth 90 → miss (outside the segment).
     let hit = seg.intersect(DVec3::new(0.0, 0.0, 50.0), DVec3::X, f64::INFINITY, false);
     assert!((hit.unwrap() - 60.0).abs() < 1e-12);
-    assert!(seg.intersect(DVec3::new(0.0, 0.0, 50.0), DVec3::Y, f64::INFINITY, false).is_none());
-    assert!(seg.intersect(DVec3::new(0.0, 0.0, 150.0), DVec3::X, f64::INFINITY, false).is_none());
+    assert!(seg
+        .intersect(DVec3::new(0.0, 0.0, 50.0), DVec3::Y, f64::INFINITY, false)
+        .is_none());
+    assert!(seg
+        .intersect(DVec3::new(0.0, 0.0, 150.0), DVec3::X, f64::INFINITY, false)
+        .is_none());
     // Ranges wrapping through ±180°.
-    let back = AzimuthRange { start_deg: 170.0, span_deg: 20.0 };
+    let back = AzimuthRange {
+        start_deg: 170.0,
+        span_deg: 20.0,
+    };
     assert!(back.contains(-1.0, 0.0) && back.contains(-1.0, -0.1) && !back.contains(1.0, 0.0));
 }
 
@@ -196,8 +291,17 @@ fn azimuth_range_and_z_range_clip_sections() {
 fn bounds_contain_every_tessellation_vertex() {
     for s in shapes() {
         let (lo, hi) = s.bounds();
-        for p in s.tessellate(Resolution { segments: 97, rings: 13 }).positions {
-            assert!(p.cmpge(lo - 1e-9).all() && p.cmple(hi + 1e-9).all(), "{s:?}: {p} outside {lo}..{hi}");
+        for p in s
+            .tessellate(Resolution {
+                segments: 97,
+                rings: 13,
+            })
+            .positions
+        {
+            assert!(
+                p.cmpge(lo - 1e-9).all() && p.cmple(hi + 1e-9).all(),
+                "{s:?}: {p} outside {lo}..{hi}"
+            );
         }
     }
 }
@@ -206,7 +310,10 @@ fn bounds_contain_every_tessellation_vertex() {
 fn tessellation_is_wound_towards_the_front_and_converges_in_area() {
     use std::f64::consts::PI;
     for s in shapes() {
-        let m = s.tessellate(Resolution { segments: 64, rings: 8 });
+        let m = s.tessellate(Resolution {
+            segments: 64,
+            rings: 8,
+        });
         m.validate().unwrap();
         let ns = m.normals.as_ref().unwrap();
         for (i, t) in m.triangles.iter().enumerate() {
@@ -214,16 +321,47 @@ fn tessellation_is_wound_towards_the_front_and_converges_in_area() {
             if f.length() == 0.0 {
                 continue;
             }
-            assert!(f.dot(ns[t[0] as usize]) > 0.0, "{s:?}: triangle {i} wound against its normals");
+            assert!(
+                f.dot(ns[t[0] as usize]) > 0.0,
+                "{s:?}: triangle {i} wound against its normals"
+            );
         }
     }
     // Area converges to the closed form (from below for inscribed polygons).
     let sphere = Shape::Sphere(Sphere { radius: 5.0 });
-    let a = sphere.tessellate(Resolution { segments: 400, rings: 200 }).area();
-    assert!((a / (4.0 * PI * 25.0) - 1.0).abs() < 2e-4, "sphere area {a}");
-    let disk = Shape::Disk(Disk { inner_radius: 2.0, outer_radius: 10.0, azimuth: AzimuthRange::FULL });
-    let a = disk.tessellate(Resolution { segments: 1000, rings: 3 }).area();
+    let a = sphere
+        .tessellate(Resolution {
+            segments: 400,
+            rings: 200,
+        })
+        .area();
+    assert!(
+        (a / (4.0 * PI * 25.0) - 1.0).abs() < 2e-4,
+        "sphere area {a}"
+    );
+    let disk = Shape::Disk(Disk {
+        inner_radius: 2.0,
+        outer_radius: 10.0,
+        azimuth: AzimuthRange::FULL,
+    });
+    let a = disk
+        .tessellate(Resolution {
+            segments: 1000,
+            rings: 3,
+        })
+        .area();
     assert!((a / (PI * 96.0) - 1.0).abs() < 1e-4, "annulus area {a}");
-    let bx = Shape::Cuboid(Cuboid { size: DVec3::new(1.0, 2.0, 3.0) });
-    assert!((bx.tessellate(Resolution { segments: 1, rings: 1 }).area() - 22.0).abs() < 1e-12);
+    let bx = Shape::Cuboid(Cuboid {
+        size: DVec3::new(1.0, 2.0, 3.0),
+    });
+    assert!(
+        (bx.tessellate(Resolution {
+            segments: 1,
+            rings: 1
+        })
+        .area()
+            - 22.0)
+            .abs()
+            < 1e-12
+    );
 }

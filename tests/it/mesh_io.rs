@@ -51,7 +51,11 @@ fn gltf_node_hierarchy_transforms_are_applied() {
     };
     assert_eq!(m.triangles.len(), 1);
     for (got, local) in m.positions.iter().zip([DVec3::ZERO, DVec3::X, DVec3::Y]) {
-        assert!(close(*got, expect(local), 1e-6), "{got} vs {}", expect(local));
+        assert!(
+            close(*got, expect(local), 1e-6),
+            "{got} vs {}",
+            expect(local)
+        );
     }
     // Computed normal: the triangle's plane, CCW → +z.
     assert!(close(m.normals.as_ref().unwrap()[0], DVec3::Z, 1e-9));
@@ -64,13 +68,21 @@ fn gltf_mirroring_node_reverses_winding_and_other_modes_are_skipped() {
     // scale z by −1 flips handedness; a LINES primitive (mode 1) is skipped.
     std::fs::write(
         &p,
-        gltf_with_nodes(r#"[{"scale":[1,1,-1],"mesh":0}]"#, "[0]", r#",{"attributes":{"POSITION":0},"mode":1}"#),
+        gltf_with_nodes(
+            r#"[{"scale":[1,1,-1],"mesh":0}]"#,
+            "[0]",
+            r#",{"attributes":{"POSITION":0},"mode":1}"#,
+        ),
     )
     .unwrap();
     let (m, report) = load(&p).unwrap();
     assert_eq!(m.triangles.len(), 1);
     assert_eq!(report.warnings.len(), 1, "{:?}", report.warnings);
-    assert!(report.warnings[0].contains("Lines"), "{:?}", report.warnings);
+    assert!(
+        report.warnings[0].contains("Lines"),
+        "{:?}",
+        report.warnings
+    );
     // The mirrored triangle (0,0,0),(1,0,0),(0,1,0) keeps its place, and its
     // winding is reversed so that the front stays where glTF says it is.
     assert!(m.face_normal(0).z < 0.0);
@@ -79,32 +91,56 @@ fn gltf_mirroring_node_reverses_winding_and_other_modes_are_skipped() {
 #[test]
 fn gltf_triangle_strips_fans_and_external_buffers() {
     let dir = tempfile::tempdir().unwrap();
-    let mut bin = Vec::new();
-    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]] {
-        for c in v {
-            bin.extend_from_slice(&c.to_le_bytes());
+    // A unit quad as a strip (zig-zag order) and as a fan (around the rim).
+    let strip = [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.], [1., 1., 0.]];
+    let fan = [[0f32, 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]];
+    for (mode, n, verts) in [(5, 2, strip), (6, 2, fan)] {
+        let mut bin = Vec::new();
+        for v in verts {
+            for c in v {
+                bin.extend_from_slice(&c.to_le_bytes());
+            }
         }
-    }
-    std::fs::write(dir.path().join("quad.bin"), &bin).unwrap();
-    for (mode, n) in [(5, 2), (6, 2)] {
+        std::fs::write(dir.path().join(format!("quad{mode}.bin")), &bin).unwrap();
         let text = format!(
             r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
 "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":{mode}}}]}}],
-"buffers":[{{"byteLength":48,"uri":"quad.bin"}}],"bufferViews":[{{"buffer":0,"byteLength":48}}],
+"buffers":[{{"byteLength":48,"uri":"quad{mode}.bin"}}],"bufferViews":[{{"buffer":0,"byteLength":48}}],
 "accessors":[{{"bufferView":0,"componentType":5126,"count":4,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
         );
         let p = dir.path().join(format!("m{mode}.gltf"));
         std::fs::write(&p, text).unwrap();
         let (m, _) = load(&p).unwrap();
         assert_eq!(m.triangles.len(), n, "mode {mode}");
-        assert!((m.area() - if mode == 5 { 1.0 } else { 1.0 }).abs() < 1e-6, "mode {mode}: area {}", m.area());
+        // Both decompositions of the unit quad cover area 1 with one orientation.
+        assert!(
+            (m.area() - 1.0).abs() < 1e-6,
+            "mode {mode}: area {}",
+            m.area()
+        );
+        assert!(
+            m.face_normal(0).z > 0.0 && m.face_normal(1).z > 0.0,
+            "mode {mode}: winding"
+        );
     }
 }
 
 #[test]
 fn export_and_import_round_trip_in_every_format() {
-    let shape = Shape::Revolution(RevolutionQuadric::cone(63.2384, 229.0, 60.9121, 4.0, AzimuthRange { start_deg: -15.0, span_deg: 30.0 }));
-    let m = shape.tessellate(Resolution { segments: 50, rings: 5 });
+    let shape = Shape::Revolution(RevolutionQuadric::cone(
+        63.2384,
+        229.0,
+        60.9121,
+        4.0,
+        AzimuthRange {
+            start_deg: -15.0,
+            span_deg: 30.0,
+        },
+    ));
+    let m = shape.tessellate(Resolution {
+        segments: 50,
+        rings: 5,
+    });
     let dir = tempfile::tempdir().unwrap();
     for name in ["c.gltf", "c.glb", "c.obj"] {
         let p = dir.path().join(name);
@@ -114,7 +150,10 @@ fn export_and_import_round_trip_in_every_format() {
             write_gltf(&p, &m, "cone").unwrap();
         }
         let (back, report) = load(&p).unwrap();
-        assert!(report.normals_from_file && report.warnings.is_empty(), "{name}");
+        assert!(
+            report.normals_from_file && report.warnings.is_empty(),
+            "{name}"
+        );
         // OBJ readers may renumber vertices: compare triangle by triangle.
         assert_eq!(back.triangles.len(), m.triangles.len(), "{name}");
         // glTF stores f32; OBJ keeps f64 text.
@@ -124,7 +163,10 @@ fn export_and_import_round_trip_in_every_format() {
             for (&kb, &km) in tb.iter().zip(tm) {
                 let (a, b) = (back.positions[kb as usize], m.positions[km as usize]);
                 assert!(close(a, b, tol), "{name}: {a} vs {b}");
-                assert!(close(bn[kb as usize], mn[km as usize], 1e-6), "{name}: normals differ");
+                assert!(
+                    close(bn[kb as usize], mn[km as usize], 1e-6),
+                    "{name}: normals differ"
+                );
             }
         }
     }
@@ -139,9 +181,21 @@ fn obj_polygons_are_triangulated_and_normals_kept_or_computed() {
     assert_eq!(m.triangles.len(), 2);
     assert!((m.area() - 6.0).abs() < 1e-12);
     assert!(!r.normals_from_file);
-    assert!(m.normals.unwrap().iter().all(|n| close(*n, DVec3::Z, 1e-12)));
-    std::fs::write(&p, "v 0 0 0\nv 2 0 0\nv 2 3 0\nvn 0 0.6 0.8\nf 1//1 2//1 3//1\n").unwrap();
+    assert!(m
+        .normals
+        .unwrap()
+        .iter()
+        .all(|n| close(*n, DVec3::Z, 1e-12)));
+    std::fs::write(
+        &p,
+        "v 0 0 0\nv 2 0 0\nv 2 3 0\nvn 0 0.6 0.8\nf 1//1 2//1 3//1\n",
+    )
+    .unwrap();
     let (m, r) = load(&p).unwrap();
     assert!(r.normals_from_file);
-    assert!(m.normals.unwrap().iter().all(|n| close(*n, DVec3::new(0.0, 0.6, 0.8), 1e-6)));
+    assert!(m
+        .normals
+        .unwrap()
+        .iter()
+        .all(|n| close(*n, DVec3::new(0.0, 0.6, 0.8), 1e-6)));
 }

@@ -13,9 +13,28 @@ fn every_shipped_scene_loads_and_traces() {
             continue;
         }
         let s = Scene::load(&device(), &path, &[]).unwrap_or_else(|e| panic!("{e}"));
-        let r = trace::run(&s, &RunConfig { photons: 50_000, seed: 1, threads: 0, progress: false, first_photon: 0 }).unwrap();
-        assert_eq!(r.stats.fates(), 50_000, "{}: every photon has one fate", path.display());
-        assert!(!s.sensors.is_empty() && r.stats.reached_sensor > 0, "{}: no photon reached a sensor", path.display());
+        let r = trace::run(
+            &s,
+            &RunConfig {
+                photons: 50_000,
+                seed: 1,
+                threads: 0,
+                progress: false,
+                first_photon: 0,
+            },
+        )
+        .unwrap();
+        assert_eq!(
+            r.stats.fates(),
+            50_000,
+            "{}: every photon has one fate",
+            path.display()
+        );
+        assert!(
+            !s.sensors.is_empty() && r.stats.reached_sensor > 0,
+            "{}: no photon reached a sensor",
+            path.display()
+        );
         n += 1;
     }
     assert!(n >= 2);
@@ -25,8 +44,23 @@ fn every_shipped_scene_loads_and_traces() {
 fn meshed_wolter_telescope_matches_the_analytic_one() {
     // Same photons through exact surfaces and through 720 × 8 smooth-normal meshes.
     let run = |name: &str| {
-        let s = Scene::load(&device(), &repo().join("scenes").join(name), &["focus_shift=3".into()]).unwrap();
-        trace::run(&s, &RunConfig { photons: 300_000, seed: 3, threads: 0, progress: false, first_photon: 0 }).unwrap()
+        let s = Scene::load(
+            &device(),
+            &repo().join("scenes").join(name),
+            &["focus_shift=3".into()],
+        )
+        .unwrap();
+        trace::run(
+            &s,
+            &RunConfig {
+                photons: 300_000,
+                seed: 3,
+                threads: 0,
+                progress: false,
+                first_photon: 0,
+            },
+        )
+        .unwrap()
     };
     let a = run("wolter1_parallel.toml");
     let m = run("wolter1_meshed.toml");
@@ -37,5 +71,8 @@ fn meshed_wolter_telescope_matches_the_analytic_one() {
     // 3 mm out of focus the image is a set of rings; their RMS radius agrees to 1 %.
     let (_, _, ra) = centroid_rms(&a.images[0].flux, 512);
     let (_, _, rm) = centroid_rms(&m.images[0].flux, 512);
-    assert!((ra / rm - 1.0).abs() < 0.01, "RMS radius analytic {ra} px vs mesh {rm} px");
+    assert!(
+        (ra / rm - 1.0).abs() < 0.01,
+        "RMS radius analytic {ra} px vs mesh {rm} px"
+    );
 }

@@ -8,7 +8,11 @@ use traxer::random::PhotonRng;
 fn point_source_weights_equal_isotropic_emission_through_the_target() {
     // On-axis point source at distance D from a target disk of radius R: the
     // fraction of isotropic emission through the disk is (1 − D/√(D² + R²)) / 2.
-    for (dist, radius, src_radius) in [(130_297.0, 110.0, 0.0), (1000.0, 300.0, 0.0), (14_200.0, 21.5, 3.0)] {
+    for (dist, radius, src_radius) in [
+        (130_297.0, 110.0, 0.0),
+        (1000.0, 300.0, 0.0),
+        (14_200.0, 21.5, 3.0),
+    ] {
         let s = scene(&format!(
             r#"
 [[sources]]
@@ -24,15 +28,21 @@ energy = {{ band = [1.48, 1.50] }}
         for i in 0..n {
             let p = s.sources[0].emit(&mut PhotonRng::new(1, i));
             assert!(p.energy >= 1.48 && p.energy <= 1.50);
-            assert!(p.origin.z.abs() < 1e-9 && p.origin.truncate().length() <= radius + 1e-9, "starts on the target");
+            assert!(
+                p.origin.z.abs() < 1e-9 && p.origin.truncate().length() <= radius + 1e-9,
+                "starts on the target"
+            );
             assert!((p.dir.length() - 1.0).abs() < 1e-12);
             sum += p.weight;
         }
-        let expected = 0.5 * (1.0 - dist / (dist * dist + radius * radius as f64).sqrt());
+        let expected = 0.5 * (1.0 - dist / (dist * dist + radius * radius).sqrt());
         let got = sum / n as f64;
         // The weights vary only with cos θ / d² across the target, so the estimate is
         // nearly exact; 0.5 % covers the finite source size (3 mm at 14 m) too.
-        assert!((got / expected - 1.0).abs() < 5e-3, "D {dist} R {radius}: {got} vs {expected}");
+        assert!(
+            (got / expected - 1.0).abs() < 5e-3,
+            "D {dist} R {radius}: {got} vs {expected}"
+        );
     }
 }
 
@@ -63,7 +73,11 @@ energy = { line = 6.4 }
         dir = p.dir;
     }
     // Uniform over area: ⟨r²⟩ = (R² + r²)/2 = 58; standard error ~0.05.
-    assert!((r2 / n as f64 - 58.0).abs() < 0.2, "<r²> = {}", r2 / n as f64);
+    assert!(
+        (r2 / n as f64 - 58.0).abs() < 0.2,
+        "<r²> = {}",
+        r2 / n as f64
+    );
     assert!(min_r >= 4.0 && max_r <= 10.0);
     // Tilted by 0.5° from −z towards e2 = e1 × axis = x × (−z) = +y.
     assert!((dir.angle_between(glam::DVec3::NEG_Z).to_degrees() - 0.5).abs() < 1e-12);
