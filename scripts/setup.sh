@@ -1,0 +1,44 @@
+#!/usr/bin/env bash
+# Installs what traxer needs to build, if it is missing: Intel Embree (3.13 or 4.x)
+# and libclang (for bindgen), from the system's packages. Safe to run repeatedly.
+# Set EMBREE_DIR to use an Embree of your own instead.
+set -euo pipefail
+
+have_embree() {
+  [ -n "${EMBREE_DIR:-}" ] && return 0
+  [ -n "${EMBREE_INCLUDE_DIR:-}" ] && return 0
+  for d in /usr/include /usr/local/include /opt/homebrew/include; do
+    if [ -f "$d/embree4/rtcore.h" ] || [ -f "$d/embree3/rtcore.h" ]; then return 0; fi
+  done
+  return 1
+}
+
+have_libclang() {
+  [ -n "${LIBCLANG_PATH:-}" ] && return 0
+  ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so' && return 0
+  ls /usr/lib/llvm-*/lib/libclang*.so* >/dev/null 2>&1
+}
+
+missing=()
+have_embree || missing+=(libembree-dev)
+have_libclang || missing+=(libclang-dev)
+command -v cc >/dev/null 2>&1 || missing+=(build-essential)
+
+if [ ${#missing[@]} -gt 0 ]; then
+  if ! command -v apt-get >/dev/null 2>&1; then
+    echo "traxer needs: ${missing[*]} (Embree 3.13+/4.x, libclang). Install them with your" >&2
+    echo "package manager, or set EMBREE_DIR to an Embree installation." >&2
+    exit 1
+  fi
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  echo "setup: installing ${missing[*]} with apt-get" >&2
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+  echo "traxer needs Rust (cargo): see the Rust installation guide (rustup)." >&2
+  exit 1
+fi
