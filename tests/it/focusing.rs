@@ -321,3 +321,44 @@ transform = [ { translate = [0, 0, -1500] } ]
         "defocus ring {rmin}..{rmax} mm"
     );
 }
+
+#[test]
+fn point_source_at_finite_distance_focuses_where_the_lens_equation_says() {
+    // Source 130.297 m away: the image forms at f·D/(D − f) = 1517.47 mm, not at
+    // f = 1500 mm. The RMS spot radius there must be several times smaller than
+    // 2.5 mm before or after it, and the design focus must be far worse.
+    let rms_at = |z: f64| {
+        let s = Scene::load(
+            &crate::common::device(),
+            &crate::common::repo().join("scenes/wolter1_point_source.toml"),
+            &[format!("sensor_z={z}")],
+        )
+        .unwrap();
+        let r = trace::run(
+            &s,
+            &RunConfig {
+                photons: 300_000,
+                seed: 2,
+                threads: 0,
+                progress: false,
+                first_photon: 0,
+            },
+        )
+        .unwrap();
+        assert!(r.stats.reached_sensor > 20_000);
+        centroid_rms(&r.images[0].flux, 512).2 * 14.0 / 512.0
+    };
+    let f = 1500.0;
+    let d = 130_297.0;
+    let image = f * d / (d - f);
+    let best = rms_at(-image);
+    let (before, after, design) = (rms_at(-image + 2.5), rms_at(-image - 2.5), rms_at(-f));
+    assert!(
+        best * 3.0 < before && best * 3.0 < after,
+        "rms {before} / {best} / {after} mm around {image} mm"
+    );
+    assert!(
+        design > 10.0 * best,
+        "design focus rms {design} mm vs {best} mm"
+    );
+}
