@@ -15,8 +15,13 @@ have_embree() {
 
 have_libclang() {
   [ -n "${LIBCLANG_PATH:-}" ] && return 0
-  ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so' && return 0
-  ls /usr/lib/llvm-*/lib/libclang*.so* >/dev/null 2>&1
+  # bindgen needs libclang and clang's own headers (stddef.h): on Debian/Ubuntu
+  # both come with libclang-dev.
+  if command -v dpkg-query >/dev/null 2>&1; then
+    dpkg-query -W -f='${Status}' libclang-dev 2>/dev/null | grep -q "install ok installed"
+    return
+  fi
+  ldconfig -p 2>/dev/null | grep -q 'libclang[-.0-9]*\.so'
 }
 
 missing=()
