@@ -111,28 +111,27 @@ pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> 
             })
         }
         ObjectGeometry::Mesh(m) => {
-            let [i0, i1, i2] = m.triangles[hit.primitive as usize];
-            let (p0, p1, p2) = (
-                m.positions[i0 as usize],
-                m.positions[i1 as usize],
-                m.positions[i2 as usize],
-            );
-            let n = (p1 - p0).cross(p2 - p0);
+            let prim = hit.primitive as usize;
+            let [nx, ny, nz, offset] = m.planes[prim];
+            let n = DVec3::new(nx, ny, nz);
             // Refine Embree's f32 distance on the f64 plane of the triangle.
             let denom = dir.dot(n);
-            let t = if denom != 0.0 {
-                (p0 - origin).dot(n) / denom
+            let (t, geometric_normal) = if denom != 0.0 {
+                ((offset - n.dot(origin)) / denom, n)
             } else {
-                hit.t
+                // Degenerate triangle, or a ray in its plane: keep Embree's t and
+                // face the ray.
+                (hit.t, -dir.normalize())
             };
             let point = origin + dir * t;
-            let geometric_normal = n.normalize();
-            let shading_normal = match &m.smooth_normals {
-                Some(ns) => {
+            let shading_normal = match &m.corner_normals {
+                Some(corners) => {
+                    let [n0, n1, n2] =
+                        corners[prim].map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64));
                     let (u, v) = (hit.u as f64, hit.v as f64);
-                    let s =
-                        ns[i0 as usize] * (1.0 - u - v) + ns[i1 as usize] * u + ns[i2 as usize] * v;
-                    let s = s.try_normalize().unwrap_or(geometric_normal);
+                    let s = (n0 * (1.0 - u - v) + n1 * u + n2 * v)
+                        .try_normalize()
+                        .unwrap_or(geometric_normal);
                     // Keep the interpolated normal on the facet's front side.
                     if s.dot(geometric_normal) < 0.0 {
                         -s
