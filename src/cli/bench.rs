@@ -34,7 +34,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     if a.photons == 0 {
         return Err(super::InputError("--photons must be at least 1".into()).into());
     }
-    let scene = load_scene(&a.scene, &a.define)?;
+    let (_device, scene) = load_scene(&a.scene, &a.define)?;
     let r = traxer::bench::run(&scene, a.photons, a.threads, a.raw_photons)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&r)?);

@@ -45,7 +45,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     if a.photons == 0 {
         return Err(super::InputError("--photons must be at least 1".into()).into());
     }
-    let scene = load_scene(&a.scene, &a.define)?;
+    let (device, scene) = load_scene(&a.scene, &a.define)?;
     if scene.sensors.is_empty() {
         eprintln!("warning: the scene has no sensor; only statistics will be written");
     }
@@ -57,7 +57,6 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         first_photon: a.first_photon,
     };
     let result = trace::run(&scene, &cfg).context("cannot start the worker threads")?;
-    let device = traxer::embree::Device::new()?;
     let provenance = Provenance {
         traxer_version: env!("CARGO_PKG_VERSION").into(),
         git_hash: git_hash().into(),

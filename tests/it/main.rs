@@ -8,5 +8,6 @@ mod errors;
 mod focusing;
 mod geometry;
 mod mesh_io;
+mod photon_loop;
 mod scenes;
 mod sources;
