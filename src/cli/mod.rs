@@ -28,15 +28,16 @@ pub fn parse_define(s: &str) -> Result<String, String> {
     }
 }
 
-/// Loads a scene with a fresh Embree device, printing the scene's warnings.
+/// Loads a scene with a fresh Embree device (returned too: it reports the
+/// version), printing the scene's warnings.
 pub fn load_scene(
     path: &std::path::Path,
     defines: &[String],
-) -> anyhow::Result<traxer::scene::Scene> {
+) -> anyhow::Result<(traxer::embree::Device, traxer::scene::Scene)> {
     let device = traxer::embree::Device::new()?;
     let scene = traxer::scene::Scene::load(&device, path, defines)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
     }
-    Ok(scene)
+    Ok((device, scene))
 }
