@@ -34,8 +34,8 @@ impl Cuboid {
         {
             return None;
         }
-        let mut roots = [t_enter, t_exit];
-        nearest_root(&mut roots, starts_on_surface, t_max, |_| true)
+        let roots = [t_enter, t_exit];
+        nearest_root(&roots, starts_on_surface, t_max, |_| true)
     }
 
     /// Outward normal of the face a surface point lies on.

@@ -1,5 +1,6 @@
 //! Flat disk or annulus in the local z = 0 plane, centred on the origin, facing +z.
 
+use super::grid::polar_grid;
 use super::{quadric::AzimuthRange, Resolution};
 use crate::mesh::TriangleMesh;
 use glam::DVec3;
@@ -55,38 +56,24 @@ impl Disk {
     /// `segments` around, `rings` radial steps. A full disk without a hole gets a
     /// centre fan; the outer edge is inscribed (vertices on the circle).
     pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
-        let n_phi = res.segments.max(3);
         let n_r = res.rings.max(1);
-        let span = self.azimuth.span_deg.min(360.0);
-        let closed = self.azimuth.is_full();
-        let cols = if closed { n_phi } else { n_phi + 1 };
-        let mut mesh = TriangleMesh::default();
-        for j in 0..=n_r {
-            let r =
-                self.inner_radius + (self.outer_radius - self.inner_radius) * j as f64 / n_r as f64;
-            for i in 0..cols {
-                let phi = (self.azimuth.start_deg + span * i as f64 / n_phi as f64).to_radians();
-                mesh.positions
-                    .push(DVec3::new(r * phi.cos(), r * phi.sin(), 0.0));
-            }
-        }
-        for j in 0..n_r {
-            for i in 0..n_phi {
-                let i1 = (i + 1) % cols;
-                let v00 = (j * cols + i) as u32;
-                let v01 = (j * cols + i1) as u32;
-                let v10 = ((j + 1) * cols + i) as u32;
-                let v11 = ((j + 1) * cols + i1) as u32;
-                if j == 0 && self.inner_radius == 0.0 {
-                    // innermost ring collapses to the centre: one triangle per sector
-                    mesh.triangles.push([v00, v11, v10]);
-                } else {
-                    mesh.triangles.push([v00, v01, v11]);
-                    mesh.triangles.push([v00, v11, v10]);
-                }
-            }
-        }
-        mesh.normals = Some(vec![DVec3::Z; mesh.positions.len()]);
+        let (positions, triangles) = polar_grid(
+            &self.azimuth,
+            res.segments.max(3),
+            n_r,
+            self.inner_radius == 0.0,
+            |j, phi| {
+                let r = self.inner_radius
+                    + (self.outer_radius - self.inner_radius) * j as f64 / n_r as f64;
+                DVec3::new(r * phi.cos(), r * phi.sin(), 0.0)
+            },
+        );
+        let normals = vec![DVec3::Z; positions.len()];
+        let mut mesh = TriangleMesh {
+            positions,
+            normals: Some(normals),
+            triangles,
+        };
         mesh.orient_to_normals();
         mesh
     }

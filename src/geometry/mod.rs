@@ -13,6 +13,7 @@
 
 mod cuboid;
 mod disk;
+mod grid;
 mod quadric;
 mod rectangle;
 mod shape;
@@ -58,7 +59,7 @@ pub(crate) fn solve_quadratic(a: f64, b: f64, c: f64) -> Option<(f64, f64)> {
 /// point it starts from and is dropped first; a second, genuine hit on the same
 /// surface (a concave mirror) survives.
 pub(crate) fn nearest_root(
-    roots: &mut [f64],
+    roots: &[f64],
     starts_on_surface: bool,
     t_max: f64,
     admissible: impl Fn(f64) -> bool,

@@ -3,6 +3,7 @@
 //! One quadratic covers the cone and cylinder (the LLNL telescope's shells), and the
 //! paraboloid and hyperboloid of a true Wolter-I optic.
 
+use super::grid::polar_grid;
 use super::{at, nearest_root, solve_quadratic, Resolution};
 use crate::mesh::TriangleMesh;
 use glam::DVec3;
@@ -135,8 +136,8 @@ impl RevolutionQuadric {
         let qb = 2.0 * (o.x * d.x + o.y * d.y) - self.b * d.z - 2.0 * self.c * o.z * d.z;
         let qc = o.x * o.x + o.y * o.y - self.radius_squared(o.z);
         let (t1, t2) = solve_quadratic(qa, qb, qc)?;
-        let mut roots = [t1, t2];
-        nearest_root(&mut roots, starts_on_surface, t_max, |t| {
+        let roots = [t1, t2];
+        nearest_root(&roots, starts_on_surface, t_max, |t| {
             let p = at(o, d, t);
             p.z >= self.z_min && p.z <= self.z_max && self.azimuth.contains(p.x, p.y)
         })
@@ -179,35 +180,19 @@ impl RevolutionQuadric {
     /// Grid of `res.segments` azimuthal × `res.rings` axial quads, vertices on the
     /// exact surface with exact normals.
     pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
-        let n_phi = res.segments.max(1);
         let n_z = res.rings.max(1);
-        let span = self.azimuth.span_deg.min(360.0);
-        let closed = self.azimuth.is_full();
-        let cols = if closed { n_phi } else { n_phi + 1 };
-        let mut mesh = TriangleMesh::default();
-        let mut normals = Vec::new();
-        for j in 0..=n_z {
-            let z = self.z_min + (self.z_max - self.z_min) * j as f64 / n_z as f64;
-            let r = self.radius(z);
-            for i in 0..cols {
-                let phi = (self.azimuth.start_deg + span * i as f64 / n_phi as f64).to_radians();
-                let p = DVec3::new(r * phi.cos(), r * phi.sin(), z);
-                mesh.positions.push(p);
-                normals.push(self.normal(p));
-            }
-        }
-        for j in 0..n_z {
-            for i in 0..n_phi {
-                let i1 = (i + 1) % cols;
-                let v00 = (j * cols + i) as u32;
-                let v01 = (j * cols + i1) as u32;
-                let v10 = ((j + 1) * cols + i) as u32;
-                let v11 = ((j + 1) * cols + i1) as u32;
-                mesh.triangles.push([v00, v01, v11]);
-                mesh.triangles.push([v00, v11, v10]);
-            }
-        }
-        mesh.normals = Some(normals);
+        let (positions, triangles) =
+            polar_grid(&self.azimuth, res.segments.max(1), n_z, false, |j, phi| {
+                let z = self.z_min + (self.z_max - self.z_min) * j as f64 / n_z as f64;
+                let r = self.radius(z);
+                DVec3::new(r * phi.cos(), r * phi.sin(), z)
+            });
+        let normals = positions.iter().map(|&p| self.normal(p)).collect();
+        let mut mesh = TriangleMesh {
+            positions,
+            normals: Some(normals),
+            triangles,
+        };
         mesh.orient_to_normals();
         mesh
     }

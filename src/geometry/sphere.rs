@@ -23,8 +23,8 @@ impl Sphere {
             2.0 * o.dot(d),
             o.length_squared() - self.radius * self.radius,
         )?;
-        let mut roots = [t1, t2];
-        nearest_root(&mut roots, starts_on_surface, t_max, |_| true)
+        let roots = [t1, t2];
+        nearest_root(&roots, starts_on_surface, t_max, |_| true)
     }
 
     pub fn normal(&self, p: DVec3) -> DVec3 {

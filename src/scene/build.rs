@@ -217,9 +217,9 @@ impl Builder<'_> {
                         );
                     }
                     if s.pixels.contains(&0)
-                        || (s.pixels[0] as u64 * s.pixels[1] as u64) > (1 << 28)
+                        || (s.pixels[0] as u64 * s.pixels[1] as u64) > (1 << 26)
                     {
-                        return self.err(mspan.clone(), format!("material `{mname}`: pixels must be positive (and at most 2^28 in all)"));
+                        return self.err(mspan.clone(), format!("material `{mname}`: pixels must be positive, at most 2^26 (67 million) in all"));
                     }
                     sensors.push(SensorSpec {
                         name: name.clone(),
