@@ -16,3 +16,4 @@ pub mod scene;
 pub mod sensor;
 pub mod source;
 pub mod trace;
+pub mod xray;

@@ -11,3 +11,4 @@ mod mesh_io;
 mod photon_loop;
 mod scenes;
 mod sources;
+mod xray;

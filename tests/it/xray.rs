@@ -1,0 +1,182 @@
+//! X-ray mirror physics against independent numbers: the depth-graded recipe's
+//! published thicknesses, periodictable's optical constants, xraydb's Parratt
+//! reflectivity, closed forms (total reflection, critical angle, Debye–Waller).
+
+use num_complex::Complex64;
+use traxer::xray::coating::depth_graded_thicknesses;
+use traxer::xray::parratt::{reflectance, Layer};
+use traxer::xray::CoatingLibrary;
+
+fn csv(name: &str) -> Vec<Vec<String>> {
+    let path = crate::common::repo().join("tests/data").join(name);
+    std::fs::read_to_string(path)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect()
+}
+
+#[test]
+fn depth_graded_thicknesses_match_the_recipe_table() {
+    // LLNL recipe 3 (SPEC §4, the issue): 16.0, 9.7778, 7.04, 5.5 nm.
+    let d = depth_graded_thicknesses(5.5, 16.0, 1.0, 4).unwrap();
+    for (got, want) in d.iter().zip([16.0, 9.7778, 7.04, 5.5]) {
+        assert!((got - want).abs() < 1e-4, "{d:?}");
+    }
+    // Every recipe starts at d_max and ends at d_min, decreasing.
+    for (dmin, dmax, n) in [(11.5, 22.5, 2), (7.0, 19.0, 3), (5.0, 14.0, 5)] {
+        let d = depth_graded_thicknesses(dmin, dmax, 1.0, n).unwrap();
+        assert!((d[0] - dmax).abs() < 1e-12 && (d[n as usize - 1] - dmin).abs() < 1e-12);
+        assert!(d.windows(2).all(|w| w[0] > w[1]));
+    }
+    // The shipped recipe 3 is built from exactly these layers: C 0.4·d, Pt 0.6·d.
+    let c = CoatingLibrary::shipped().coating("llnl_recipe_3").unwrap();
+    assert_eq!(c.stack.layers.len(), 8);
+    assert!(
+        (c.stack.layers[0].thickness_nm - 6.4).abs() < 1e-12
+            && c.stack.layers[0].material.name == "C"
+    );
+    assert!(
+        (c.stack.layers[1].thickness_nm - 9.6).abs() < 1e-12
+            && c.stack.layers[1].material.name == "Pt"
+    );
+}
+
+#[test]
+fn optical_constants_agree_with_periodictable() {
+    let lib = CoatingLibrary::shipped();
+    let mut worst: f64 = 0.0;
+    for row in csv("reference_optical_constants.csv") {
+        let m = lib.material(&row[0]).unwrap();
+        let e: f64 = row[1].parse().unwrap();
+        let (d, b) = m.delta_beta(e).unwrap();
+        let (rd, rb): (f64, f64) = (row[2].parse().unwrap(), row[3].parse().unwrap());
+        let diff = (d / rd - 1.0).abs().max((b / rb - 1.0).abs());
+        if diff > 1e-5 {
+            eprintln!("{} {e} keV: δ {d:e} vs {rd:e}, β {b:e} vs {rb:e}", row[0]);
+        }
+        worst = worst.max(diff);
+    }
+    // Same tables and interpolation; the constants (r_e, N_A, hc) differ in the
+    // last digits.
+    eprintln!("worst relative δ, β difference to periodictable: {worst:e}");
+    assert!(worst < 1e-6, "worst relative difference {worst}");
+}
+
+#[test]
+fn multilayer_reflectivity_agrees_with_xraydb() {
+    let lib = CoatingLibrary::shipped();
+    let mut worst: f64 = 0.0;
+    let mut n = 0;
+    for row in csv("reference_reflectivity.csv") {
+        let c = lib.coating(&row[0]).unwrap();
+        let (e, t): (f64, f64) = (row[1].parse().unwrap(), row[2].parse().unwrap());
+        let r = c.reflectance(e, t.to_radians()).unwrap().s;
+        let want: f64 = row[3].parse().unwrap();
+        if (r - want).abs() > 1e-5 {
+            eprintln!("{} {e} keV {t}°: R_s {r} vs {want}", row[0]);
+        }
+        worst = worst.max((r - want).abs());
+        n += 1;
+    }
+    assert_eq!(n, 1200);
+    eprintln!("worst |R_s - xraydb|: {worst:e}");
+    assert!(worst < 1e-6, "worst absolute difference in R_s: {worst}");
+}
+
+#[test]
+fn gold_critical_angle_and_the_small_angle_limit() {
+    let lib = CoatingLibrary::shipped();
+    let au = lib.coating("bare_gold").unwrap();
+    let gold = lib.material("Au").unwrap();
+    // Literature: the critical angle of gold at Cu Kα (8.05 keV) is ≈ 0.55°; with
+    // θ_c = √(2δ) it scales as 1/E away from edges.
+    let (delta, _) = gold.delta_beta(8.048).unwrap();
+    let theta_c = (2.0 * delta).sqrt().to_degrees();
+    assert!((theta_c - 0.55).abs() < 0.02, "θ_c(8.05 keV) = {theta_c}°");
+    for e in [2.0, 4.51, 8.048, 15.0] {
+        let (delta, _) = gold.delta_beta(e).unwrap();
+        let tc = (2.0 * delta).sqrt();
+        // Below θ_c nearly total reflection, above it the reflectivity collapses.
+        let below = au.reflectivity(e, 0.7 * tc).unwrap();
+        let above = au.reflectivity(e, 1.5 * tc).unwrap();
+        assert!(
+            below > 0.6 && above < 0.1,
+            "{e} keV: R(0.7θc) = {below}, R(1.5θc) = {above}"
+        );
+        // R → 1 as θ → 0.
+        assert!(au.reflectivity(e, 1e-3 * tc).unwrap() > 0.99);
+    }
+    for name in [
+        "llnl_recipe_1",
+        "llnl_recipe_2",
+        "llnl_recipe_3",
+        "llnl_recipe_4",
+        "gold",
+    ] {
+        let c = lib.coating(name).unwrap();
+        for e in [0.5, 1.49, 6.41, 10.0] {
+            let r = c.reflectivity(e, 1e-5).unwrap();
+            assert!(r > 0.99 && r <= 1.0, "{name} {e} keV: R(θ→0) = {r}");
+        }
+    }
+}
+
+#[test]
+fn fresnel_closed_forms() {
+    // Lossless interface: total external reflection below θ_c, and above it the
+    // plain Fresnel formula r = (sinθ − √(n² − cos²θ)) / (sinθ + √(…)).
+    let n = Complex64::new(-1e-5, 0.0); // χ = n − 1
+    let tc = (2e-5f64).sqrt();
+    let r = reflectance(5.0, 0.5 * tc, &[], n, 0.0);
+    assert!((r.s - 1.0).abs() < 1e-12 && (r.p - 1.0).abs() < 1e-12);
+    let th = 2.0 * tc;
+    let nn = n + 1.0;
+    let q = (nn * nn - th.cos().powi(2)).sqrt();
+    let rs = ((th.sin() - q) / (th.sin() + q)).norm_sqr();
+    // (the reference formula itself loses ~1e-11 to the cancellation in n² − cos²θ)
+    assert!((reflectance(5.0, th, &[], n, 0.0).s / rs - 1.0).abs() < 1e-9);
+    // A layer of vacuum changes nothing.
+    let vac = Layer {
+        chi: Complex64::new(0.0, 0.0),
+        thickness_nm: 37.0,
+        roughness_nm: 0.0,
+    };
+    assert!(
+        (reflectance(5.0, th, &[vac], n, 0.0).s / reflectance(5.0, th, &[], n, 0.0).s - 1.0).abs()
+            < 1e-12
+    );
+    // Névot–Croce far above θ_c reduces to the Debye–Waller factor
+    // exp(−(4π sinθ σ / λ)²).
+    let pt = CoatingLibrary::shipped().material("Pt").unwrap();
+    let (d, b) = pt.delta_beta(8.0).unwrap();
+    let npt = Complex64::new(-d, b);
+    let th = 8.0 * (2.0 * d).sqrt();
+    let sigma = 0.12;
+    let lambda = 1.239_841_984_332 / 8.0;
+    let dw = (-(4.0 * std::f64::consts::PI * th.sin() * sigma / lambda).powi(2)).exp();
+    let ratio = reflectance(8.0, th, &[], npt, sigma).s / reflectance(8.0, th, &[], npt, 0.0).s;
+    assert!(
+        (ratio / dw - 1.0).abs() < 0.03,
+        "Névot–Croce {ratio} vs Debye–Waller {dw}"
+    );
+}
+
+#[test]
+fn energies_outside_the_tables_are_errors() {
+    let lib = CoatingLibrary::shipped();
+    let c = lib.coating("llnl_recipe_1").unwrap();
+    assert!(c.reflectivity(0.01, 0.01).is_err());
+    assert!(c.reflectivity(31.0, 0.01).is_err());
+    assert!(c.reflectivity(30.0, 0.01).is_ok());
+    assert!(lib.coating("nope").unwrap_err().contains("unknown coating"));
+    assert!(traxer::xray::compound::parse_formula("SiO2x").is_err());
+    assert!(traxer::xray::compound::parse_formula("Xx2")
+        .unwrap_err()
+        .contains("unknown element"));
+    let f = traxer::xray::compound::parse_formula("Ca(OH)2").unwrap();
+    assert_eq!(f["Ca"], 1.0);
+    assert_eq!(f["O"], 2.0);
+    assert_eq!(f["H"], 2.0);
+}
