@@ -290,26 +290,31 @@ pub struct Coating {
 }
 
 impl Coating {
-    /// s and p reflectance at `energy_kev` and grazing angle `theta_rad`.
-    pub fn reflectance(
-        &self,
-        energy_kev: f64,
-        theta_rad: f64,
-    ) -> Result<Reflectance, EnergyOutOfRange> {
-        // χ = n − 1 = −δ + iβ.
-        let index = |m: &OpticalMaterial| -> Result<Complex64, EnergyOutOfRange> {
+    /// The stack's layers (χ = n − 1 = −δ + iβ) and substrate χ at `energy_kev`,
+    /// for evaluating many angles at one energy.
+    pub fn layers_at(&self, energy_kev: f64) -> Result<(Vec<Layer>, Complex64), EnergyOutOfRange> {
+        let chi = |m: &OpticalMaterial| -> Result<Complex64, EnergyOutOfRange> {
             let (d, b) = m.delta_beta(energy_kev)?;
             Ok(Complex64::new(-d, b))
         };
         let mut layers = Vec::with_capacity(self.stack.layers.len());
         for l in &self.stack.layers {
             layers.push(Layer {
-                chi: index(&l.material)?,
+                chi: chi(&l.material)?,
                 thickness_nm: l.thickness_nm,
                 roughness_nm: l.roughness_nm,
             });
         }
-        let sub = index(&self.stack.substrate)?;
+        Ok((layers, chi(&self.stack.substrate)?))
+    }
+
+    /// s and p reflectance at `energy_kev` and grazing angle `theta_rad`.
+    pub fn reflectance(
+        &self,
+        energy_kev: f64,
+        theta_rad: f64,
+    ) -> Result<Reflectance, EnergyOutOfRange> {
+        let (layers, sub) = self.layers_at(energy_kev)?;
         Ok(reflectance(
             energy_kev,
             theta_rad,

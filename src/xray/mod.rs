@@ -12,6 +12,8 @@ pub mod compound;
 pub mod elements;
 pub mod optical;
 pub mod parratt;
+pub mod table;
 
 pub use coating::{Coating, CoatingLibrary};
 pub use optical::OpticalMaterial;
+pub use table::ReflectivityTable;
