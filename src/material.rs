@@ -27,8 +27,13 @@ impl Side {
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Material {
-    /// Specular reflection with reflectivity 1 on the reflecting side(s).
-    PerfectMirror { side: Side },
+    /// Specular reflection on the reflecting side(s); the weight is multiplied by
+    /// the coating's R(E, θ) (`reflectivity` indexes `Scene::reflectivity`), or
+    /// by 1 for a perfect mirror (`None`).
+    Mirror {
+        side: Side,
+        reflectivity: Option<usize>,
+    },
     /// Stops the photon.
     Absorber,
     /// Records the photon in image sensor number `sensor` and stops it.

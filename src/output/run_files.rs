@@ -24,7 +24,12 @@ pub fn write_run(
     for (spec, image) in scene.sensors.iter().zip(&result.images) {
         let stem = file_stem(&spec.name);
         let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
-        let shape = [ny as u64, nx as u64];
+        // [band][iy][ix] with energy bins, [iy][ix] without.
+        let shape: Vec<u64> = match spec.energy_bins {
+            Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
+            None => vec![ny as u64, nx as u64],
+        };
+        let summed = image.flux_summed(spec);
         let files = [
             format!("{stem}.npy"),
             format!("{stem}_counts.npy"),
@@ -35,15 +40,16 @@ pub fn write_run(
         let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
         write_npy_f64(&paths[0], &shape, &image.flux)?;
         write_npy_u64(&paths[1], &shape, &image.counts)?;
-        write_png(&paths[2], nx, ny, &image.flux, Scale::Linear)?;
-        write_png(&paths[3], nx, ny, &image.flux, Scale::Log { decades: 5 })?;
+        write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
+        write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
         let sensor = json!({
             "name": spec.name,
             "object": spec.object,
             "size_mm": spec.size,
             "pixels": spec.pixels,
             "pixel_pitch_mm": spec.pitch(),
-            "layout": "image[iy, ix] (numpy row-major); ix along the sensor's local x, iy along local y; pixel (0, 0) has its corner at local (-size_x/2, -size_y/2); PNGs show +y up",
+            "layout": "image[iy, ix] (numpy row-major), or image[band, iy, ix] with energy bins; ix along the sensor's local x, iy along local y; pixel (0, 0) has its corner at local (-size_x/2, -size_y/2); PNGs show the sum over bands, +y up",
+            "energy_band_edges_keV": spec.band_edges(),
             "units": {
                 "lengths": "mm",
                 "flux": "sum of photon weights per pixel (see sources[].weight)",
@@ -120,6 +126,7 @@ fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
         "absorbed_mirror_back": s.absorbed_mirror_back,
         "reflected_into_surface": s.reflected_into_surface,
         "sensor_outside_area": s.sensor_outside_area,
+        "sensor_outside_energy_range": s.sensor_outside_energy_range,
         "escaped": s.escaped,
         "max_interactions_reached": s.max_interactions_reached,
         "embree_queries": s.embree_queries,

@@ -14,10 +14,15 @@ use crate::mesh::{self, TriangleMesh};
 use crate::output::sha256_hex;
 use crate::sensor::SensorSpec;
 use crate::source::{ParallelBeam, PointSource, Source, Spectrum};
+use crate::xray::{Coating, CoatingLibrary, ReflectivityTable};
 use glam::{DAffine3, DVec3};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
+
+/// Largest grazing angle (rad) kept in reflectivity tables; steeper reflections
+/// are evaluated directly.
+const TABLE_THETA_MAX: f64 = 5.0 * std::f64::consts::PI / 180.0;
 
 /// A built scene, ready to trace.
 pub struct Scene {
@@ -29,6 +34,9 @@ pub struct Scene {
     pub sensors: Vec<SensorSpec>,
     pub sources: Vec<Source>,
     pub max_interactions: u32,
+    /// Reflectivity tables of the coated mirrors' coatings (indexed by
+    /// `Material::Mirror::reflectivity`), over the sources' energy range.
+    pub reflectivity: Vec<ReflectivityTable>,
     pub embree: CommittedScene<AnalyticObject>,
     /// Things worth telling the user (skipped mesh primitives, ...).
     pub warnings: Vec<String>,
@@ -160,6 +168,7 @@ impl Builder<'_> {
             (
                 MaterialDesc::Mirror(MirrorDesc {
                     side: SideDesc::Both,
+                    coating: None,
                 }),
                 0..0,
             ),
@@ -173,6 +182,11 @@ impl Builder<'_> {
             materials.insert(name, (m.into_inner(), span));
         }
         let mut used_materials = std::collections::BTreeSet::new();
+        let library = CoatingLibrary::shipped().merged(&CoatingLibrary {
+            materials: desc.optical_materials.clone(),
+            coatings: desc.coatings.clone(),
+        });
+        let mut coatings: Vec<Coating> = Vec::new();
 
         let mut objects = Vec::new();
         let mut sensors = Vec::new();
@@ -201,11 +215,29 @@ impl Builder<'_> {
             };
             used_materials.insert(mname.clone());
             let material = match mdesc {
-                MaterialDesc::Mirror(m) => Material::PerfectMirror {
+                MaterialDesc::Mirror(m) => Material::Mirror {
                     side: match m.side {
                         SideDesc::Front => Side::Front,
                         SideDesc::Back => Side::Back,
                         SideDesc::Both => Side::Both,
+                    },
+                    reflectivity: match &m.coating {
+                        None => None,
+                        Some(c) => Some(match coatings.iter().position(|k| &k.name == c) {
+                            Some(i) => i,
+                            None => {
+                                let built = library.coating(c).map_err(|e| {
+                                    SceneError::at(
+                                        self.path,
+                                        self.text,
+                                        mspan.start,
+                                        format!("material `{mname}`: {e}"),
+                                    )
+                                })?;
+                                coatings.push(built);
+                                coatings.len() - 1
+                            }
+                        }),
                     },
                 },
                 MaterialDesc::Absorber(_) => Material::Absorber,
@@ -221,11 +253,20 @@ impl Builder<'_> {
                     {
                         return self.err(mspan.clone(), format!("material `{mname}`: pixels must be positive, at most 2^26 (67 million) in all"));
                     }
+                    if let Some((lo, hi, n)) = s.energy_bins {
+                        let pixels = s.pixels[0] as u64 * s.pixels[1] as u64 * n as u64;
+                        if !(lo.is_finite() && hi.is_finite() && lo < hi && n >= 1)
+                            || pixels > (1 << 26)
+                        {
+                            return self.err(mspan.clone(), format!("material `{mname}`: energy_bins = [min, max, count] needs min < max (keV), count ≥ 1, and at most 2^26 pixels × bands"));
+                        }
+                    }
                     sensors.push(SensorSpec {
                         name: name.clone(),
                         object: index,
                         size: s.size,
                         pixels: s.pixels,
+                        energy_bins: s.energy_bins,
                     });
                     Material::Sensor {
                         sensor: sensors.len() - 1,
@@ -327,6 +368,28 @@ impl Builder<'_> {
             .iter()
             .map(|s| self.source(s.get_ref(), s.span()))
             .collect::<Result<Vec<_>, _>>()?;
+        // Reflectivity tables over the energies the sources emit.
+        let (e_min, e_max) = sources
+            .iter()
+            .map(|s| s.spectrum().range())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
+                (a.min(lo), b.max(hi))
+            });
+        let reflectivity = coatings
+            .iter()
+            .map(|c| {
+                ReflectivityTable::new(c, e_min, e_max, TABLE_THETA_MAX).map_err(|e| {
+                    SceneError::new(
+                        self.path,
+                        None,
+                        format!(
+                            "coating `{}`: the sources emit energies it cannot describe: {e}",
+                            c.name
+                        ),
+                    )
+                })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let embree = embree.commit().map_err(|e| {
             SceneError::new(
                 self.path,
@@ -343,6 +406,7 @@ impl Builder<'_> {
             sensors,
             sources,
             max_interactions,
+            reflectivity,
             embree,
             warnings,
             triangle_count,

@@ -39,6 +39,13 @@ pub struct SceneDesc {
     pub objects: Vec<Spanned<ObjectDesc>>,
     #[serde(default)]
     pub sources: Vec<Spanned<SourceDesc>>,
+    /// X-ray optical materials (formula or mass fractions, density) for coatings,
+    /// added to those of data/coatings.toml.
+    #[serde(default)]
+    pub optical_materials: BTreeMap<String, crate::xray::coating::MaterialEntry>,
+    /// Coatings, added to those of data/coatings.toml (same form).
+    #[serde(default)]
+    pub coatings: BTreeMap<String, crate::xray::coating::CoatingEntry>,
 }
 
 fn default_max_interactions() -> Spanned<u32> {
@@ -49,8 +56,9 @@ fn default_max_interactions() -> Spanned<u32> {
 ///
 /// ```toml
 /// [materials.shell]
-/// type = "mirror"      # perfect mirror, R = 1
+/// type = "mirror"      # specular reflection
 /// side = "front"       # "front", "back" or "both" (default): the other side absorbs
+/// coating = "llnl_recipe_3"   # optional: weight × R(E, θ); without it R = 1
 ///
 /// [materials.baffle]
 /// type = "absorber"
@@ -59,6 +67,7 @@ fn default_max_interactions() -> Spanned<u32> {
 /// type = "sensor"      # records and absorbs every photon
 /// size = [14.0, 14.0]  # mm, along the object's local x and y, centred on its origin
 /// pixels = [1000, 1000]
+/// energy_bins = [0.5, 10.0, 19]   # optional: keV min, max, number of bands
 /// ```
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
@@ -73,6 +82,10 @@ pub enum MaterialDesc {
 pub struct MirrorDesc {
     #[serde(default)]
     pub side: SideDesc,
+    /// Name of a coating (data/coatings.toml or this file's `[coatings]`); without
+    /// one the mirror is perfect (R = 1).
+    #[serde(default)]
+    pub coating: Option<String>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -84,6 +97,10 @@ pub struct AbsorberDesc {}
 pub struct SensorDesc {
     pub size: [f64; 2],
     pub pixels: [u32; 2],
+    /// Optional energy binning `[min, max, count]` (keV): the image gets an energy
+    /// axis, one image per band.
+    #[serde(default)]
+    pub energy_bins: Option<(f64, f64, u32)>,
 }
 
 /// Which side of a surface reflects. The front is the side the shape's normal

@@ -4,6 +4,7 @@
 //! Data flow: `scene::build` creates a [`SensorSpec`] for each object whose material
 //! is a sensor; `trace` maps hits to pixels with [`SensorSpec::pixel`] and merges
 //! per-chunk records into a [`SensorImage`] in a fixed order; `output` writes it.
+//! With energy binning the image has an energy axis: [band][iy][ix].
 
 use glam::DVec3;
 
@@ -19,6 +20,8 @@ pub struct SensorSpec {
     pub size: [f64; 2],
     /// Pixels along local x and y.
     pub pixels: [u32; 2],
+    /// Energy bands (keV): `min`, `max`, `count` equal bands; `None` = one image.
+    pub energy_bins: Option<(f64, f64, u32)>,
 }
 
 impl SensorSpec {
@@ -45,8 +48,36 @@ impl SensorSpec {
         ]
     }
 
+    /// Pixels of one image (one energy band).
     pub fn pixel_count(&self) -> usize {
         self.pixels[0] as usize * self.pixels[1] as usize
+    }
+
+    /// Number of energy bands (1 without binning).
+    pub fn bands(&self) -> usize {
+        self.energy_bins.map_or(1, |b| b.2 as usize)
+    }
+
+    /// Index of the band holding `energy_kev` (0 without binning), or `None` if
+    /// the energy is outside the binned range.
+    #[inline]
+    pub fn band(&self, energy_kev: f64) -> Option<u32> {
+        let Some((lo, hi, n)) = self.energy_bins else {
+            return Some(0);
+        };
+        if !(energy_kev >= lo && energy_kev <= hi) {
+            return None;
+        }
+        Some((((energy_kev - lo) / (hi - lo) * n as f64) as u32).min(n - 1))
+    }
+
+    /// Band edges (keV), `count + 1` values, when binned.
+    pub fn band_edges(&self) -> Option<Vec<f64>> {
+        self.energy_bins.map(|(lo, hi, n)| {
+            (0..=n)
+                .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+                .collect()
+        })
     }
 }
 
@@ -60,11 +91,25 @@ pub struct SensorImage {
 }
 
 impl SensorImage {
+    /// Zeroed image with `bands()` × `pixel_count()` entries ([band][iy][ix]).
     pub fn new(spec: &SensorSpec) -> SensorImage {
+        let n = spec.pixel_count() * spec.bands();
         SensorImage {
-            flux: vec![0.0; spec.pixel_count()],
-            counts: vec![0; spec.pixel_count()],
+            flux: vec![0.0; n],
+            counts: vec![0; n],
         }
+    }
+
+    /// The image summed over energy bands.
+    pub fn flux_summed(&self, spec: &SensorSpec) -> Vec<f64> {
+        let n = spec.pixel_count();
+        let mut out = vec![0.0; n];
+        for band in self.flux.chunks_exact(n) {
+            for (o, v) in out.iter_mut().zip(band) {
+                *o += v;
+            }
+        }
+        out
     }
 
     #[inline]

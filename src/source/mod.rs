@@ -42,6 +42,13 @@ impl Source {
         }
     }
 
+    pub fn spectrum(&self) -> Spectrum {
+        match self {
+            Source::Parallel(s) => s.spectrum,
+            Source::Point(s) => s.spectrum,
+        }
+    }
+
     /// What one photon's weight means, for the JSON summary.
     pub fn describe_weight(&self) -> &'static str {
         match self {

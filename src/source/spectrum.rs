@@ -12,6 +12,14 @@ pub enum Spectrum {
 }
 
 impl Spectrum {
+    /// Lowest and highest energy (keV).
+    pub fn range(&self) -> (f64, f64) {
+        match *self {
+            Spectrum::Line(e) => (e, e),
+            Spectrum::Band(lo, hi) => (lo, hi),
+        }
+    }
+
     #[inline]
     pub fn sample(&self, rng: &mut PhotonRng) -> f64 {
         match *self {

@@ -179,11 +179,16 @@ pub fn trace_photon<H: QueryHook>(
         stats.hits_per_object[hit.object] += 1;
         let object = &scene.objects[hit.object];
         match object.material {
-            Material::PerfectMirror { side } => {
+            Material::Mirror { side, reflectivity } => {
                 let from_front = photon.dir.dot(hit.geometric_normal) < 0.0;
                 if !side.reflects(from_front) {
                     stats.absorbed_mirror_back += 1;
                     return None;
+                }
+                if let Some(table) = reflectivity {
+                    // Grazing angle between the ray and the (refined) surface.
+                    let theta = photon.dir.dot(hit.shading_normal).abs().min(1.0).asin();
+                    photon.weight *= scene.reflectivity[table].reflectivity(photon.energy, theta);
                 }
                 let out = reflect(photon.dir, hit.shading_normal).normalize();
                 // With interpolated normals the reflection can point into the facet.
@@ -203,8 +208,13 @@ pub fn trace_photon<H: QueryHook>(
             Material::Sensor { sensor } => {
                 let spec = &scene.sensors[sensor];
                 let local = object.transform.to_local.transform_point3(hit.point);
+                let Some(band) = spec.band(photon.energy) else {
+                    stats.sensor_outside_energy_range += 1;
+                    return None;
+                };
                 return match spec.pixel(local) {
                     Some(pixel) => {
+                        let pixel = pixel + band * spec.pixel_count() as u32;
                         stats.reached_sensor += 1;
                         stats.recorded_per_sensor[sensor] += 1;
                         Some(Record {

@@ -15,6 +15,8 @@ pub struct Statistics {
     pub reflected_into_surface: u64,
     /// Hit a sensor object outside its active area (absorbed, not recorded).
     pub sensor_outside_area: u64,
+    /// Reached a sensor with an energy outside its energy bins.
+    pub sensor_outside_energy_range: u64,
     /// Left the scene.
     pub escaped: u64,
     /// Still bouncing after max_interactions.
@@ -43,6 +45,7 @@ impl Statistics {
         self.absorbed_mirror_back += o.absorbed_mirror_back;
         self.reflected_into_surface += o.reflected_into_surface;
         self.sensor_outside_area += o.sensor_outside_area;
+        self.sensor_outside_energy_range += o.sensor_outside_energy_range;
         self.escaped += o.escaped;
         self.max_interactions_reached += o.max_interactions_reached;
         self.embree_queries += o.embree_queries;
@@ -65,6 +68,7 @@ impl Statistics {
             + self.absorbed_mirror_back
             + self.reflected_into_surface
             + self.sensor_outside_area
+            + self.sensor_outside_energy_range
             + self.escaped
             + self.max_interactions_reached
     }

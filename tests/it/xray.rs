@@ -225,3 +225,187 @@ fn reflectivity_tables_interpolate_within_1e_3() {
         assert!(worst < 1e-3, "{name}: worst interpolation error {worst}");
     }
 }
+
+fn coated_flat_mirror_scene(coating: &str, graze_deg: f64, energy: &str, bins: &str) -> String {
+    format!(
+        r#"
+[[sources]]
+type = "parallel"
+aperture = {{ center = [0, 0, 500], radius = 0.2 }}
+energy = {energy}
+
+[materials.coated]
+type = "mirror"
+coating = "{coating}"
+
+[materials.detector]
+type = "sensor"
+size = [60.0, 60.0]
+pixels = [60, 60]
+{bins}
+
+[[objects]]
+name = "flat"
+material = "coated"
+shape = {{ type = "rectangle", size = [20.0, 100.0] }}
+transform = [ {{ rotate = {{ axis = [1, 0, 0], angle = {angle} }} }} ]
+
+[[objects]]
+name = "screen"
+material = "detector"
+shape = {{ type = "rectangle", size = [60.0, 60.0] }}
+transform = [ {{ translate = [0, 0, -200] }} ]
+"#,
+        angle = 90.0 - graze_deg
+    )
+}
+
+#[test]
+fn coated_mirror_multiplies_each_photon_by_its_reflectivity() {
+    // Every photon meets the flat mirror at the same grazing angle, so the flux on
+    // the screen per photon is R(E, θ): effective area = geometric area × R.
+    use traxer::trace::{self, RunConfig};
+    let lib = CoatingLibrary::shipped();
+    for (coating, graze, e) in [
+        ("bare_gold", 0.4, 8.0),
+        ("llnl_recipe_3", 0.6, 1.49),
+        ("llnl_recipe_1", 1.2, 6.41),
+    ] {
+        let s = crate::common::scene(&coated_flat_mirror_scene(
+            coating,
+            graze,
+            &format!("{{ line = {e} }}"),
+            "",
+        ));
+        let r = trace::run(
+            &s,
+            &RunConfig {
+                photons: 2000,
+                seed: 1,
+                threads: 0,
+                progress: false,
+                first_photon: 0,
+            },
+        )
+        .unwrap();
+        assert_eq!(r.stats.reached_sensor, 2000);
+        let per_photon = r.images[0].total_flux() / 2000.0;
+        let direct = lib
+            .coating(coating)
+            .unwrap()
+            .reflectivity(e, graze.to_radians())
+            .unwrap();
+        assert!(
+            (per_photon - direct).abs() < 1e-3,
+            "{coating}: {per_photon} vs R = {direct}"
+        );
+        assert!(
+            direct < 0.999,
+            "{coating}: the test needs R visibly below 1"
+        );
+    }
+}
+
+#[test]
+fn sensors_bin_in_energy() {
+    use traxer::trace::{self, RunConfig};
+    // Uniform 1–9 keV band, 8 bins of 1 keV: counts split evenly; each band's flux
+    // is the mean reflectivity over that band.
+    let s = crate::common::scene(&coated_flat_mirror_scene(
+        "bare_gold",
+        0.5,
+        "{ band = [1.0, 9.0] }",
+        "energy_bins = [1.0, 9.0, 8]",
+    ));
+    let n = 40_000u64;
+    let r = trace::run(
+        &s,
+        &RunConfig {
+            photons: n,
+            seed: 4,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        },
+    )
+    .unwrap();
+    let img = &r.images[0];
+    let px = 60 * 60;
+    assert_eq!(img.flux.len(), 8 * px);
+    let gold = CoatingLibrary::shipped().coating("bare_gold").unwrap();
+    for b in 0..8 {
+        let counts: u64 = img.counts[b * px..(b + 1) * px].iter().sum();
+        let flux: f64 = img.flux[b * px..(b + 1) * px].iter().sum();
+        let expected = n as f64 / 8.0;
+        assert!(
+            (counts as f64 - expected).abs() < 4.0 * expected.sqrt(),
+            "band {b}: {counts}"
+        );
+        // Mean of R over the band by the midpoint rule (R is smooth here).
+        let mean_r: f64 = (0..100)
+            .map(|k| {
+                gold.reflectivity(
+                    1.0 + b as f64 + (k as f64 + 0.5) / 100.0,
+                    0.5f64.to_radians(),
+                )
+                .unwrap()
+            })
+            .sum::<f64>()
+            / 100.0;
+        assert!(
+            (flux / counts as f64 - mean_r).abs() < 0.01,
+            "band {b}: {} vs {mean_r}",
+            flux / counts as f64
+        );
+    }
+    // A line outside the bins is not recorded, but counted.
+    let s = crate::common::scene(&coated_flat_mirror_scene(
+        "bare_gold",
+        0.5,
+        "{ line = 9.5 }",
+        "energy_bins = [1.0, 9.0, 8]",
+    ));
+    let r = trace::run(
+        &s,
+        &RunConfig {
+            photons: 100,
+            seed: 4,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        (r.stats.reached_sensor, r.stats.sensor_outside_energy_range),
+        (0, 100)
+    );
+}
+
+#[test]
+fn coating_errors_name_the_material_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = crate::common::write(
+        dir.path(),
+        "s.toml",
+        &coated_flat_mirror_scene("llnl_recipe_9", 0.5, "{ line = 1.0 }", ""),
+    );
+    let e = traxer::scene::Scene::load(&crate::common::device(), &p, &[])
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        e.contains("s.toml:7") && e.contains("unknown coating `llnl_recipe_9`"),
+        "{e}"
+    );
+    let p = crate::common::write(
+        dir.path(),
+        "s.toml",
+        &coated_flat_mirror_scene("gold", 0.5, "{ line = 50.0 }", ""),
+    );
+    let e = traxer::scene::Scene::load(&crate::common::device(), &p, &[])
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(e.contains("outside the Henke tables"), "{e}");
+}
