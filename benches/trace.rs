@@ -1,6 +1,8 @@
 //! `cargo bench`: photons per second through the shipped Wolter-I scenes (analytic
-//! and meshed), Embree queries per photon, and the raw `rtcIntersect1` rate on the
-//! same rays. The same numbers come from `traxer bench SCENE`.
+//! and meshed, perfect and Pt/C-coated mirrors), Embree queries per photon, and the
+//! raw `rtcIntersect1` rate on the same rays (the same numbers come from
+//! `traxer bench SCENE`); then reflectivity evaluations per second, direct and
+//! through the photon loop's tables.
 
 use std::path::Path;
 use traxer::embree::Device;
@@ -14,22 +16,49 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(2_000_000);
     println!(
-        "{:<22} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
-        "scene", "triangles", "photons/s", "sensor ph/s", "queries", "raw rays/s", "ratio"
+        "{:<36} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
+        "scene, coating", "triangles", "photons/s", "sensor ph/s", "queries", "raw rays/s", "ratio"
     );
-    for name in ["wolter1_parallel.toml", "wolter1_meshed.toml"] {
+    for (name, coating) in [
+        ("wolter1_parallel.toml", "perfect"),
+        ("wolter1_parallel.toml", "llnl_recipe_3"),
+        ("wolter1_meshed.toml", "perfect"),
+        ("wolter1_meshed.toml", "llnl_recipe_3"),
+    ] {
+        let defines = [format!("coating={coating}")];
         let scene =
-            Scene::load(&device, &root.join("scenes").join(name), &[]).expect("shipped scene");
+            Scene::load(&device, &root.join("scenes").join(name), &defines).expect("shipped scene");
         let r = traxer::bench::run(&scene, photons, 0, 300_000).expect("thread pool");
         println!(
-            "{:<22} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
-            name,
+            "{:<36} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
+            format!("{name}, {coating}"),
             r.triangles,
             r.photons_per_second,
             r.sensor_photons_per_second,
             r.queries_per_photon,
             r.raw_rays_per_second,
             r.embree_fraction
+        );
+    }
+    println!();
+    println!(
+        "{:<16} {:>10} {:>16} {:>16} {:>12}",
+        "coating", "band keV", "direct R/s", "table R/s", "table build"
+    );
+    let lib = traxer::xray::CoatingLibrary::shipped();
+    for (name, lo, hi) in [
+        ("llnl_recipe_3", 1.48, 1.50),
+        ("llnl_recipe_3", 0.5, 10.0),
+        ("gold", 0.5, 10.0),
+    ] {
+        let r = traxer::bench::reflectivity_rates(&lib.coating(name).expect("shipped"), lo, hi);
+        println!(
+            "{:<16} {:>10} {:>16.0} {:>16.0} {:>10.2} s",
+            name,
+            format!("{lo}–{hi}"),
+            r.direct_per_second,
+            r.table_per_second,
+            r.table_build_seconds
         );
     }
 }

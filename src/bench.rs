@@ -87,3 +87,54 @@ pub fn run(
         triangles: scene.triangle_count,
     })
 }
+
+/// Reflectivity evaluations per second of one coating on one thread: direct
+/// (optical constants + Parratt recursion) and through a table (as the photon loop
+/// does), on random energies in [e_min, e_max] and angles in 0–3°.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ReflectivityRates {
+    pub coating: String,
+    pub direct_per_second: f64,
+    pub table_per_second: f64,
+    pub table_build_seconds: f64,
+    pub table_nodes: usize,
+}
+
+pub fn reflectivity_rates(
+    coating: &crate::xray::Coating,
+    e_min: f64,
+    e_max: f64,
+) -> ReflectivityRates {
+    let t0 = Instant::now();
+    let table = crate::xray::ReflectivityTable::new(coating, e_min, e_max, 5f64.to_radians())
+        .expect("energies in range");
+    let build = t0.elapsed().as_secs_f64();
+    let mut rng = crate::random::PhotonRng::new(5, 0);
+    let points: Vec<(f64, f64)> = (0..200_000)
+        .map(|_| {
+            (
+                e_min + (e_max - e_min) * rng.uniform(),
+                3f64.to_radians() * rng.uniform(),
+            )
+        })
+        .collect();
+    let t = Instant::now();
+    let mut sum = 0.0;
+    for &(e, th) in &points[..20_000] {
+        sum += coating.reflectivity(e, th).unwrap_or(0.0);
+    }
+    let direct = 20_000.0 / t.elapsed().as_secs_f64();
+    let t = Instant::now();
+    for &(e, th) in &points {
+        sum += table.reflectivity(e, th);
+    }
+    let tabled = points.len() as f64 / t.elapsed().as_secs_f64();
+    std::hint::black_box(sum);
+    ReflectivityRates {
+        coating: coating.name.clone(),
+        direct_per_second: direct,
+        table_per_second: tabled,
+        table_build_seconds: build,
+        table_nodes: table.len(),
+    }
+}

@@ -24,6 +24,7 @@ enum Command {
     Tessellate(cli::tessellate::TessellateArgs),
     Info(cli::info::InfoArgs),
     Bench(cli::bench::BenchArgs),
+    Reflectivity(cli::reflectivity::ReflectivityArgs),
 }
 
 fn main() -> ExitCode {
@@ -33,6 +34,7 @@ fn main() -> ExitCode {
         Command::Tessellate(a) => cli::tessellate::run(a),
         Command::Info(a) => cli::info::run(a),
         Command::Bench(a) => cli::bench::run(a),
+        Command::Reflectivity(a) => cli::reflectivity::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

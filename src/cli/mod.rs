@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod info;
+pub mod reflectivity;
 pub mod tessellate;
 pub mod trace;
 

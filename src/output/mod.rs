@@ -6,11 +6,13 @@
 
 mod image_png;
 mod npy;
+mod plot;
 mod provenance;
 mod run_files;
 
 pub use image_png::{write_png, Scale};
 pub use npy::{write_npy_f64, write_npy_u64};
+pub use plot::{line_plot, Series};
 pub use provenance::{git_hash, sha256_hex, Provenance};
 pub use run_files::{file_stem, write_json, write_run};
 

@@ -20,9 +20,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
 
-/// Largest grazing angle (rad) kept in reflectivity tables; steeper reflections
-/// are evaluated directly.
-const TABLE_THETA_MAX: f64 = 5.0 * std::f64::consts::PI / 180.0;
+/// Largest grazing angle (rad) kept in reflectivity tables (X-ray telescopes work
+/// below ~3°); steeper reflections are evaluated directly.
+const TABLE_THETA_MAX: f64 = 4.0 * std::f64::consts::PI / 180.0;
 
 /// A built scene, ready to trace.
 pub struct Scene {
@@ -223,6 +223,7 @@ impl Builder<'_> {
                     },
                     reflectivity: match &m.coating {
                         None => None,
+                        Some(c) if library.is_perfect(c) => None,
                         Some(c) => Some(match coatings.iter().position(|k| &k.name == c) {
                             Some(i) => i,
                             None => {

@@ -67,10 +67,17 @@ pub struct LayerEntry {
 #[derive(Clone, Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum CoatingEntry {
+    /// R = 1 at every energy and angle (a mirror material without a coating is
+    /// the same).
+    Perfect(PerfectEntry),
     DepthGraded(DepthGradedEntry),
     Layers(LayersEntry),
     Substrate(SubstrateEntry),
 }
+
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PerfectEntry {}
 
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -162,7 +169,13 @@ impl CoatingLibrary {
         })
     }
 
-    /// Builds the named coating.
+    /// Whether the named coating is the perfect mirror (R = 1, nothing to build).
+    pub fn is_perfect(&self, name: &str) -> bool {
+        matches!(self.coatings.get(name), Some(CoatingEntry::Perfect(_)))
+    }
+
+    /// Builds the named coating (a `perfect` one is an error: check
+    /// [`CoatingLibrary::is_perfect`] first).
     pub fn coating(&self, name: &str) -> Result<Coating, String> {
         let entry = self.coatings.get(name).ok_or_else(|| {
             format!(
@@ -172,6 +185,11 @@ impl CoatingLibrary {
         })?;
         let err = |m: String| format!("coating `{name}`: {m}");
         let stack = match entry {
+            CoatingEntry::Perfect(_) => {
+                return Err(err(
+                    "a perfect mirror has no layers to evaluate (R = 1)".into()
+                ))
+            }
             CoatingEntry::DepthGraded(d) => {
                 let thicknesses = depth_graded_thicknesses(d.d_min_nm, d.d_max_nm, d.c, d.bilayers)
                     .map_err(err)?;

@@ -92,30 +92,54 @@ impl ReflectivityTable {
         };
         let mut rows: Vec<Vec<f32>> = energies.par_iter().map(|&e| row(e)).collect();
         // Adaptive refinement in energy: near absorption edges (e.g. the Pt M
-        // edges at 2.1–2.2 keV) R(E) bends within a few eV; halve every cell whose
-        // midpoint differs from the linear interpolation by more than REFINE_TOL.
-        const REFINE_TOL: f32 = 1e-4;
-        for _ in 0..12 {
-            let mids: Vec<(usize, f64, Vec<f32>)> = (0..energies.len().saturating_sub(1))
-                .into_par_iter()
-                .filter_map(|i| {
-                    let e = 0.5 * (energies[i] + energies[i + 1]);
-                    if energies[i + 1] - energies[i] < 1e-4 {
-                        return None; // 0.1 eV: finer than the Henke tables themselves
-                    }
-                    let r = row(e);
-                    let off = r
-                        .iter()
-                        .zip(rows[i].iter().zip(&rows[i + 1]))
-                        .map(|(m, (a, b))| (m - 0.5 * (a + b)).abs())
-                        .fold(0.0f32, f32::max);
-                    (off > REFINE_TOL).then_some((i, e, r))
-                })
-                .collect();
-            if mids.is_empty() {
+        // edges at 2.1–2.2 keV) R(E) bends within a few eV. Linear interpolation
+        // over a cell of width h errs by ≈ h²|R''|/8 at its middle; R'' is
+        // estimated from the neighbouring nodes, and cells above REFINE_TOL are
+        // halved (no extra evaluations where R(E) is smooth).
+        const REFINE_TOL: f64 = 1e-4;
+        for _ in 0..14 {
+            let n = energies.len();
+            if n < 3 {
                 break;
             }
-            for (k, (i, e, r)) in mids.into_iter().enumerate() {
+            // Largest |R''| over angles at each interior node.
+            let curvature: Vec<f64> = (1..n - 1)
+                .into_par_iter()
+                .map(|i| {
+                    let (h0, h1) = (energies[i] - energies[i - 1], energies[i + 1] - energies[i]);
+                    rows[i]
+                        .iter()
+                        .zip(rows[i - 1].iter().zip(&rows[i + 1]))
+                        .map(|(&m, (&l, &r))| {
+                            let d = ((r - m) as f64 / h1 - (m - l) as f64 / h0) * 2.0 / (h0 + h1);
+                            d.abs()
+                        })
+                        .fold(0.0, f64::max)
+                })
+                .collect();
+            let split: Vec<usize> = (0..n - 1)
+                .filter(|&i| {
+                    let h = energies[i + 1] - energies[i];
+                    // 0.1 eV: finer than the Henke tables themselves.
+                    let c = curvature
+                        .get(i.wrapping_sub(1))
+                        .copied()
+                        .unwrap_or(0.0)
+                        .max(curvature.get(i).copied().unwrap_or(0.0));
+                    h > 1e-4 && h * h * c / 8.0 > REFINE_TOL
+                })
+                .collect();
+            if split.is_empty() {
+                break;
+            }
+            let new_rows: Vec<(f64, Vec<f32>)> = split
+                .par_iter()
+                .map(|&i| {
+                    let e = 0.5 * (energies[i] + energies[i + 1]);
+                    (e, row(e))
+                })
+                .collect();
+            for (k, (&i, (e, r))) in split.iter().zip(new_rows).enumerate() {
                 energies.insert(i + 1 + k, e);
                 rows.insert(i + 1 + k, r);
             }

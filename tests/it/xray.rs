@@ -409,3 +409,84 @@ fn coating_errors_name_the_material_line() {
         .to_string();
     assert!(e.contains("outside the Henke tables"), "{e}");
 }
+
+#[test]
+fn reflectivity_command_prints_csv_and_writes_a_plot() {
+    use std::process::Command;
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("r.png");
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args([
+            "reflectivity",
+            "--coating",
+            "llnl_recipe_3",
+            "--energy",
+            "1.49,6.41",
+            "--angle",
+            "0:2:0.5",
+            "--plot",
+        ])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let rows: Vec<Vec<f64>> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 2 * 5);
+    let c = CoatingLibrary::shipped().coating("llnl_recipe_3").unwrap();
+    for r in &rows {
+        let want = c.reflectance(r[0], r[1].to_radians()).unwrap();
+        assert!((r[2] - want.unpolarised()).abs() < 1e-12 && (r[3] - want.s).abs() < 1e-12);
+    }
+    let img = image::open(&png).unwrap();
+    assert_eq!((img.width(), img.height()), (900, 600));
+    // A user coating file, and bad input.
+    let file = crate::common::write(
+        dir.path(),
+        "c.toml",
+        "[materials.Ir]\nformula = \"Ir\"\ndensity = 22.56\n[coatings.iridium]\ntype = \"substrate\"\nsubstrate = \"Ir\"\n",
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args(["reflectivity", "--coating"])
+        .arg(&file)
+        .args(["--energy", "0.5:10:0.5", "--angle", "0.3", "--plot"])
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap().lines().count(),
+        1 + 20
+    );
+    for args in [
+        ["--coating", "unobtainium", "--energy", "1", "--angle", "1"],
+        ["--coating", "gold", "--energy", "40", "--angle", "1"],
+        ["--coating", "gold", "--energy", "1:0:1", "--angle", "1"],
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .arg("reflectivity")
+            .args(args)
+            .arg("--plot")
+            .arg(&png)
+            .output()
+            .unwrap();
+        assert_eq!(
+            out.status.code(),
+            Some(2),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

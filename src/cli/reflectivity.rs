@@ -1,0 +1,187 @@
+//! `traxer reflectivity`: R of a coating versus grazing angle or energy, as CSV on
+//! stdout and a PNG plot.
+
+use super::InputError;
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+use traxer::output::{line_plot, Series};
+use traxer::xray::{Coating, CoatingLibrary};
+
+/// Print the reflectivity of a mirror coating as CSV and plot it.
+///
+/// One of --energy and --angle is a short list (at most 8 values, one curve each)
+/// and the other the plotted axis. Values are comma-separated lists or ranges
+/// start:stop:step. Example:
+///   traxer reflectivity --coating llnl_recipe_3 --energy 1.49,4.51,6.41 --angle 0:3:0.005
+/// CSV columns: energy_keV, angle_deg, R (unpolarised), R_s, R_p.
+#[derive(clap::Args)]
+pub struct ReflectivityArgs {
+    /// A coating of data/coatings.toml (e.g. llnl_recipe_3, gold), or FILE or
+    /// FILE:NAME for a TOML file with [materials] and [coatings] tables.
+    #[arg(long)]
+    pub coating: String,
+    /// Photon energies, keV.
+    #[arg(long)]
+    pub energy: String,
+    /// Grazing angles, degrees.
+    #[arg(long)]
+    pub angle: String,
+    /// PNG plot to write.
+    #[arg(long, default_value = "reflectivity.png")]
+    pub plot: PathBuf,
+    /// Also write the CSV to this file (atomically) instead of only printing it.
+    #[arg(long)]
+    pub csv: Option<PathBuf>,
+}
+
+/// Parses "a,b,c" or "start:stop:step" (inclusive of stop).
+fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, InputError> {
+    let bad = || {
+        InputError(format!(
+            "--{what} {s}: expected numbers a,b,c or a range start:stop:step"
+        ))
+    };
+    let parts: Vec<&str> = s.split(':').collect();
+    let values = if parts.len() == 3 {
+        let n: Vec<f64> = parts
+            .iter()
+            .map(|p| p.trim().parse().map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        let (a, b, step) = (n[0], n[1], n[2]);
+        if !(step > 0.0 && b >= a) || (b - a) / step > 1e6 {
+            return Err(InputError(format!(
+                "--{what} {s}: need stop ≥ start, step > 0 and at most a million values"
+            )));
+        }
+        let count = ((b - a) / step + 1e-9).floor() as usize;
+        (0..=count).map(|i| a + step * i as f64).collect()
+    } else if parts.len() == 1 {
+        s.split(',')
+            .map(|p| p.trim().parse().map_err(|_| bad()))
+            .collect::<Result<Vec<f64>, _>>()?
+    } else {
+        return Err(bad());
+    };
+    if values.is_empty() || values.iter().any(|v| !v.is_finite()) {
+        return Err(bad());
+    }
+    Ok(values)
+}
+
+fn load_coating(spec: &str) -> Result<Coating, InputError> {
+    let shipped = CoatingLibrary::shipped();
+    if shipped.is_perfect(spec) {
+        return Err(InputError(format!(
+            "--coating {spec}: R = 1 everywhere, nothing to plot"
+        )));
+    }
+    if shipped.coatings.contains_key(spec) {
+        return shipped.coating(spec).map_err(InputError);
+    }
+    let (file, name) = match spec.rsplit_once(':') {
+        Some((f, n)) if Path::new(f).is_file() => (f, Some(n)),
+        _ => (spec, None),
+    };
+    if !Path::new(file).is_file() {
+        return Err(InputError(format!(
+            "--coating {spec}: not a shipped coating (have: {}) and not a file",
+            shipped
+                .coatings
+                .keys()
+                .cloned()
+                .collect::<Vec<_>>()
+                .join(", ")
+        )));
+    }
+    let text = std::fs::read_to_string(file).map_err(|e| InputError(format!("{file}: {e}")))?;
+    let lib: CoatingLibrary = toml::from_str(&text).map_err(|e| {
+        let line = e
+            .span()
+            .map(|s| text[..s.start].lines().count().max(1))
+            .unwrap_or(0);
+        InputError(format!("{file}:{line}: {}", e.message()))
+    })?;
+    let name = match name {
+        Some(n) => n.to_string(),
+        None if lib.coatings.len() == 1 => lib.coatings.keys().next().expect("one").clone(),
+        None => {
+            return Err(InputError(format!(
+                "{file} defines {} coatings; choose one with --coating {file}:NAME",
+                lib.coatings.len()
+            )))
+        }
+    };
+    shipped
+        .merged(&lib)
+        .coating(&name)
+        .map_err(|e| InputError(format!("{file}: {e}")))
+}
+
+pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
+    let coating = load_coating(&a.coating)?;
+    let energies = parse_values("energy", &a.energy)?;
+    let angles = parse_values("angle", &a.angle)?;
+    let versus_angle = energies.len() <= 8 && (angles.len() > 8 || angles.len() >= energies.len());
+    if !versus_angle && angles.len() > 8 {
+        return Err(InputError(
+            "give at most 8 values for --energy or for --angle (one curve each)".into(),
+        )
+        .into());
+    }
+    let mut csv = String::from("energy_keV,angle_deg,R,R_s,R_p\n");
+    let mut series = Vec::new();
+    let (curves, axis) = if versus_angle {
+        (&energies, &angles)
+    } else {
+        (&angles, &energies)
+    };
+    for &c in curves {
+        let mut points = Vec::new();
+        for &x in axis {
+            let (e, th) = if versus_angle { (c, x) } else { (x, c) };
+            let r = coating
+                .reflectance(e, th.to_radians())
+                .map_err(|err| InputError(err.to_string()))?;
+            csv.push_str(&format!("{e},{th},{},{},{}\n", r.unpolarised(), r.s, r.p));
+            points.push((x, r.unpolarised()));
+        }
+        let label = if versus_angle {
+            format!("{c} keV")
+        } else {
+            format!("{c}°")
+        };
+        series.push(Series { label, points });
+    }
+    // A closed pipe (`| head`) is not an error worth a message.
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(csv.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => return Err(e.into()),
+        _ => {}
+    }
+    if let Some(path) = &a.csv {
+        traxer::output::atomic_write(path, csv.as_bytes())
+            .with_context(|| format!("cannot write {}", path.display()))?;
+    }
+    let (title, x_label) = if versus_angle {
+        (
+            format!("{}: reflectivity vs grazing angle", coating.name),
+            "grazing angle [°]",
+        )
+    } else {
+        (
+            format!("{}: reflectivity vs energy", coating.name),
+            "energy [keV]",
+        )
+    };
+    line_plot(
+        &a.plot,
+        &title,
+        x_label,
+        "reflectivity (unpolarised)",
+        &series,
+        (900, 600),
+    )
+    .with_context(|| format!("cannot write {}", a.plot.display()))?;
+    eprintln!("wrote {}", a.plot.display());
+    Ok(())
+}
