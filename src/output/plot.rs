@@ -50,10 +50,15 @@ pub fn line_plot(
     let (mut y0, mut y1) = finite().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
         (a.min(p.1), b.max(p.1))
     });
-    if !(x0 < x1) {
+    // No points, or all on one value: give the axis some extent.
+    if !x0.is_finite() {
+        (x0, x1) = (0.0, 1.0);
+    } else if x0 >= x1 {
         (x0, x1) = (x0 - 0.5, x0 + 0.5);
     }
-    if !(y0 < y1) {
+    if !y0.is_finite() {
+        (y0, y1) = (0.0, 1.0);
+    } else if y0 >= y1 {
         (y0, y1) = (y0 - 0.5, y0 + 0.5);
     }
     let pad = 0.04 * (y1 - y0);
