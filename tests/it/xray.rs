@@ -490,3 +490,54 @@ fn reflectivity_command_prints_csv_and_writes_a_plot() {
         );
     }
 }
+
+#[test]
+fn scene_defined_optical_materials_and_coatings_work() {
+    // The example of docs/scene-format.md: a user material (mass fractions) and an
+    // iridium layer on it; the traced flux per photon equals the direct R.
+    use traxer::trace::{self, RunConfig};
+    let extra = r#"
+[optical_materials.Ir]
+formula = "Ir"
+density = 22.56
+
+[optical_materials.glass]
+mass_fractions = { SiO2 = 0.8, B2O3 = 0.13, Na2O = 0.04, Al2O3 = 0.03 }
+density = 2.23
+
+[coatings.iridium]
+type = "layers"
+layers = [ { material = "Ir", thickness_nm = 30.0, roughness_nm = 0.4 } ]
+substrate = "glass"
+substrate_roughness_nm = 0.4
+"#;
+    let text = format!(
+        "{extra}\n{}",
+        coated_flat_mirror_scene("iridium", 0.5, "{ line = 8.0 }", "")
+    );
+    let s = crate::common::scene(&text);
+    let r = trace::run(
+        &s,
+        &RunConfig {
+            photons: 500,
+            seed: 1,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        },
+    )
+    .unwrap();
+    let lib: CoatingLibrary =
+        toml::from_str(extra.replace("optical_materials", "materials").as_str()).unwrap();
+    let direct = CoatingLibrary::shipped()
+        .merged(&lib)
+        .coating("iridium")
+        .unwrap()
+        .reflectivity(8.0, 0.5f64.to_radians())
+        .unwrap();
+    let per_photon = r.images[0].total_flux() / 500.0;
+    assert!(
+        (per_photon - direct).abs() < 1e-3 && direct > 0.3 && direct < 0.99,
+        "{per_photon} vs {direct}"
+    );
+}
