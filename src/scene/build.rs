@@ -152,7 +152,7 @@ impl Builder<'_> {
         }
     }
 
-    fn build(&mut self, device: &Device, desc: SceneDesc) -> Result<Scene, SceneError> {
+    fn build(&mut self, device: &Device, mut desc: SceneDesc) -> Result<Scene, SceneError> {
         let max_interactions = *desc.max_interactions.get_ref();
         if max_interactions == 0 {
             return self.err(
@@ -177,7 +177,7 @@ impl Builder<'_> {
             "absorber".into(),
             (MaterialDesc::Absorber(AbsorberDesc {}), 0..0),
         );
-        for (name, m) in desc.materials {
+        for (name, m) in std::mem::take(&mut desc.materials) {
             let span = m.span();
             materials.insert(name, (m.into_inner(), span));
         }
@@ -187,6 +187,7 @@ impl Builder<'_> {
             coatings: desc.coatings.clone(),
         });
         let mut coatings: Vec<Coating> = Vec::new();
+        expand_assemblies(self.path, self.text, &self.dir, &mut desc, &mut materials)?;
 
         let mut objects = Vec::new();
         let mut sensors = Vec::new();
@@ -644,6 +645,79 @@ impl Builder<'_> {
             }
         }
     }
+}
+
+/// Expands the `[[assemblies]]` of a description into ordinary objects (appended to
+/// `desc.objects`) and the mirror materials they need (added to `materials`).
+fn expand_assemblies(
+    path: &Path,
+    text: &str,
+    dir: &Path,
+    desc: &mut SceneDesc,
+    materials: &mut BTreeMap<String, (MaterialDesc, std::ops::Range<usize>)>,
+) -> Result<(), SceneError> {
+    use super::llnl::{LlnlTelescope, PartMaterial};
+    for a in std::mem::take(&mut desc.assemblies) {
+        let span = a.span();
+        let err = |m: String| SceneError::at(path, text, span.start, m);
+        match a.into_inner() {
+            AssemblyDesc::LlnlTelescope(t) => {
+                let data = match &t.data {
+                    None => LlnlTelescope::shipped(),
+                    Some(f) => {
+                        let file = dir.join(f);
+                        let body = std::fs::read_to_string(&file).map_err(|e| {
+                            err(format!("llnl_telescope data {}: {e}", file.display()))
+                        })?;
+                        LlnlTelescope::from_toml(&body)
+                            .map_err(|e| SceneError::from_toml(&file, &body, &e))?
+                    }
+                };
+                data.validate()
+                    .map_err(|m| err(format!("llnl_telescope data: {m}")))?;
+                if !t.azimuth_center.is_finite() {
+                    return Err(err("azimuth_center must be a number (degrees)".into()));
+                }
+                // "as_built" (or no `coating`) keeps each shell's own coating.
+                let coating = t.coating.as_deref().filter(|c| *c != "as_built");
+                for part in data.parts(t.azimuth_center, coating) {
+                    let material = match &part.material {
+                        PartMaterial::Absorber => "absorber".to_string(),
+                        PartMaterial::Mirror(coating) => {
+                            let m = format!("{}_mirror_{coating}", t.name);
+                            materials.entry(m.clone()).or_insert((
+                                MaterialDesc::Mirror(MirrorDesc {
+                                    side: SideDesc::Front,
+                                    coating: Some(coating.clone()),
+                                }),
+                                0..0,
+                            ));
+                            m
+                        }
+                    };
+                    let is_mirror = matches!(part.material, PartMaterial::Mirror(_));
+                    let transform = part
+                        .transform
+                        .iter()
+                        .chain(&t.transform)
+                        .map(|s| Spanned::new(span.clone(), s.clone()))
+                        .collect();
+                    desc.objects.push(Spanned::new(
+                        span.clone(),
+                        ObjectDesc {
+                            name: Some(format!("{}_{}", t.name, part.name)),
+                            shape: Spanned::new(span.clone(), part.shape),
+                            material: Spanned::new(span.clone(), material),
+                            transform,
+                            tessellate: t.tessellate.map(|r| Spanned::new(span.clone(), r)),
+                            smooth_normals: t.tessellate.is_some() && is_mirror,
+                        },
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// An analytic object of a scene file, for `traxer tessellate`.

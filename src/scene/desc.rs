@@ -39,6 +39,9 @@ pub struct SceneDesc {
     pub objects: Vec<Spanned<ObjectDesc>>,
     #[serde(default)]
     pub sources: Vec<Spanned<SourceDesc>>,
+    /// Built-in assemblies (the LLNL telescope), expanded into objects.
+    #[serde(default)]
+    pub assemblies: Vec<Spanned<AssemblyDesc>>,
     /// X-ray optical materials (formula or mass fractions, density) for coatings,
     /// added to those of data/coatings.toml.
     #[serde(default)]
@@ -142,6 +145,46 @@ pub struct ObjectDesc {
     pub tessellate: Option<Spanned<TessellateDesc>>,
     #[serde(default)]
     pub smooth_normals: bool,
+}
+
+/// Built-in assemblies: many objects from one entry.
+///
+/// ```toml
+/// [[assemblies]]
+/// type = "llnl_telescope"        # the CAST LLNL telescope (data/llnl_telescope.toml)
+/// name = "llnl"                  # prefix of its objects' names (default "llnl")
+/// data = "my_telescope.toml"     # optional: other radii/coatings in the same form
+/// azimuth_center = 0.0           # degrees: direction of the 30° segments' centre
+/// coating = "perfect"            # optional: one coating for every shell
+///                                # ("as_built", the default: each shell's own)
+/// tessellate = { segments = 500, rings = 20 }   # optional: meshes with smooth normals
+/// transform = [ { translate = [0, 0, 0] } ]     # placement of the telescope frame
+/// ```
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum AssemblyDesc {
+    LlnlTelescope(LlnlTelescopeDesc),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LlnlTelescopeDesc {
+    #[serde(default = "llnl_name")]
+    pub name: String,
+    #[serde(default)]
+    pub data: Option<String>,
+    #[serde(default)]
+    pub azimuth_center: f64,
+    #[serde(default)]
+    pub coating: Option<String>,
+    #[serde(default)]
+    pub tessellate: Option<TessellateDesc>,
+    #[serde(default)]
+    pub transform: Vec<TransformStep>,
+}
+
+fn llnl_name() -> String {
+    "llnl".into()
 }
 
 /// Tessellation resolution of an analytic shape.

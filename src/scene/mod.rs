@@ -7,6 +7,7 @@
 mod build;
 pub mod desc;
 mod error;
+pub mod llnl;
 mod vars;
 
 pub use build::{

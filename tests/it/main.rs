@@ -7,6 +7,7 @@ mod embree_parity;
 mod errors;
 mod focusing;
 mod geometry;
+mod llnl;
 mod mesh_io;
 mod photon_loop;
 mod scenes;
