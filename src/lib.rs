@@ -5,6 +5,7 @@
 //! `trace` (photon loop, materials) → `sensor` (images) → `output` (files).
 #![deny(unsafe_code)]
 
+pub mod analysis;
 pub mod bench;
 pub mod embree;
 pub mod geometry;

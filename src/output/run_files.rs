@@ -2,6 +2,7 @@
 //! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
 
 use super::{atomic_write, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
+use crate::analysis::{analyse, projections, write_eef_plot, ImageGeometry};
 use crate::scene::Scene;
 use crate::source::Source;
 use crate::trace::RunResult;
@@ -36,12 +37,44 @@ pub fn write_run(
             format!("{stem}.png"),
             format!("{stem}_log.png"),
             format!("{stem}.json"),
+            format!("{stem}_eef.png"),
+            format!("{stem}_projections.csv"),
         ];
         let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
         write_npy_f64(&paths[0], &shape, &image.flux)?;
         write_npy_u64(&paths[1], &shape, &image.counts)?;
         write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
         write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
+        let geometry = ImageGeometry {
+            nx,
+            ny,
+            pitch: spec.pitch(),
+            origin_mm: [-0.5 * spec.size[0], -0.5 * spec.size[1]],
+        };
+        let quality = analyse(&summed, &geometry, spec.focal_length);
+        if let Some((q, eef)) = &quality {
+            write_eef_plot(
+                &paths[5],
+                &format!("{}: encircled energy", spec.name),
+                q,
+                eef,
+            )?;
+        }
+        let (px, py) = projections(&summed, &geometry);
+        let mut csv = String::from("index,x_mm,flux_vs_x,y_mm,flux_vs_y\n");
+        for i in 0..nx.max(ny) {
+            let col = |v: &[f64], n: usize, o: f64, p: f64| {
+                if i < n {
+                    (format!("{}", o + (i as f64 + 0.5) * p), format!("{}", v[i]))
+                } else {
+                    (String::new(), String::new())
+                }
+            };
+            let (xm, fx) = col(&px, nx, geometry.origin_mm[0], geometry.pitch[0]);
+            let (ym, fy) = col(&py, ny, geometry.origin_mm[1], geometry.pitch[1]);
+            csv.push_str(&format!("{i},{xm},{fx},{ym},{fy}\n"));
+        }
+        atomic_write(&paths[6], csv.as_bytes())?;
         let sensor = json!({
             "name": spec.name,
             "object": spec.object,
@@ -56,10 +89,13 @@ pub fn write_run(
                 "counts": "number of photons per pixel",
             },
             "total_flux": image.total_flux(),
+            "image_quality": quality.as_ref().map(|(q, _)| q),
             "total_counts": image.total_counts(),
             "files": {
                 "flux_npy": files[0], "counts_npy": files[1],
                 "png_linear": files[2], "png_log": files[3],
+                "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
+                "projections_csv": files[6],
             },
         });
         let doc = json!({
@@ -70,7 +106,13 @@ pub fn write_run(
         });
         write_json(&paths[4], &doc)?;
         sensor_summaries.push(sensor);
-        written.extend(paths);
+        written.extend(
+            paths
+                .into_iter()
+                .enumerate()
+                .filter(|(i, _)| *i != 5 || quality.is_some())
+                .map(|(_, p)| p),
+        );
     }
     let summary = json!({
         "provenance": provenance,

@@ -255,6 +255,14 @@ impl Builder<'_> {
                     {
                         return self.err(mspan.clone(), format!("material `{mname}`: pixels must be positive, at most 2^26 (67 million) in all"));
                     }
+                    if s.focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0)) {
+                        return self.err(
+                            mspan.clone(),
+                            format!(
+                                "material `{mname}`: focal_length must be a positive length (mm)"
+                            ),
+                        );
+                    }
                     if let Some((lo, hi, n)) = s.energy_bins {
                         let pixels = s.pixels[0] as u64 * s.pixels[1] as u64 * n as u64;
                         if !(lo.is_finite() && hi.is_finite() && lo < hi && n >= 1)
@@ -269,6 +277,7 @@ impl Builder<'_> {
                         size: s.size,
                         pixels: s.pixels,
                         energy_bins: s.energy_bins,
+                        focal_length: s.focal_length,
                     });
                     Material::Sensor {
                         sensor: sensors.len() - 1,

@@ -71,6 +71,7 @@ fn default_max_interactions() -> Spanned<u32> {
 /// size = [14.0, 14.0]  # mm, along the object's local x and y, centred on its origin
 /// pixels = [1000, 1000]
 /// energy_bins = [0.5, 10.0, 19]   # optional: keV min, max, number of bands
+/// focal_length = 1500.0  # optional, mm: HPD etc. also in arcseconds
 /// ```
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
@@ -104,6 +105,10 @@ pub struct SensorDesc {
     /// axis, one image per band.
     #[serde(default)]
     pub energy_bins: Option<(f64, f64, u32)>,
+    /// Focal length (mm) of the optics in front of the sensor: image-quality
+    /// diameters are then also given in arcseconds, 2·atan(r/f).
+    #[serde(default)]
+    pub focal_length: Option<f64>,
 }
 
 /// Which side of a surface reflects. The front is the side the shape's normal

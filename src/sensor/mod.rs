@@ -22,6 +22,8 @@ pub struct SensorSpec {
     pub pixels: [u32; 2],
     /// Energy bands (keV): `min`, `max`, `count` equal bands; `None` = one image.
     pub energy_bins: Option<(f64, f64, u32)>,
+    /// Focal length (mm) for angular image-quality numbers.
+    pub focal_length: Option<f64>,
 }
 
 impl SensorSpec {

@@ -1,6 +1,7 @@
 //! traxer's integration tests (one binary, as ripgrep does). Closed-form physics
 //! checks, Embree-vs-brute-force parity, determinism, and the documented errors.
 
+mod analysis;
 mod common;
 mod determinism;
 mod embree_parity;

@@ -1,0 +1,198 @@
+//! Image analysis that physicists quote: flux-weighted centroid, encircled-energy
+//! function (EEF), and the diameters holding 50 % (HPD), 80 % and 90 % of the flux,
+//! in mm and in arcseconds (2·atan(r/f)); x and y projections.
+//!
+//! Data flow: `output` calls [`analyse`] on every sensor image after a trace;
+//! `traxer eef` calls it on any `.npy` image.
+
+/// Results for one image.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct ImageQuality {
+    /// Flux-weighted centroid (mm) in the sensor's local frame.
+    pub centroid_mm: [f64; 2],
+    pub total_flux: f64,
+    /// Diameters (mm) holding 50, 80 and 90 % of the flux around the centroid.
+    pub hpd_mm: f64,
+    pub d80_mm: f64,
+    pub d90_mm: f64,
+    /// The same in arcseconds, when a focal length is known.
+    pub focal_length_mm: Option<f64>,
+    pub hpd_arcsec: Option<f64>,
+    pub d80_arcsec: Option<f64>,
+    pub d90_arcsec: Option<f64>,
+}
+
+/// Encircled-energy function: radii (mm, ascending) and the flux fraction inside.
+#[derive(Clone, Debug)]
+pub struct Eef {
+    pub radius_mm: Vec<f64>,
+    pub fraction: Vec<f64>,
+}
+
+impl Eef {
+    /// Smallest radius holding `fraction` of the flux, interpolated linearly
+    /// between pixels.
+    pub fn radius_at(&self, fraction: f64) -> f64 {
+        let i = self.fraction.partition_point(|&f| f < fraction);
+        if i == 0 {
+            return self.radius_mm.first().copied().unwrap_or(0.0);
+        }
+        if i >= self.fraction.len() {
+            return self.radius_mm.last().copied().unwrap_or(0.0);
+        }
+        let (f0, f1) = (self.fraction[i - 1], self.fraction[i]);
+        let (r0, r1) = (self.radius_mm[i - 1], self.radius_mm[i]);
+        if f1 > f0 {
+            r0 + (r1 - r0) * (fraction - f0) / (f1 - f0)
+        } else {
+            r1
+        }
+    }
+}
+
+/// A 2-D image [iy][ix] with its geometry: pixel (0, 0) has its corner at
+/// (x0, y0) mm; pixels are `pitch` mm.
+pub struct ImageGeometry {
+    pub nx: usize,
+    pub ny: usize,
+    pub pitch: [f64; 2],
+    pub origin_mm: [f64; 2],
+}
+
+impl ImageGeometry {
+    fn center(&self, ix: usize, iy: usize) -> (f64, f64) {
+        (
+            self.origin_mm[0] + (ix as f64 + 0.5) * self.pitch[0],
+            self.origin_mm[1] + (iy as f64 + 0.5) * self.pitch[1],
+        )
+    }
+}
+
+/// Centroid, EEF and diameters of `image` (row-major [iy][ix], flux ≥ 0).
+/// Returns `None` for an image without flux.
+pub fn analyse(
+    image: &[f64],
+    g: &ImageGeometry,
+    focal_length_mm: Option<f64>,
+) -> Option<(ImageQuality, Eef)> {
+    let total: f64 = image.iter().sum();
+    if total.is_nan() || total <= 0.0 {
+        return None;
+    }
+    let (mut sx, mut sy) = (0.0, 0.0);
+    for (k, &v) in image.iter().enumerate() {
+        if v != 0.0 {
+            let (x, y) = g.center(k % g.nx, k / g.nx);
+            sx += v * x;
+            sy += v * y;
+        }
+    }
+    let (cx, cy) = (sx / total, sy / total);
+    let mut pixels: Vec<(f64, f64)> = image
+        .iter()
+        .enumerate()
+        .filter(|(_, &v)| v > 0.0)
+        .map(|(k, &v)| {
+            let (x, y) = g.center(k % g.nx, k / g.nx);
+            ((x - cx).hypot(y - cy), v)
+        })
+        .collect();
+    pixels.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut acc = 0.0;
+    let mut eef = Eef {
+        radius_mm: Vec::with_capacity(pixels.len()),
+        fraction: Vec::with_capacity(pixels.len()),
+    };
+    for (r, v) in pixels {
+        acc += v;
+        eef.radius_mm.push(r);
+        eef.fraction.push(acc / total);
+    }
+    let d = |f: f64| 2.0 * eef.radius_at(f);
+    let arcsec =
+        |diam: f64| focal_length_mm.map(|fl| 2.0 * (0.5 * diam / fl).atan().to_degrees() * 3600.0);
+    let (hpd, d80, d90) = (d(0.5), d(0.8), d(0.9));
+    Some((
+        ImageQuality {
+            centroid_mm: [cx, cy],
+            total_flux: total,
+            hpd_mm: hpd,
+            d80_mm: d80,
+            d90_mm: d90,
+            focal_length_mm,
+            hpd_arcsec: arcsec(hpd),
+            d80_arcsec: arcsec(d80),
+            d90_arcsec: arcsec(d90),
+        },
+        eef,
+    ))
+}
+
+/// Writes the EEF plot (fraction versus radius, in arcsec when the focal length is
+/// known, else mm) with the 50/80/90 % radii marked.
+pub fn write_eef_plot(
+    path: &std::path::Path,
+    title: &str,
+    q: &ImageQuality,
+    eef: &Eef,
+) -> std::io::Result<()> {
+    use crate::output::{line_plot, Series};
+    let to_x = |r_mm: f64| match q.focal_length_mm {
+        Some(f) => (r_mm / f).atan().to_degrees() * 3600.0,
+        None => r_mm,
+    };
+    let x_label = if q.focal_length_mm.is_some() {
+        "radius [arcsec]"
+    } else {
+        "radius [mm]"
+    };
+    // Thin the curve to ≤ 2000 points for plotting.
+    let step = (eef.radius_mm.len() / 2000).max(1);
+    let mut curve: Vec<(f64, f64)> = eef
+        .radius_mm
+        .iter()
+        .zip(&eef.fraction)
+        .step_by(step)
+        .map(|(&r, &f)| (to_x(r), f))
+        .collect();
+    curve.insert(0, (0.0, 0.0));
+    let mut series = vec![Series {
+        label: "encircled energy".into(),
+        points: curve,
+    }];
+    for (name, diam) in [
+        ("50 % (HPD)", q.hpd_mm),
+        ("80 %", q.d80_mm),
+        ("90 %", q.d90_mm),
+    ] {
+        let r = to_x(0.5 * diam);
+        let frac = name[..2].parse::<f64>().unwrap_or(0.0) / 100.0;
+        let label = match q.focal_length_mm {
+            Some(_) => format!("{name}: diameter {:.1}″", 2.0 * r),
+            None => format!("{name}: diameter {:.3} mm", 2.0 * r),
+        };
+        series.push(Series {
+            label,
+            points: vec![(r, 0.0), (r, frac), (0.0, frac)],
+        });
+    }
+    line_plot(
+        path,
+        title,
+        x_label,
+        "fraction of flux",
+        &series,
+        (900, 600),
+    )
+}
+
+/// Sums of the image along y (a function of x) and along x (a function of y).
+pub fn projections(image: &[f64], g: &ImageGeometry) -> (Vec<f64>, Vec<f64>) {
+    let mut px = vec![0.0; g.nx];
+    let mut py = vec![0.0; g.ny];
+    for (k, &v) in image.iter().enumerate() {
+        px[k % g.nx] += v;
+        py[k / g.nx] += v;
+    }
+    (px, py)
+}
