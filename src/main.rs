@@ -25,6 +25,7 @@ enum Command {
     Info(cli::info::InfoArgs),
     Bench(cli::bench::BenchArgs),
     Reflectivity(cli::reflectivity::ReflectivityArgs),
+    Eef(cli::eef::EefArgs),
 }
 
 fn main() -> ExitCode {
@@ -35,6 +36,7 @@ fn main() -> ExitCode {
         Command::Info(a) => cli::info::run(a),
         Command::Bench(a) => cli::bench::run(a),
         Command::Reflectivity(a) => cli::reflectivity::run(a),
+        Command::Eef(a) => cli::eef::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -2,6 +2,7 @@
 //! modules only handle I/O-side settings (photons, seed, threads, output folder).
 
 pub mod bench;
+pub mod eef;
 pub mod info;
 pub mod reflectivity;
 pub mod tessellate;

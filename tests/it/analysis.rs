@@ -70,5 +70,73 @@ fn gaussian_spot_diameters() {
             && (eef.fraction.last().unwrap() - 1.0).abs() < 1e-12
     );
     // An empty image has no quality.
-    assert!(analyse(&vec![0.0; 16], &geometry(4, 1.0), None).is_none());
+    assert!(analyse(&[0.0; 16], &geometry(4, 1.0), None).is_none());
+}
+
+#[test]
+fn eef_command_on_an_npy_from_elsewhere() {
+    use std::process::Command;
+    // A uniform disk of radius 100 px written as float32 by "another program".
+    let dir = tempfile::tempdir().unwrap();
+    let n = 400usize;
+    let mut img = vec![0f32; n * n];
+    for iy in 0..n {
+        for ix in 0..n {
+            if ((ix as f64 + 0.5 - 200.0).hypot(iy as f64 + 0.5 - 200.0)) < 100.0 {
+                img[iy * n + ix] = 1.0;
+            }
+        }
+    }
+    let path = dir.path().join("disk.npy");
+    {
+        use npyz::WriterBuilder;
+        let mut f = std::fs::File::create(&path).unwrap();
+        let mut w = npyz::WriteOptions::new()
+            .default_dtype()
+            .shape(&[n as u64, n as u64])
+            .writer(&mut f)
+            .begin_nd()
+            .unwrap();
+        w.extend(img.iter().copied()).unwrap();
+        w.finish().unwrap();
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args([
+            "eef",
+            "--json",
+            "--pixel-pitch",
+            "0.01",
+            "--focal-length",
+            "1500",
+        ])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let q: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // Radius 1 mm: HPD = 2·√0.5 mm.
+    assert!(
+        (q["hpd_mm"].as_f64().unwrap() / 2f64.sqrt() - 1.0).abs() < 5e-3,
+        "{q}"
+    );
+    assert!(dir.path().join("disk_eef.png").is_file());
+    // Without a pitch (and no sidecar), or with garbage, exit code 2.
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .arg("eef")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--pixel-pitch"));
+    std::fs::write(dir.path().join("junk.npy"), b"not numpy").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args(["eef", "--pixel-pitch", "1"])
+        .arg(dir.path().join("junk.npy"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
 }

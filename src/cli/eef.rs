@@ -1,0 +1,171 @@
+//! `traxer eef`: encircled energy, HPD, 80 % and 90 % diameters of any `.npy` image.
+
+use super::InputError;
+use anyhow::Context;
+use std::path::{Path, PathBuf};
+use traxer::analysis::{analyse, write_eef_plot, ImageGeometry};
+
+/// Encircled-energy analysis of an image from a trace or from elsewhere.
+///
+/// Reads a 2-D .npy image [iy][ix] (or 3-D [band][iy][ix], summed over bands), of
+/// any numeric type. The pixel pitch comes from --pixel-pitch or, for traxer's own
+/// images, from the JSON sidecar next to it (NAME.json). Prints the centroid and
+/// the 50/80/90 % diameters (mm, and arcsec with --focal-length) and writes the EEF
+/// plot.
+#[derive(clap::Args)]
+pub struct EefArgs {
+    /// The image (.npy).
+    pub image: PathBuf,
+    /// Focal length (mm) for diameters in arcseconds: 2·atan(r/f).
+    #[arg(long)]
+    pub focal_length: Option<f64>,
+    /// Pixel pitch in mm (x,y or one value for square pixels).
+    #[arg(long, value_delimiter = ',')]
+    pub pixel_pitch: Vec<f64>,
+    /// EEF plot to write (default: IMAGE_eef.png next to the image).
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Reads any numeric .npy as f64 with its shape.
+fn read_npy(path: &Path) -> Result<(Vec<u64>, Vec<f64>), InputError> {
+    let bad = |m: String| InputError(format!("{}: {m}", path.display()));
+    let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;
+    let shape = npy.shape().to_vec();
+    let type_str = match npy.dtype() {
+        npyz::DType::Plain(t) => t.to_string(),
+        other => {
+            return Err(bad(format!(
+                "unsupported dtype {other:?} (need a plain numeric array)"
+            )))
+        }
+    };
+    let data: Vec<f64> = match &type_str[1..] {
+        "f8" => npy.into_vec::<f64>(),
+        "f4" => npy
+            .into_vec::<f32>()
+            .map(|v| v.into_iter().map(f64::from).collect()),
+        "u8" => npy
+            .into_vec::<u64>()
+            .map(|v| v.into_iter().map(|x| x as f64).collect()),
+        "i8" => npy
+            .into_vec::<i64>()
+            .map(|v| v.into_iter().map(|x| x as f64).collect()),
+        "u4" => npy
+            .into_vec::<u32>()
+            .map(|v| v.into_iter().map(f64::from).collect()),
+        "i4" => npy
+            .into_vec::<i32>()
+            .map(|v| v.into_iter().map(f64::from).collect()),
+        other => {
+            return Err(bad(format!(
+                "unsupported element type {other} (use float or integer)"
+            )))
+        }
+    }
+    .map_err(|e| bad(format!("cannot read the data: {e}")))?;
+    Ok((shape, data))
+}
+
+pub fn run(a: EefArgs) -> anyhow::Result<()> {
+    let (shape, data) = read_npy(&a.image)?;
+    let (ny, nx, image) = match shape.as_slice() {
+        [ny, nx] => (*ny as usize, *nx as usize, data),
+        [nb, ny, nx] => {
+            let n = (*ny * *nx) as usize;
+            let mut sum = vec![0.0; n];
+            for band in data.chunks_exact(n).take(*nb as usize) {
+                for (s, v) in sum.iter_mut().zip(band) {
+                    *s += v;
+                }
+            }
+            (*ny as usize, *nx as usize, sum)
+        }
+        other => {
+            return Err(InputError(format!(
+                "{}: expected a 2-D or 3-D image, got shape {other:?}",
+                a.image.display()
+            ))
+            .into())
+        }
+    };
+    if image.iter().any(|v| !v.is_finite() || *v < 0.0) {
+        return Err(InputError(format!(
+            "{}: pixel values must be finite and ≥ 0",
+            a.image.display()
+        ))
+        .into());
+    }
+    let pitch = match a.pixel_pitch.as_slice() {
+        [p] => [*p, *p],
+        [px, py] => [*px, *py],
+        [] => pitch_from_sidecar(&a.image).ok_or_else(|| {
+            InputError(format!(
+                "{}: give --pixel-pitch (no traxer sidecar JSON next to it)",
+                a.image.display()
+            ))
+        })?,
+        _ => return Err(InputError("--pixel-pitch takes one or two values (mm)".into()).into()),
+    };
+    if !pitch.iter().all(|p| p.is_finite() && *p > 0.0)
+        || a.focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0))
+    {
+        return Err(InputError("pixel pitch and focal length must be positive (mm)".into()).into());
+    }
+    let g = ImageGeometry {
+        nx,
+        ny,
+        pitch,
+        origin_mm: [-0.5 * nx as f64 * pitch[0], -0.5 * ny as f64 * pitch[1]],
+    };
+    let Some((q, eef)) = analyse(&image, &g, a.focal_length) else {
+        return Err(InputError(format!("{}: the image holds no flux", a.image.display())).into());
+    };
+    let plot = a.plot.clone().unwrap_or_else(|| {
+        let stem = a
+            .image
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        a.image.with_file_name(format!("{stem}_eef.png"))
+    });
+    write_eef_plot(
+        &plot,
+        &format!("{}: encircled energy", a.image.display()),
+        &q,
+        &eef,
+    )
+    .with_context(|| format!("cannot write {}", plot.display()))?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&q)?);
+    } else {
+        println!(
+            "centroid: ({:.4}, {:.4}) mm",
+            q.centroid_mm[0], q.centroid_mm[1]
+        );
+        for (name, d, s) in [
+            ("HPD (50 %)", q.hpd_mm, q.hpd_arcsec),
+            ("80 %", q.d80_mm, q.d80_arcsec),
+            ("90 %", q.d90_mm, q.d90_arcsec),
+        ] {
+            match s {
+                Some(s) => println!("{name:>11}: {d:.4} mm = {s:.1} arcsec"),
+                None => println!("{name:>11}: {d:.4} mm"),
+            }
+        }
+        eprintln!("wrote {}", plot.display());
+    }
+    Ok(())
+}
+
+/// Pixel pitch from traxer's sidecar NAME.json next to NAME.npy.
+fn pitch_from_sidecar(image: &Path) -> Option<[f64; 2]> {
+    let text = std::fs::read_to_string(image.with_extension("json")).ok()?;
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    let p = v.get("sensor")?.get("pixel_pitch_mm")?;
+    Some([p.get(0)?.as_f64()?, p.get(1)?.as_f64()?])
+}
