@@ -1,10 +1,13 @@
 #!/usr/bin/env bash
-# The main job: installs what is missing, builds traxer, and traces the shipped
-# Wolter-I telescope scene (analytic shells, imported mesh baffles) in an on-axis
-# parallel beam. Writes out/wolter1/: sensor.npy, sensor.png, sensor_log.png,
-# sensor.json and summary.json. Extra arguments go to `traxer trace`.
+# The main job: installs what is missing, builds traxer, and runs the PANTER Al Kα
+# validation scene: the CAST LLNL telescope (13 Pt/C-coated conical shells, as
+# built) lit by an X-ray source 130.297 m away, imaged on a 14 × 14 mm sensor at the
+# measured best focus (1519 mm). Writes out/panter_al_ka/: sensor.npy (flux image),
+# sensor.png / sensor_log.png, sensor_eef.png (encircled energy with the 50/80/90 %
+# diameters), sensor_projections.csv, sensor.json and summary.json (HPD, 80 %, 90 %
+# in mm and arcsec, provenance, statistics). Extra arguments go to `traxer trace`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
 cargo build --release --quiet
-./target/release/traxer trace scenes/wolter1_parallel.toml --photons 2000000 --out out/wolter1 "$@"
+./target/release/traxer trace scenes/panter_al_ka.toml --photons 4000000 --out out/panter_al_ka "$@"

@@ -98,6 +98,22 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
                 img.total_counts(),
                 img.total_flux()
             );
+            let g = traxer::analysis::ImageGeometry {
+                nx: spec.pixels[0] as usize,
+                ny: spec.pixels[1] as usize,
+                pitch: spec.pitch(),
+                origin_mm: [-0.5 * spec.size[0], -0.5 * spec.size[1]],
+            };
+            if let Some((q, _)) =
+                traxer::analysis::analyse(&img.flux_summed(spec), &g, spec.focal_length)
+            {
+                let arc = |a: Option<f64>| a.map(|v| format!(" ({v:.1}″)")).unwrap_or_default();
+                println!(
+                    "    centroid ({:.4}, {:.4}) mm; HPD {:.4} mm{}, 80 % {:.4} mm{}, 90 % {:.4} mm{}",
+                    q.centroid_mm[0], q.centroid_mm[1],
+                    q.hpd_mm, arc(q.hpd_arcsec), q.d80_mm, arc(q.d80_arcsec), q.d90_mm, arc(q.d90_arcsec)
+                );
+            }
         }
         println!("wrote {} files to {}", files.len(), a.out.display());
     }
