@@ -37,31 +37,34 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     let (_device, scene) = load_scene(&a.scene, &a.define)?;
     let r = traxer::bench::run(&scene, a.photons, a.threads, a.raw_photons)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
+        say!("{}", serde_json::to_string_pretty(&r)?);
     } else {
-        println!(
+        say!(
             "scene {} ({} triangles), {} threads",
             a.scene.display(),
             r.triangles,
             r.threads
         );
-        println!(
+        say!(
             "  traced           {:>12.0} photons/s ({} photons in {:.2} s)",
-            r.photons_per_second, r.photons, r.seconds
+            r.photons_per_second,
+            r.photons,
+            r.seconds
         );
-        println!(
+        say!(
             "  reaching sensor  {:>12.0} photons/s",
             r.sensor_photons_per_second
         );
-        println!(
+        say!(
             "  Embree queries   {:>12.3} per photon",
             r.queries_per_photon
         );
-        println!(
+        say!(
             "  raw rtcIntersect1{:>12.0} rays/s (same {} rays, no traxer work)",
-            r.raw_rays_per_second, r.raw_rays
+            r.raw_rays_per_second,
+            r.raw_rays
         );
-        println!(
+        say!(
             "  photons/s × queries/photon ÷ raw rays/s = {:.2}",
             r.embree_fraction
         );

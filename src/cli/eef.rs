@@ -141,11 +141,12 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
     )
     .with_context(|| format!("cannot write {}", plot.display()))?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&q)?);
+        say!("{}", serde_json::to_string_pretty(&q)?);
     } else {
-        println!(
+        say!(
             "centroid: ({:.4}, {:.4}) mm",
-            q.centroid_mm[0], q.centroid_mm[1]
+            q.centroid_mm[0],
+            q.centroid_mm[1]
         );
         for (name, d, s) in [
             ("HPD (50 %)", q.hpd_mm, q.hpd_arcsec),
@@ -153,8 +154,8 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
             ("90 %", q.d90_mm, q.d90_arcsec),
         ] {
             match s {
-                Some(s) => println!("{name:>11}: {d:.4} mm = {s:.1} arcsec"),
-                None => println!("{name:>11}: {d:.4} mm"),
+                Some(s) => say!("{name:>11}: {d:.4} mm = {s:.1} arcsec"),
+                None => say!("{name:>11}: {d:.4} mm"),
             }
         }
         eprintln!("wrote {}", plot.display());

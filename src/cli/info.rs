@@ -45,20 +45,22 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
             "cpu_features": cpu,
             "threads": threads,
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        say!("{}", serde_json::to_string_pretty(&v)?);
     } else {
-        println!(
+        say!(
             "traxer {} ({})",
             env!("CARGO_PKG_VERSION"),
             traxer::output::git_hash()
         );
-        println!(
+        say!(
             "Embree {} (API {}), tasking: {}",
-            e.version, e.major, e.tasking_system
+            e.version,
+            e.major,
+            e.tasking_system
         );
-        println!("Embree ISA: {isa}; robust scenes: yes");
-        println!("CPU features: {}", cpu.join(" "));
-        println!("threads (default for --threads 0): {threads}");
+        say!("Embree ISA: {isa}; robust scenes: yes");
+        say!("CPU features: {}", cpu.join(" "));
+        say!("threads (default for --threads 0): {threads}");
     }
     Ok(())
 }

@@ -1,6 +1,14 @@
 //! Subcommands of the `traxer` binary. Physics comes from the scene file; these
 //! modules only handle I/O-side settings (photons, seed, threads, output folder).
 
+/// `println!` that treats a closed pipe (`traxer ... | head`) as the end of the
+/// program rather than an error: the process exits quietly with code 0.
+macro_rules! say {
+    ($($t:tt)*) => {
+        $crate::cli::say_line(format_args!($($t)*))
+    };
+}
+
 pub mod bench;
 pub mod eef;
 pub mod info;
@@ -42,4 +50,18 @@ pub fn load_scene(
         eprintln!("warning: {w}");
     }
     Ok((device, scene))
+}
+
+/// Writes one line to stdout; see [`say!`].
+pub fn say_line(text: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let result = out.write_fmt(text).and_then(|_| out.write_all(b"\n"));
+    if let Err(e) = result {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            std::process::exit(0);
+        }
+        eprintln!("error: cannot write to standard output: {e}");
+        std::process::exit(1);
+    }
 }

@@ -123,7 +123,7 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         for t in targets {
             write_mesh(&t, &mesh, &s.name)
                 .with_context(|| format!("cannot write {}", t.display()))?;
-            println!(
+            say!(
                 "{}: {} triangles, {} vertices ({} × {}) → {}",
                 s.name,
                 mesh.triangles.len(),

@@ -78,21 +78,21 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot write the results into {}", a.out.display()))?;
     if !a.quiet {
         let s = &result.stats;
-        println!(
+        say!(
             "traced {} photons in {:.2} s with {} threads ({:.0} photons/s)",
             s.photons_emitted,
             result.seconds,
             result.threads,
             s.photons_emitted as f64 / result.seconds
         );
-        println!(
+        say!(
             "  reached a sensor {} ({:.2} %), absorbed {}, mirror backs {}, escaped {}, outside sensor area {}, max interactions {}",
             s.reached_sensor,
             100.0 * s.reached_sensor as f64 / s.photons_emitted as f64,
             s.absorbed, s.absorbed_mirror_back, s.escaped, s.sensor_outside_area, s.max_interactions_reached
         );
         for (spec, img) in scene.sensors.iter().zip(&result.images) {
-            println!(
+            say!(
                 "  sensor {}: {} photons, flux {:.6e}",
                 spec.name,
                 img.total_counts(),
@@ -108,14 +108,14 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
                 traxer::analysis::analyse(&img.flux_summed(spec), &g, spec.focal_length)
             {
                 let arc = |a: Option<f64>| a.map(|v| format!(" ({v:.1}″)")).unwrap_or_default();
-                println!(
+                say!(
                     "    centroid ({:.4}, {:.4}) mm; HPD {:.4} mm{}, 80 % {:.4} mm{}, 90 % {:.4} mm{}",
                     q.centroid_mm[0], q.centroid_mm[1],
                     q.hpd_mm, arc(q.hpd_arcsec), q.d80_mm, arc(q.d80_arcsec), q.d90_mm, arc(q.d90_arcsec)
                 );
             }
         }
-        println!("wrote {} files to {}", files.len(), a.out.display());
+        say!("wrote {} files to {}", files.len(), a.out.display());
     }
     Ok(())
 }

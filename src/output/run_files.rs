@@ -190,10 +190,7 @@ fn sources_json(scene: &Scene) -> Value {
             .map(|s| match s {
                 Source::Parallel(p) => json!({
                     "type": "parallel",
-                    "aperture_center_mm": p.center.to_array(),
-                    "aperture_radius_mm": p.radius,
-                    "aperture_inner_radius_mm": p.inner_radius,
-                    "aperture_area_mm2": p.area(),
+                    "aperture": sector_json(&p.aperture),
                     "direction": p.direction.to_array(),
                     "spectrum_keV": p.spectrum,
                     "weight": s.describe_weight(),
@@ -202,13 +199,21 @@ fn sources_json(scene: &Scene) -> Value {
                     "type": "point",
                     "position_mm": p.position.to_array(),
                     "radius_mm": p.radius,
-                    "target_center_mm": p.target_center.to_array(),
-                    "target_radius_mm": p.target_radius,
-                    "target_inner_radius_mm": p.target_inner_radius,
+                    "target": sector_json(&p.target),
                     "spectrum_keV": p.spectrum,
                     "weight": s.describe_weight(),
                 }),
             })
             .collect(),
     )
+}
+
+fn sector_json(a: &crate::source::AnnulusSector) -> Value {
+    json!({
+        "center_mm": a.center.to_array(),
+        "radius_mm": a.radius,
+        "inner_radius_mm": a.inner_radius,
+        "azimuth_deg": [a.phi_start.to_degrees(), (a.phi_start + a.phi_span).to_degrees()],
+        "area_mm2": a.area(),
+    })
 }

@@ -13,7 +13,7 @@ use crate::material::{Material, Side};
 use crate::mesh::{self, TriangleMesh};
 use crate::output::sha256_hex;
 use crate::sensor::SensorSpec;
-use crate::source::{ParallelBeam, PointSource, Source, Spectrum};
+use crate::source::{AnnulusSector, ParallelBeam, PointSource, Source, Spectrum};
 use crate::xray::{Coating, CoatingLibrary, ReflectivityTable};
 use glam::{DAffine3, DVec3};
 use std::collections::BTreeMap;
@@ -602,7 +602,9 @@ impl Builder<'_> {
             }
         };
         let aperture_ok = |a: &ApertureDesc| {
-            finite(&a.center)
+            a.azimuth
+                .is_none_or(|[f, t]| f.is_finite() && t.is_finite() && f < t && t - f <= 360.0)
+                && finite(&a.center)
                 && finite(&[a.radius, a.inner_radius])
                 && a.radius > 0.0
                 && a.inner_radius >= 0.0
@@ -611,7 +613,7 @@ impl Builder<'_> {
         match d {
             SourceDesc::Parallel(p) => {
                 if !aperture_ok(&p.aperture) {
-                    return self.err(span, "parallel source: aperture needs finite center and 0 ≤ inner_radius < radius");
+                    return self.err(span, "parallel source: aperture needs finite center, 0 ≤ inner_radius < radius and azimuth = [from, to] with from < to ≤ from + 360");
                 }
                 let Some(axis) = DVec3::from(p.direction).try_normalize() else {
                     return self.err(span, "parallel source: direction must be a non-zero vector");
@@ -619,13 +621,18 @@ impl Builder<'_> {
                 if !finite(&[p.off_axis, p.off_axis_azimuth]) || p.off_axis.abs() >= 90.0 {
                     return self.err(span, "parallel source: off_axis must be below 90 degrees");
                 }
-                Ok(Source::Parallel(ParallelBeam::new(
+                let aperture = AnnulusSector::new(
                     DVec3::from(p.aperture.center),
+                    axis,
+                    p.aperture.inner_radius,
+                    p.aperture.radius,
+                    p.aperture.azimuth,
+                );
+                Ok(Source::Parallel(ParallelBeam::new(
+                    aperture,
                     axis,
                     p.off_axis,
                     p.off_axis_azimuth,
-                    p.aperture.inner_radius,
-                    p.aperture.radius,
                     spectrum(&p.energy)?,
                 )))
             }
@@ -633,7 +640,7 @@ impl Builder<'_> {
                 if !aperture_ok(&p.target) {
                     return self.err(
                         span,
-                        "point source: target needs finite center and 0 ≤ inner_radius < radius",
+                        "point source: target needs finite center, 0 ≤ inner_radius < radius and azimuth = [from, to] with from < to ≤ from + 360",
                     );
                 }
                 if !finite(&p.position) || !p.radius.is_finite() || p.radius < 0.0 {
@@ -649,6 +656,7 @@ impl Builder<'_> {
                     DVec3::from(p.target.center),
                     p.target.inner_radius,
                     p.target.radius,
+                    p.target.azimuth,
                     spectrum(&p.energy)?,
                 )))
             }

@@ -359,7 +359,8 @@ pub struct MeshDesc {
 /// type = "point"                    # disk of `radius` emitting isotropically
 /// position = [0, 0, 130297.0]
 /// radius = 0.42                     # 0 for a true point
-/// target = { center = [0, 0, 300], radius = 110.0 }   # disk the photons are aimed at
+/// target = { center = [0, 0, 300], radius = 110.0, inner_radius = 55.0, azimuth = [-16, 16] }
+///                                   # disk, annulus or sector the photons are aimed at
 /// energy = { band = [1.48, 1.50] }
 /// ```
 #[derive(Debug, Deserialize, Clone)]
@@ -393,6 +394,10 @@ pub struct ApertureDesc {
     pub radius: f64,
     #[serde(default)]
     pub inner_radius: f64,
+    /// Optional sector `[from, to]` in degrees (from e1 towards e2; for photons
+    /// travelling along −z: from +x towards +y). Default: the full circle.
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
 }
 
 #[derive(Debug, Deserialize, Clone)]

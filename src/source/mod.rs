@@ -4,10 +4,12 @@
 //! Data flow: `scene::build` turns each `[[sources]]` entry into a [`Source`];
 //! `trace` calls [`Source::emit`] with photon i's own random stream.
 
+mod annulus;
 mod parallel;
 mod point;
 mod spectrum;
 
+pub use annulus::AnnulusSector;
 pub use parallel::ParallelBeam;
 pub use point::PointSource;
 pub use spectrum::Spectrum;
@@ -53,7 +55,7 @@ impl Source {
     pub fn describe_weight(&self) -> &'static str {
         match self {
             Source::Parallel(_) => {
-                "weight 1 per photon; each photon stands for aperture_area_mm2 / photons of the beam"
+                "weight 1 per photon; each photon stands for aperture.area_mm2 / photons of the beam"
             }
             Source::Point(_) => {
                 "weight = fraction of the full sphere; the image is the expected photons per pixel if the source emitted `photons` photons isotropically"
@@ -73,11 +75,4 @@ pub(crate) fn frame(axis: DVec3) -> (DVec3, DVec3) {
     };
     let e1 = (pick - axis * pick.dot(axis)).normalize();
     (e1, e1.cross(axis))
-}
-
-/// Uniform point in an annulus r_in ≤ r ≤ r_out, as (radius, azimuth).
-#[inline]
-pub(crate) fn sample_annulus(rng: &mut PhotonRng, r_in: f64, r_out: f64) -> (f64, f64) {
-    let r = (r_in * r_in + rng.uniform() * (r_out * r_out - r_in * r_in)).sqrt();
-    (r, std::f64::consts::TAU * rng.uniform())
 }

@@ -11,23 +11,22 @@
 //! never spans the 100 m to the source, and nothing between source and target is
 //! traced.
 
-use super::{frame, sample_annulus, Photon, Spectrum};
+use super::{AnnulusSector, Photon, Spectrum};
 use crate::random::PhotonRng;
 use glam::DVec3;
 
 #[derive(Clone, Debug)]
 pub struct PointSource {
     pub position: DVec3,
+    /// Radius of the emitting disk, which faces the target.
     pub radius: f64,
-    pub target_center: DVec3,
-    pub target_inner_radius: f64,
-    pub target_radius: f64,
+    /// Where the photons are aimed and start.
+    pub target: AnnulusSector,
     pub spectrum: Spectrum,
-    /// Unit normal of the target disk, pointing towards the source.
+    /// Unit normal of the target, pointing towards the source.
     target_normal: DVec3,
-    target_area: f64,
-    t1: DVec3,
-    t2: DVec3,
+    /// The emitting disk (radius `radius`, centred on `position`).
+    emitter: AnnulusSector,
 }
 
 impl PointSource {
@@ -37,33 +36,34 @@ impl PointSource {
         target_center: DVec3,
         target_inner_radius: f64,
         target_radius: f64,
+        target_azimuth: Option<[f64; 2]>,
         spectrum: Spectrum,
     ) -> Self {
         let target_normal = (position - target_center).normalize();
-        let (t1, t2) = frame(target_normal);
         PointSource {
             position,
             radius,
-            target_center,
-            target_inner_radius,
-            target_radius,
+            target: AnnulusSector::new(
+                target_center,
+                -target_normal,
+                target_inner_radius,
+                target_radius,
+                target_azimuth,
+            ),
             spectrum,
             target_normal,
-            t1,
-            t2,
-            target_area: std::f64::consts::PI
-                * (target_radius * target_radius - target_inner_radius * target_inner_radius),
+            emitter: AnnulusSector::new(position, -target_normal, 0.0, radius, None),
         }
     }
 
     #[inline]
     pub fn emit(&self, rng: &mut PhotonRng) -> Photon {
-        let (t1, t2) = (self.t1, self.t2);
-        let (r, phi) = sample_annulus(rng, 0.0, self.radius);
-        // The emitting disk faces the target.
-        let emit = self.position + (t1 * phi.cos() + t2 * phi.sin()) * r;
-        let (r, phi) = sample_annulus(rng, self.target_inner_radius, self.target_radius);
-        let on_target = self.target_center + (t1 * phi.cos() + t2 * phi.sin()) * r;
+        let emit = if self.radius > 0.0 {
+            self.emitter.sample(rng)
+        } else {
+            self.position
+        };
+        let on_target = self.target.sample(rng);
         let v = on_target - emit;
         let d2 = v.length_squared();
         let dir = v / d2.sqrt();
@@ -72,7 +72,7 @@ impl PointSource {
             origin: on_target,
             dir,
             energy: self.spectrum.sample(rng),
-            weight: self.target_area * cos_t / (4.0 * std::f64::consts::PI * d2),
+            weight: self.target.area() * cos_t / (4.0 * std::f64::consts::PI * d2),
         }
     }
 }

@@ -83,3 +83,34 @@ energy = { line = 6.4 }
     assert!((dir.angle_between(glam::DVec3::NEG_Z).to_degrees() - 0.5).abs() < 1e-12);
     assert!(dir.y > 0.0 && dir.x.abs() < 1e-15);
 }
+
+#[test]
+fn target_sectors_keep_the_isotropic_normalisation() {
+    // Aiming only at a 30° sector of the target annulus: the summed weights are
+    // 30/360 of those for the full annulus, and every photon starts in the sector
+    // (azimuth from +x towards +y for photons travelling along −z).
+    let text = |az: &str| {
+        format!(
+            r#"
+[[sources]]
+type = "point"
+position = [0, 0, 130297.0]
+radius = 0.42
+target = {{ center = [0, 0, 240], radius = 106.0, inner_radius = 58.0 {az} }}
+energy = {{ line = 1.49 }}
+"#
+        )
+    };
+    let full = scene(&text(""));
+    let sector = scene(&text(", azimuth = [-15.0, 15.0]"));
+    let n = 100_000;
+    let (mut wf, mut ws) = (0.0, 0.0);
+    for i in 0..n {
+        wf += full.sources[0].emit(&mut PhotonRng::new(3, i)).weight;
+        let p = sector.sources[0].emit(&mut PhotonRng::new(3, i));
+        ws += p.weight;
+        let phi = p.origin.y.atan2(p.origin.x).to_degrees();
+        assert!(phi.abs() <= 15.0 + 1e-9, "photon at azimuth {phi}");
+    }
+    assert!((ws / wf - 30.0 / 360.0).abs() < 1e-4, "ratio {}", ws / wf);
+}
