@@ -48,3 +48,52 @@ pub fn centroid_rms(img: &[f64], nx: usize) -> (f64, f64, f64) {
     }
     (cx, cy, (s2 / w).sqrt())
 }
+
+/// The flat-mirror bench used by several tests: a pencil beam (radius 0.2 mm)
+/// along −z from z = 500 meets a 20 × 100 mm flat mirror at the origin at
+/// `graze_deg`; a 60 × 60 mm screen lies 200 mm below. `mirror` is the mirror
+/// material's table (with `type = "mirror"`), `pixels` the screen's pixels per
+/// side, `sensor_extra` and `mirror_extra` extra lines for the sensor material and
+/// the mirror object.
+pub fn flat_mirror_bench(
+    graze_deg: f64,
+    mirror: &str,
+    energy: &str,
+    pixels: u32,
+    sensor_extra: &str,
+    mirror_extra: &str,
+) -> String {
+    format!(
+        r#"
+[[sources]]
+type = "parallel"
+aperture = {{ center = [0, 0, 500], radius = 0.2 }}
+energy = {energy}
+
+[materials.flat_mirror]
+{mirror}
+
+[materials.detector]
+type = "sensor"
+size = [60.0, 60.0]
+pixels = [{pixels}, {pixels}]
+{sensor_extra}
+
+[[objects]]
+name = "flat"
+material = "flat_mirror"
+shape = {{ type = "rectangle", size = [20.0, 100.0] }}
+transform = [ {{ rotate = {{ axis = [1, 0, 0], angle = {angle} }} }} ]
+{mirror_extra}
+
+[[objects]]
+name = "screen"
+material = "detector"
+shape = {{ type = "rectangle", size = [60.0, 60.0] }}
+transform = [ {{ translate = [0, 0, -200] }} ]
+"#,
+        // Rotating the rectangle's +z normal about x by (90° − θ) makes the surface
+        // meet −z rays at the grazing angle θ.
+        angle = 90.0 - graze_deg
+    )
+}

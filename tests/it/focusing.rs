@@ -108,41 +108,18 @@ fn tessellated_paraboloid_converges_with_resolution() {
 }
 
 fn flat_mirror_scene(graze_deg: f64, tessellate: bool) -> String {
-    // A 20 × 100 mm flat mirror (a rectangle: local z = 0, facing +z) rotated
-    // about x so that a beam along −z meets it at `graze_deg`; a screen 200 mm below.
     let tess = if tessellate {
         "tessellate = { segments = 7, rings = 3 }"
     } else {
         ""
     };
-    format!(
-        r#"
-[[sources]]
-type = "parallel"
-aperture = {{ center = [0, 0, 500], radius = 0.2 }}
-energy = {{ line = 1.0 }}
-
-[materials.detector]
-type = "sensor"
-size = [60.0, 60.0]
-pixels = [1200, 1200]
-
-[[objects]]
-name = "flat"
-material = "mirror"
-shape = {{ type = "rectangle", size = [20.0, 100.0] }}
-transform = [ {{ rotate = {{ axis = [1, 0, 0], angle = {angle} }} }} ]
-{tess}
-
-[[objects]]
-name = "screen"
-material = "detector"
-shape = {{ type = "rectangle", size = [60.0, 60.0] }}
-transform = [ {{ translate = [0, 0, -200] }} ]
-"#,
-        // Rotating the +z normal about x by (90° − θ) makes the surface meet −z
-        // rays at the grazing angle θ.
-        angle = 90.0 - graze_deg
+    crate::common::flat_mirror_bench(
+        graze_deg,
+        "type = \"mirror\"",
+        "{ line = 1.0 }",
+        1200,
+        "",
+        tess,
     )
 }
 

@@ -227,37 +227,8 @@ fn reflectivity_tables_interpolate_within_1e_3() {
 }
 
 fn coated_flat_mirror_scene(coating: &str, graze_deg: f64, energy: &str, bins: &str) -> String {
-    format!(
-        r#"
-[[sources]]
-type = "parallel"
-aperture = {{ center = [0, 0, 500], radius = 0.2 }}
-energy = {energy}
-
-[materials.coated]
-type = "mirror"
-coating = "{coating}"
-
-[materials.detector]
-type = "sensor"
-size = [60.0, 60.0]
-pixels = [60, 60]
-{bins}
-
-[[objects]]
-name = "flat"
-material = "coated"
-shape = {{ type = "rectangle", size = [20.0, 100.0] }}
-transform = [ {{ rotate = {{ axis = [1, 0, 0], angle = {angle} }} }} ]
-
-[[objects]]
-name = "screen"
-material = "detector"
-shape = {{ type = "rectangle", size = [60.0, 60.0] }}
-transform = [ {{ translate = [0, 0, -200] }} ]
-"#,
-        angle = 90.0 - graze_deg
-    )
+    let mirror = format!("type = \"mirror\"\ncoating = \"{coating}\"");
+    crate::common::flat_mirror_bench(graze_deg, &mirror, energy, 60, bins, "")
 }
 
 #[test]
