@@ -100,22 +100,17 @@ fn eef_command_on_an_npy_from_elsewhere() {
         w.extend(img.iter().copied()).unwrap();
         w.finish().unwrap();
     }
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args([
-            "eef",
-            "--json",
-            "--pixel-pitch",
-            "0.01",
-            "--focal-length",
-            "1500",
-        ])
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = crate::common::run_ok(
+        Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .args([
+                "eef",
+                "--json",
+                "--pixel-pitch",
+                "0.01",
+                "--focal-length",
+                "1500",
+            ])
+            .arg(&path),
     );
     let q: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     // Radius 1 mm: HPD = 2·√0.5 mm.

@@ -97,3 +97,23 @@ transform = [ {{ translate = [0, 0, -200] }} ]
         angle = 90.0 - graze_deg
     )
 }
+
+/// Runs a `traxer` command that must succeed (stderr shown if it does not).
+pub fn run_ok(cmd: &mut std::process::Command) -> std::process::Output {
+    let out = cmd.output().expect("run traxer");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    out
+}
+
+/// The error message of a scene that must fail to load.
+pub fn load_error(dir: &Path, text: &str) -> String {
+    let p = write(dir, "s.toml", text);
+    match Scene::load(&device(), &p, &[]) {
+        Ok(_) => panic!("the scene should not load"),
+        Err(e) => e.to_string(),
+    }
+}

@@ -356,28 +356,18 @@ fn sensors_bin_in_energy() {
 #[test]
 fn coating_errors_name_the_material_line() {
     let dir = tempfile::tempdir().unwrap();
-    let p = crate::common::write(
+    let e = crate::common::load_error(
         dir.path(),
-        "s.toml",
         &coated_flat_mirror_scene("llnl_recipe_9", 0.5, "{ line = 1.0 }", ""),
     );
-    let e = traxer::scene::Scene::load(&crate::common::device(), &p, &[])
-        .err()
-        .unwrap()
-        .to_string();
     assert!(
         e.contains("s.toml:7") && e.contains("unknown coating `llnl_recipe_9`"),
         "{e}"
     );
-    let p = crate::common::write(
+    let e = crate::common::load_error(
         dir.path(),
-        "s.toml",
         &coated_flat_mirror_scene("gold", 0.5, "{ line = 50.0 }", ""),
     );
-    let e = traxer::scene::Scene::load(&crate::common::device(), &p, &[])
-        .err()
-        .unwrap()
-        .to_string();
     assert!(e.contains("outside the Henke tables"), "{e}");
 }
 
@@ -386,24 +376,19 @@ fn reflectivity_command_prints_csv_and_writes_a_plot() {
     use std::process::Command;
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("r.png");
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args([
-            "reflectivity",
-            "--coating",
-            "llnl_recipe_3",
-            "--energy",
-            "1.49,6.41",
-            "--angle",
-            "0:2:0.5",
-            "--plot",
-        ])
-        .arg(&png)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = crate::common::run_ok(
+        Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .args([
+                "reflectivity",
+                "--coating",
+                "llnl_recipe_3",
+                "--energy",
+                "1.49,6.41",
+                "--angle",
+                "0:2:0.5",
+                "--plot",
+            ])
+            .arg(&png),
     );
     let text = String::from_utf8(out.stdout).unwrap();
     let rows: Vec<Vec<f64>> = text
@@ -425,17 +410,12 @@ fn reflectivity_command_prints_csv_and_writes_a_plot() {
         "c.toml",
         "[materials.Ir]\nformula = \"Ir\"\ndensity = 22.56\n[coatings.iridium]\ntype = \"substrate\"\nsubstrate = \"Ir\"\n",
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args(["reflectivity", "--coating"])
-        .arg(&file)
-        .args(["--energy", "0.5:10:0.5", "--angle", "0.3", "--plot"])
-        .arg(&png)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = crate::common::run_ok(
+        Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .args(["reflectivity", "--coating"])
+            .arg(&file)
+            .args(["--energy", "0.5:10:0.5", "--angle", "0.3", "--plot"])
+            .arg(&png),
     );
     assert_eq!(
         String::from_utf8(out.stdout).unwrap().lines().count(),
