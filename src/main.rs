@@ -26,6 +26,7 @@ enum Command {
     Bench(cli::bench::BenchArgs),
     Reflectivity(cli::reflectivity::ReflectivityArgs),
     Eef(cli::eef::EefArgs),
+    Focus(cli::focus::FocusArgs),
 }
 
 fn main() -> ExitCode {
@@ -37,6 +38,7 @@ fn main() -> ExitCode {
         Command::Bench(a) => cli::bench::run(a),
         Command::Reflectivity(a) => cli::reflectivity::run(a),
         Command::Eef(a) => cli::eef::run(a),
+        Command::Focus(a) => cli::focus::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -3,7 +3,10 @@
 //! in mm and in arcseconds (2·atan(r/f)); x and y projections.
 //!
 //! Data flow: `output` calls [`analyse`] on every sensor image after a trace;
-//! `traxer eef` calls it on any `.npy` image.
+//! `traxer eef` calls it on any `.npy` image; `traxer focus` on a sweep of
+//! sensor positions, whose diameters [`focus::fit_defocus`] fits.
+
+pub mod focus;
 
 /// Results for one image.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -60,6 +63,16 @@ pub struct ImageGeometry {
 }
 
 impl ImageGeometry {
+    /// The geometry of a traxer sensor's image (centred on the sensor's origin).
+    pub fn of_sensor(spec: &crate::sensor::SensorSpec) -> ImageGeometry {
+        ImageGeometry {
+            nx: spec.pixels[0] as usize,
+            ny: spec.pixels[1] as usize,
+            pitch: spec.pitch(),
+            origin_mm: [-0.5 * spec.size[0], -0.5 * spec.size[1]],
+        }
+    }
+
     fn center(&self, ix: usize, iy: usize) -> (f64, f64) {
         (
             self.origin_mm[0] + (ix as f64 + 0.5) * self.pitch[0],
@@ -156,10 +169,7 @@ pub fn write_eef_plot(
         .map(|(&r, &f)| (to_x(r), f))
         .collect();
     curve.insert(0, (0.0, 0.0));
-    let mut series = vec![Series {
-        label: "encircled energy".into(),
-        points: curve,
-    }];
+    let mut series = vec![Series::line("encircled energy", curve)];
     for (name, diam) in [
         ("50 % (HPD)", q.hpd_mm),
         ("80 %", q.d80_mm),
@@ -171,10 +181,7 @@ pub fn write_eef_plot(
             Some(_) => format!("{name}: diameter {:.1}″", 2.0 * r),
             None => format!("{name}: diameter {:.3} mm", 2.0 * r),
         };
-        series.push(Series {
-            label,
-            points: vec![(r, 0.0), (r, frac), (0.0, frac)],
-        });
+        series.push(Series::line(label, vec![(r, 0.0), (r, frac), (0.0, frac)]));
     }
     line_plot(
         path,

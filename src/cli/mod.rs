@@ -11,7 +11,9 @@ macro_rules! say {
 
 pub mod bench;
 pub mod eef;
+pub mod focus;
 pub mod info;
+pub mod measure;
 pub mod reflectivity;
 pub mod tessellate;
 pub mod trace;

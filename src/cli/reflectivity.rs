@@ -150,7 +150,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         } else {
             format!("{c}°")
         };
-        series.push(Series { label, points });
+        series.push(Series::line(label, points));
     }
     // A closed pipe (`| head`) is not an error worth a message.
     use std::io::Write;

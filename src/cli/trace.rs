@@ -98,12 +98,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
                 img.total_counts(),
                 img.total_flux()
             );
-            let g = traxer::analysis::ImageGeometry {
-                nx: spec.pixels[0] as usize,
-                ny: spec.pixels[1] as usize,
-                pitch: spec.pitch(),
-                origin_mm: [-0.5 * spec.size[0], -0.5 * spec.size[1]],
-            };
+            let g = traxer::analysis::ImageGeometry::of_sensor(spec);
             if let Some((q, _)) =
                 traxer::analysis::analyse(&img.flux_summed(spec), &g, spec.focal_length)
             {

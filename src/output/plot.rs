@@ -24,6 +24,39 @@ fn register_font() {
 pub struct Series {
     pub label: String,
     pub points: Vec<(f64, f64)>,
+    /// Draw the points as dots (measurements) instead of joining them (curves).
+    pub dots: bool,
+    /// Palette colour index (default: the series' position), so that a fit and
+    /// its measurements can share a colour.
+    pub color: Option<usize>,
+}
+
+impl Series {
+    /// A curve through `points`.
+    pub fn line(label: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            label: label.into(),
+            points,
+            dots: false,
+            color: None,
+        }
+    }
+
+    /// The same series drawn in palette colour `index`.
+    pub fn with_color(self, index: usize) -> Series {
+        Series {
+            color: Some(index),
+            ..self
+        }
+    }
+
+    /// Measured points, drawn as dots.
+    pub fn dots(label: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            dots: true,
+            ..Series::line(label, points)
+        }
+    }
 }
 
 /// Draws `series` into a `width × height` PNG with axis labels and a legend.
@@ -79,16 +112,23 @@ pub fn line_plot(
                 .label_style(("sans-serif", 15))
                 .draw()?;
             for (i, s) in series.iter().enumerate() {
-                let color = Palette99::pick(i).to_rgba();
-                chart
-                    .draw_series(LineSeries::new(
-                        s.points.iter().copied(),
-                        color.stroke_width(2),
-                    ))?
-                    .label(s.label.clone())
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                    });
+                let color = Palette99::pick(s.color.unwrap_or(i)).to_rgba();
+                if s.dots {
+                    chart
+                        .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+                } else {
+                    chart
+                        .draw_series(LineSeries::new(
+                            s.points.iter().copied(),
+                            color.stroke_width(2),
+                        ))?
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                        });
+                }
             }
             if series.len() > 1 || !series.first().is_some_and(|s| s.label.is_empty()) {
                 chart

@@ -45,12 +45,7 @@ pub fn write_run(
         write_npy_u64(&paths[1], &shape, &image.counts)?;
         write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
         write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
-        let geometry = ImageGeometry {
-            nx,
-            ny,
-            pitch: spec.pitch(),
-            origin_mm: [-0.5 * spec.size[0], -0.5 * spec.size[1]],
-        };
+        let geometry = ImageGeometry::of_sensor(spec);
         let quality = analyse(&summed, &geometry, spec.focal_length);
         if let Some((q, eef)) = &quality {
             write_eef_plot(

@@ -110,3 +110,69 @@ coating = "perfect"
         );
     }
 }
+
+#[test]
+fn panter_best_focus_is_where_panter_measured_it() {
+    use std::process::Command;
+    let out_dir = tempfile::tempdir().unwrap();
+    // Perfect mirrors (the focus is geometric; coatings only reweight the shells),
+    // 13 positions over ±60 mm, the same 300 000 photons at each.
+    crate::common::run_ok(
+        Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .arg("focus")
+            .arg(crate::common::repo().join("scenes/panter_al_ka.toml"))
+            .args(["--from=-1460", "--to=-1580", "--steps=13", "-n", "300000"])
+            .args(["-D", "coating=perfect", "-q", "-o"])
+            .arg(out_dir.path()),
+    );
+    let fit: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out_dir.path().join("focus.json")).unwrap()).unwrap();
+    let z0 = fit["fit_hpd"]["z0"].as_f64().expect("an HPD fit");
+    // The whole image lands on the 14 mm sensor at every position.
+    assert_eq!(fit["clipped_positions"].as_array().map(Vec::len), Some(0));
+    // PANTER measured the best focus 1519 mm behind the centre plane (SPEC §3);
+    // the issue asks for ±2 mm.
+    assert!((z0 + 1519.0).abs() <= 2.0, "best focus at {z0} mm");
+    // Independently, the thin-lens image distance f·D/(D − f) of a source at
+    // D = 130 297 mm with the Wolter-equation f = 1500.1 mm is 1517.57 mm; the cone
+    // approximation may shift the best HPD by a fraction of a mm, not more.
+    let (f, d) = (1500.1, 130_297.0);
+    assert!((z0 + f * d / (d - f)).abs() < 1.0, "best focus at {z0} mm");
+    // All three diameters agree on the focus.
+    for k in ["fit_d80", "fit_d90"] {
+        let z = fit[k]["z0"].as_f64().unwrap();
+        assert!((z - z0).abs() < 1.0, "{k}: {z} vs {z0}");
+    }
+}
+
+#[test]
+fn focus_sweep_that_misses_the_focus_says_so() {
+    use std::process::Command;
+    let out_dir = tempfile::tempdir().unwrap();
+    let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .arg("focus")
+        .arg(&scene)
+        .args(["--from=-1380", "--to=-1440", "--steps=5", "-n", "20000"])
+        .args(["-D", "coating=perfect", "-q", "-o"])
+        .arg(out_dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    // (Either the curve has no minimum there or it lies outside: both say
+    // to move or widen the range.)
+    assert!(err.contains("range"), "{err}");
+    // The measurements are still written.
+    assert!(out_dir.path().join("focus.csv").is_file());
+    // An unknown variable is a usage error.
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .arg("focus")
+        .arg(&scene)
+        .args(["--var", "nosuch", "--from=0", "--to=1", "-o"])
+        .arg(out_dir.path())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nosuch"));
+}
