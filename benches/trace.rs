@@ -1,5 +1,6 @@
-//! `cargo bench`: photons per second through the shipped Wolter-I scenes (analytic
-//! and meshed, perfect and Pt/C-coated mirrors), Embree queries per photon, and the
+//! `cargo bench`: photons per second through the shipped Wolter-I and PANTER Al Kα
+//! scenes (analytic and meshed, perfect and Pt/C-coated mirrors; the meshed PANTER
+//! telescope is the shipped meshes/llnl_telescope.glb), Embree queries per photon, and the
 //! raw `rtcIntersect1` rate on the same rays (the same numbers come from
 //! `traxer bench SCENE`); then reflectivity evaluations per second, direct and
 //! through the photon loop's tables.
@@ -16,7 +17,7 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(2_000_000);
     println!(
-        "{:<36} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
+        "{:<40} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
         "scene, coating", "triangles", "photons/s", "sensor ph/s", "queries", "raw rays/s", "ratio"
     );
     for (name, coating) in [
@@ -24,13 +25,17 @@ fn main() {
         ("wolter1_parallel.toml", "llnl_recipe_3"),
         ("wolter1_meshed.toml", "perfect"),
         ("wolter1_meshed.toml", "llnl_recipe_3"),
+        ("panter_al_ka.toml", "perfect"),
+        ("panter_al_ka.toml", "as_built"),
+        ("panter_al_ka_meshed.toml", "perfect"),
+        ("panter_al_ka_meshed.toml", "as_built"),
     ] {
         let defines = [format!("coating={coating}")];
         let scene =
             Scene::load(&device, &root.join("scenes").join(name), &defines).expect("shipped scene");
         let r = traxer::bench::run(&scene, photons, 0, 300_000).expect("thread pool");
         println!(
-            "{:<36} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
+            "{:<40} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
             format!("{name}, {coating}"),
             r.triangles,
             r.photons_per_second,

@@ -27,6 +27,7 @@ enum Command {
     Reflectivity(cli::reflectivity::ReflectivityArgs),
     Eef(cli::eef::EefArgs),
     Focus(cli::focus::FocusArgs),
+    Compare(cli::compare::CompareArgs),
 }
 
 fn main() -> ExitCode {
@@ -39,6 +40,7 @@ fn main() -> ExitCode {
         Command::Reflectivity(a) => cli::reflectivity::run(a),
         Command::Eef(a) => cli::eef::run(a),
         Command::Focus(a) => cli::focus::run(a),
+        Command::Compare(a) => cli::compare::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -10,6 +10,7 @@ macro_rules! say {
 }
 
 pub mod bench;
+pub mod compare;
 pub mod eef;
 pub mod focus;
 pub mod info;

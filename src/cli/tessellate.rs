@@ -4,7 +4,7 @@ use super::{parse_define, InputError};
 use anyhow::Context;
 use std::path::PathBuf;
 use traxer::geometry::Resolution;
-use traxer::mesh::write_mesh;
+use traxer::mesh::{write_mesh, write_mesh_parts, TriangleMesh};
 use traxer::output::file_stem;
 use traxer::scene::{analytic_shapes, inline_shape, NamedShape};
 
@@ -14,8 +14,9 @@ use traxer::scene::{analytic_shapes, inline_shape, NamedShape};
 /// by its transform unless --local, or one shape given inline with --shape, e.g.
 ///   traxer tessellate --shape 'type="cone", radius_start=63.24, z_start=229,
 ///   radius_end=60.91, z_end=2, azimuth=[-15,15]' --segments 500 --rings 20 --out cone.gltf
-/// --out is a file (.gltf, .glb, .obj) for a single shape, otherwise a folder that
-/// receives NAME.<format> for each shape and format.
+/// --out is either one file (.gltf, .glb, .obj) that receives every shape as a
+/// named part (glTF node, OBJ object; scenes pick them with `part = "NAME"`), or a
+/// folder that receives NAME.<format> for each shape and format.
 #[derive(clap::Args)]
 pub struct TessellateArgs {
     /// Scene file whose analytic objects to tessellate.
@@ -88,18 +89,11 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| ["gltf", "glb", "obj"].contains(&e.to_ascii_lowercase().as_str()));
-    if is_file && shapes.len() != 1 {
-        return Err(InputError(format!(
-            "--out {} is one file but there are {} shapes; give a folder or --object",
-            a.out.display(),
-            shapes.len()
-        ))
-        .into());
-    }
     if !is_file {
         std::fs::create_dir_all(&a.out)
             .with_context(|| format!("cannot create {}", a.out.display()))?;
     }
+    let mut meshes = Vec::with_capacity(shapes.len());
     for s in &shapes {
         let res = Resolution {
             segments: a
@@ -112,26 +106,39 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         if !a.local {
             mesh = mesh.transformed(&s.transform);
         }
-        let targets: Vec<PathBuf> = if is_file {
-            vec![a.out.clone()]
-        } else {
-            a.format
-                .iter()
-                .map(|f| a.out.join(format!("{}.{f}", file_stem(&s.name))))
-                .collect()
-        };
-        for t in targets {
-            write_mesh(&t, &mesh, &s.name)
-                .with_context(|| format!("cannot write {}", t.display()))?;
-            say!(
-                "{}: {} triangles, {} vertices ({} × {}) → {}",
-                s.name,
-                mesh.triangles.len(),
-                mesh.positions.len(),
-                res.segments,
-                res.rings,
-                t.display()
-            );
+        say!(
+            "{}: {} triangles, {} vertices ({} × {})",
+            s.name,
+            mesh.triangles.len(),
+            mesh.positions.len(),
+            res.segments,
+            res.rings
+        );
+        meshes.push(mesh);
+    }
+    if is_file {
+        // One file: one named part (glTF node, OBJ object) per shape.
+        let parts: Vec<(&str, &TriangleMesh)> = shapes
+            .iter()
+            .map(|s| s.name.as_str())
+            .zip(&meshes)
+            .collect();
+        write_mesh_parts(&a.out, &parts)
+            .with_context(|| format!("cannot write {}", a.out.display()))?;
+        let triangles: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+        say!(
+            "wrote {} part(s), {triangles} triangles → {}",
+            parts.len(),
+            a.out.display()
+        );
+    } else {
+        for (s, mesh) in shapes.iter().zip(&meshes) {
+            for f in &a.format {
+                let t = a.out.join(format!("{}.{f}", file_stem(&s.name)));
+                write_mesh(&t, mesh, &s.name)
+                    .with_context(|| format!("cannot write {}", t.display()))?;
+                say!("  → {}", t.display());
+            }
         }
     }
     Ok(())

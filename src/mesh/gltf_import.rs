@@ -1,8 +1,9 @@
 //! glTF 2.0 import (`.gltf` with external or embedded buffers, `.glb`): the default
 //! scene's node hierarchy is walked and every triangle primitive is placed with its
-//! node's world matrix.
+//! node's world matrix. Each node with a mesh becomes one [`MeshPart`], named after
+//! the node (aliases: its mesh and its ancestor nodes).
 
-use super::{ImportReport, MeshError, TriangleMesh};
+use super::{ImportReport, MeshError, MeshPart, TriangleMesh};
 use glam::{DMat3, DMat4, DVec3};
 use gltf::mesh::Mode;
 use std::path::Path;
@@ -11,7 +12,7 @@ use std::path::Path;
 /// re-export without compression.
 const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
 
-pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
+pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
     let gltf = gltf::Gltf::open(path).map_err(|e| bad(describe(&e)))?;
     if let Some(ext) = gltf.document.extensions_required().next() {
@@ -26,7 +27,7 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
     let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
         .map_err(|e| bad(format!("cannot load its buffers: {}", describe(&e))))?;
 
-    let mut mesh = TriangleMesh::default();
+    let mut parts = Vec::new();
     let mut report = ImportReport {
         normals_from_file: true,
         ..Default::default()
@@ -45,9 +46,13 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
                 .collect()
         }
     };
-    let mut stack: Vec<(gltf::Node, DMat4, usize)> =
-        roots.into_iter().map(|n| (n, DMat4::IDENTITY, 0)).collect();
-    while let Some((node, parent, depth)) = stack.pop() {
+    // (node, parent's world matrix, depth, names of the ancestors)
+    let mut stack: Vec<(gltf::Node, DMat4, usize, Vec<String>)> = roots
+        .into_iter()
+        .rev()
+        .map(|n| (n, DMat4::IDENTITY, 0, Vec::new()))
+        .collect();
+    while let Some((node, parent, depth, ancestors)) = stack.pop() {
         if depth > 1000 {
             return Err(bad(
                 "node hierarchy deeper than 1000 levels (a cycle?)".into()
@@ -56,6 +61,7 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
         if let Some(m) = node.mesh() {
+            let mut mesh = TriangleMesh::default();
             for prim in m.primitives() {
                 let label = format!(
                     "primitive {} of mesh {}",
@@ -78,12 +84,29 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
                     Err(Skip(reason)) => report.warnings.push(format!("{label} skipped: {reason}")),
                 }
             }
+            if !mesh.triangles.is_empty() {
+                let mut aliases: Vec<String> = m.name().map(String::from).into_iter().collect();
+                aliases.extend(ancestors.iter().cloned());
+                parts.push(MeshPart {
+                    name: node
+                        .name()
+                        .map(String::from)
+                        .unwrap_or_else(|| format!("node{}", node.index())),
+                    aliases,
+                    mesh,
+                });
+            }
         }
-        for child in node.children() {
-            stack.push((child, world, depth + 1));
+        let mut names = ancestors;
+        if let Some(n) = node.name() {
+            names.push(n.to_string());
+        }
+        let children: Vec<gltf::Node> = node.children().collect();
+        for child in children.into_iter().rev() {
+            stack.push((child, world, depth + 1, names.clone()));
         }
     }
-    Ok((mesh, report))
+    Ok((parts, report))
 }
 
 struct Skip(String);

@@ -10,7 +10,7 @@ mod export;
 mod gltf_import;
 mod obj_import;
 
-pub use export::{write_gltf, write_mesh, write_obj};
+pub use export::{write_gltf, write_mesh, write_mesh_parts, write_obj};
 
 use glam::DVec3;
 use std::path::{Path, PathBuf};
@@ -53,26 +53,73 @@ impl MeshError {
     }
 }
 
+/// One named piece of a mesh file: a glTF node with a mesh, or an OBJ object.
+#[derive(Clone, Debug)]
+pub struct MeshPart {
+    /// The node's (object's) name, or `node<index>` for an unnamed glTF node.
+    pub name: String,
+    /// Other names that select this part: its glTF mesh and its ancestor nodes
+    /// (so that a CAD sub-assembly can be picked as a whole).
+    pub aliases: Vec<String>,
+    pub mesh: TriangleMesh,
+}
+
+impl MeshPart {
+    /// Whether `name` selects this part.
+    pub fn is_named(&self, name: &str) -> bool {
+        self.name == name || self.aliases.iter().any(|a| a == name)
+    }
+}
+
 /// Loads a `.gltf`, `.glb` or `.obj` file, applying glTF node transforms, and
 /// checks it ([`TriangleMesh::validate`]). Vertex normals are always present in the
 /// result: from the file where it has them, computed otherwise.
 pub fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
+    let (parts, report) = load_parts(path)?;
+    Ok((select_parts(path, &parts, None)?, report))
+}
+
+/// The parts of a mesh file, unchecked (see [`select_parts`]).
+pub fn load_parts(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
         .map(|e| e.to_ascii_lowercase())
         .unwrap_or_default();
-    let (mesh, report) = match ext.as_str() {
-        "gltf" | "glb" => gltf_import::load(path)?,
-        "obj" => obj_import::load(path)?,
-        _ => {
-            return Err(MeshError::UnknownFormat {
-                path: path.to_path_buf(),
-            })
-        }
-    };
+    match ext.as_str() {
+        "gltf" | "glb" => gltf_import::load(path),
+        "obj" => obj_import::load(path),
+        _ => Err(MeshError::UnknownFormat {
+            path: path.to_path_buf(),
+        }),
+    }
+}
+
+/// The parts selected by `name` (every part for `None`) as one checked mesh.
+pub fn select_parts(
+    path: &Path,
+    parts: &[MeshPart],
+    name: Option<&str>,
+) -> Result<TriangleMesh, MeshError> {
+    let mut mesh = TriangleMesh::default();
+    for p in parts.iter().filter(|p| name.is_none_or(|n| p.is_named(n))) {
+        mesh.append(p.mesh.clone());
+    }
+    if let (Some(n), true) = (name, mesh.triangles.is_empty()) {
+        let names: Vec<&str> = parts.iter().map(|p| p.name.as_str()).collect();
+        let shown = names.len().min(12);
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "has no part named `{n}` (its {} parts: {}{})",
+                names.len(),
+                names[..shown].join(", "),
+                if shown < names.len() { ", ..." } else { "" }
+            ),
+        ));
+    }
     mesh.validate().map_err(|m| MeshError::invalid(path, m))?;
-    Ok((mesh, report))
+    Ok(mesh)
 }
 
 impl TriangleMesh {

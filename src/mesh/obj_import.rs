@@ -1,11 +1,11 @@
-//! Wavefront OBJ import through `tobj`: polygons are triangulated, all objects and
-//! groups of the file form one mesh; material libraries are ignored.
+//! Wavefront OBJ import through `tobj`: polygons are triangulated, each object
+//! (or group) of the file is one [`MeshPart`]; material libraries are ignored.
 
-use super::{ImportReport, MeshError, TriangleMesh};
+use super::{ImportReport, MeshError, MeshPart, TriangleMesh};
 use glam::DVec3;
 use std::path::Path;
 
-pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
+pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let options = tobj::LoadOptions {
         triangulate: true,
         single_index: true,
@@ -22,7 +22,7 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
             },
         )
     })?;
-    let mut mesh = TriangleMesh::default();
+    let mut parts = Vec::new();
     let mut report = ImportReport {
         normals_from_file: true,
         ..Default::default()
@@ -74,7 +74,11 @@ pub(super) fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshErro
                 vec![DVec3::Z; n]
             });
         }
-        mesh.append(part);
+        parts.push(MeshPart {
+            name: model.name.clone(),
+            aliases: Vec::new(),
+            mesh: part,
+        });
     }
-    Ok((mesh, report))
+    Ok((parts, report))
 }

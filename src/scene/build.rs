@@ -107,9 +107,32 @@ impl MeshObject {
     }
 }
 
+/// How the analytic objects of a scene are given to Embree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Representation {
+    /// As the scene file says (each object's own `tessellate`).
+    AsWritten,
+    /// Every analytic object exact, any `tessellate` ignored.
+    Analytic,
+    /// Every analytic object (assemblies included) tessellated at this resolution,
+    /// mirrors with smooth normals. Meshes from files stay as they are.
+    Tessellated(Resolution),
+}
+
 impl Scene {
     /// Reads, substitutes, parses, validates and builds a scene file.
     pub fn load(device: &Device, path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
+        Scene::load_as(device, path, overrides, Representation::AsWritten)
+    }
+
+    /// [`Scene::load`] with the analytic objects represented as `representation`
+    /// says (`traxer compare` traces one scene in several representations).
+    pub fn load_as(
+        device: &Device,
+        path: &Path,
+        overrides: &[String],
+        representation: Representation,
+    ) -> Result<Scene, SceneError> {
         let original = std::fs::read_to_string(path)
             .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
         let (text, vars) = vars::substitute(path, &original, overrides)?;
@@ -119,6 +142,7 @@ impl Scene {
             path,
             text: &text,
             dir: path.parent().unwrap_or(Path::new(".")).to_path_buf(),
+            representation,
         };
         let mut scene = b.build(device, desc)?;
         scene.text_sha256 = sha256_hex(original.as_bytes());
@@ -137,6 +161,7 @@ struct Builder<'a> {
     path: &'a Path,
     text: &'a str,
     dir: PathBuf,
+    representation: Representation,
 }
 
 impl Builder<'_> {
@@ -195,6 +220,8 @@ impl Builder<'_> {
         let mut embree = device.scene::<AnalyticObject>();
         let mut triangle_count = 0;
         let mut names = std::collections::HashSet::new();
+        let mut mesh_files: std::collections::HashMap<PathBuf, Vec<mesh::MeshPart>> =
+            Default::default();
         for (index, od) in desc.objects.into_iter().enumerate() {
             let ospan = od.span();
             let od = od.into_inner();
@@ -302,39 +329,55 @@ impl Builder<'_> {
                             ),
                         );
                     }
-                    let (mesh, report) = mesh::load(&file).map_err(|e| {
+                    let at = |e: mesh::MeshError| {
                         SceneError::at(
                             self.path,
                             self.text,
                             sspan.start,
                             format!("object `{name}`: {e}"),
                         )
-                    })?;
-                    warnings.extend(
-                        report
-                            .warnings
-                            .iter()
-                            .map(|w| format!("{}: {w}", file.display())),
-                    );
+                    };
+                    // Several objects may take parts of one file: read it once.
+                    if !mesh_files.contains_key(&file) {
+                        let (parts, report) = mesh::load_parts(&file).map_err(at)?;
+                        warnings.extend(
+                            report
+                                .warnings
+                                .iter()
+                                .map(|w| format!("{}: {w}", file.display())),
+                        );
+                        mesh_files.insert(file.clone(), parts);
+                    }
+                    let mesh = mesh::select_parts(&file, &mesh_files[&file], m.part.as_deref())
+                        .map_err(at)?;
                     self.mesh_object(mesh, &transform, od.smooth_normals)
                 }
                 shape => {
                     let shape = self.shape(shape, sspan.clone())?;
-                    match &od.tessellate {
-                        Some(t) => {
-                            let r = t.get_ref();
+                    let (tessellate, smooth_normals) = match self.representation {
+                        Representation::AsWritten => (
+                            od.tessellate
+                                .as_ref()
+                                .map(|t| (Resolution::from(*t.get_ref()), t.span())),
+                            od.smooth_normals,
+                        ),
+                        Representation::Analytic => (None, false),
+                        Representation::Tessellated(r) => (
+                            Some((r, ospan.clone())),
+                            matches!(material, Material::Mirror { .. }),
+                        ),
+                    };
+                    match tessellate {
+                        Some((r, tspan)) => {
                             if r.segments == 0 || r.rings == 0 || r.segments * r.rings > 50_000_000
                             {
-                                return self.err(t.span(), "tessellate: segments and rings must be positive (and their product at most 5e7)");
+                                return self.err(tspan, "tessellate: segments and rings must be positive (and their product at most 5e7)");
                             }
-                            let mesh = shape.tessellate(Resolution {
-                                segments: r.segments,
-                                rings: r.rings,
-                            });
-                            self.mesh_object(mesh, &transform, od.smooth_normals)
+                            let mesh = shape.tessellate(r);
+                            self.mesh_object(mesh, &transform, smooth_normals)
                         }
                         None => {
-                            if od.smooth_normals {
+                            if smooth_normals {
                                 return self.err(ospan, format!("object `{name}`: smooth_normals applies to meshes (analytic shapes use their exact normal)"));
                             }
                             ObjectGeometry::Analytic(AnalyticObject { shape, transform })
@@ -695,9 +738,21 @@ fn expand_assemblies(
                 if !t.azimuth_center.is_finite() {
                     return Err(err("azimuth_center must be a number (degrees)".into()));
                 }
+                if t.mesh.is_some() && t.tessellate.is_some() {
+                    return Err(err(
+                        "llnl_telescope: give `mesh` (parts from a file) or `tessellate`, not both"
+                            .into(),
+                    ));
+                }
                 // "as_built" (or no `coating`) keeps each shell's own coating.
                 let coating = t.coating.as_deref().filter(|c| *c != "as_built");
-                for part in data.parts(t.azimuth_center, coating) {
+                // A mesh file was tessellated at azimuth 0 and is rotated instead.
+                let azimuth = if t.mesh.is_some() {
+                    0.0
+                } else {
+                    t.azimuth_center
+                };
+                for part in data.parts(azimuth, coating) {
                     let material = match &part.material {
                         PartMaterial::Absorber => "absorber".to_string(),
                         PartMaterial::Mirror(coating) => {
@@ -713,21 +768,37 @@ fn expand_assemblies(
                         }
                     };
                     let is_mirror = matches!(part.material, PartMaterial::Mirror(_));
-                    let transform = part
-                        .transform
+                    let name = format!("{}_{}", t.name, part.name);
+                    let (shape, own_transform) = match &t.mesh {
+                        None => (part.shape, part.transform),
+                        // The file holds the part already placed in the telescope
+                        // frame, with the segments centred on azimuth 0.
+                        Some(file) => (
+                            ShapeDesc::Mesh(MeshDesc {
+                                file: file.clone(),
+                                part: Some(name.clone()),
+                            }),
+                            vec![TransformStep::Rotate(RotateDesc {
+                                axis: [0.0, 0.0, 1.0],
+                                angle: t.azimuth_center,
+                            })],
+                        ),
+                    };
+                    let transform = own_transform
                         .iter()
                         .chain(&t.transform)
                         .map(|s| Spanned::new(span.clone(), s.clone()))
                         .collect();
+                    let meshed = t.tessellate.is_some() || t.mesh.is_some();
                     desc.objects.push(Spanned::new(
                         span.clone(),
                         ObjectDesc {
-                            name: Some(format!("{}_{}", t.name, part.name)),
-                            shape: Spanned::new(span.clone(), part.shape),
+                            name: Some(name),
+                            shape: Spanned::new(span.clone(), shape),
                             material: Spanned::new(span.clone(), material),
                             transform,
                             tessellate: t.tessellate.map(|r| Spanned::new(span.clone(), r)),
-                            smooth_normals: t.tessellate.is_some() && is_mirror,
+                            smooth_normals: meshed && is_mirror,
                         },
                     ));
                 }
@@ -746,17 +817,22 @@ pub struct NamedShape {
     pub resolution: Option<Resolution>,
 }
 
-/// The analytic objects of a scene file (meshes are skipped), without building it.
+/// The analytic objects of a scene file, assemblies expanded (meshes are skipped),
+/// without building it.
 pub fn analytic_shapes(path: &Path, overrides: &[String]) -> Result<Vec<NamedShape>, SceneError> {
     let original = std::fs::read_to_string(path)
         .map_err(|e| SceneError::new(path, None, format!("cannot read the scene file: {e}")))?;
     let (text, _) = vars::substitute(path, &original, overrides)?;
-    let desc: SceneDesc =
+    let mut desc: SceneDesc =
         toml::from_str(&text).map_err(|e| SceneError::from_toml(path, &text, &e))?;
+    // Assemblies (the LLNL telescope) become their objects, as in a trace.
+    let dir = path.parent().unwrap_or(Path::new(".")).to_path_buf();
+    expand_assemblies(path, &text, &dir, &mut desc, &mut BTreeMap::new())?;
     let b = Builder {
         path,
         text: &text,
         dir: PathBuf::new(),
+        representation: Representation::AsWritten,
     };
     let mut out = Vec::new();
     for (index, od) in desc.objects.iter().enumerate() {
@@ -800,6 +876,7 @@ pub fn inline_shape(text: &str) -> Result<Shape, SceneError> {
         path,
         text: &full,
         dir: PathBuf::new(),
+        representation: Representation::AsWritten,
     };
     b.shape(w.shape.get_ref(), w.shape.span())
 }

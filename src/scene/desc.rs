@@ -163,6 +163,7 @@ pub struct ObjectDesc {
 /// coating = "perfect"            # optional: one coating for every shell
 ///                                # ("as_built", the default: each shell's own)
 /// tessellate = { segments = 500, rings = 20 }   # optional: meshes with smooth normals
+/// mesh = "../meshes/llnl_telescope.glb"          # optional: the parts from a mesh file
 /// transform = [ { translate = [0, 0, 0] } ]     # placement of the telescope frame
 /// ```
 #[derive(Debug, Deserialize)]
@@ -184,6 +185,10 @@ pub struct LlnlTelescopeDesc {
     pub coating: Option<String>,
     #[serde(default)]
     pub tessellate: Option<TessellateDesc>,
+    /// A mesh file holding the parts, named `<name>_<part>` as `traxer tessellate`
+    /// writes them (meshes/llnl_telescope.glb), tessellated at azimuth_center 0.
+    #[serde(default)]
+    pub mesh: Option<String>,
     #[serde(default)]
     pub transform: Vec<TransformStep>,
 }
@@ -201,6 +206,15 @@ pub struct TessellateDesc {
     /// Divisions along the axis (radial for a disk, y for a rectangle,
     /// pole to pole for a sphere).
     pub rings: usize,
+}
+
+impl From<TessellateDesc> for crate::geometry::Resolution {
+    fn from(t: TessellateDesc) -> Self {
+        crate::geometry::Resolution {
+            segments: t.segments,
+            rings: t.rings,
+        }
+    }
 }
 
 /// A placement step; a list of them is applied in order (the first one acts on
@@ -342,6 +356,10 @@ pub struct MeshDesc {
     /// Path relative to the scene file. Coordinates are read as millimetres
     /// (glTF's convention is metres: add `{ scale = 1000.0 }` for such files).
     pub file: String,
+    /// Only this part of the file: a glTF node (or its mesh, or an ancestor node)
+    /// or an OBJ object, by name. Default: the whole file.
+    #[serde(default)]
+    pub part: Option<String>,
 }
 
 /// Photon sources. With several sources, photon i comes from source i mod n.

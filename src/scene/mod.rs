@@ -11,6 +11,7 @@ pub mod llnl;
 mod vars;
 
 pub use build::{
-    analytic_shapes, inline_shape, MeshObject, NamedShape, Object, ObjectGeometry, Scene,
+    analytic_shapes, inline_shape, MeshObject, NamedShape, Object, ObjectGeometry, Representation,
+    Scene,
 };
 pub use error::SceneError;

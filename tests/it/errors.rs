@@ -202,7 +202,7 @@ fn broken_meshes_give_clear_errors() {
         },
     );
     let glb = dir.path().join("ok.glb");
-    traxer::mesh::write_gltf(&glb, &m, "s").unwrap();
+    traxer::mesh::write_mesh(&glb, &m, "s").unwrap();
     let bytes = std::fs::read(&glb).unwrap();
     expect_mesh_error("truncated.glb", &bytes[..bytes.len() / 2], &[]);
     expect_mesh_error(

@@ -10,6 +10,7 @@ mod focusing;
 mod geometry;
 mod llnl;
 mod mesh_io;
+mod meshed_telescope;
 mod photon_loop;
 mod scenes;
 mod sources;

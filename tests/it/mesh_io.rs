@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use traxer::geometry::{AzimuthRange, Resolution, RevolutionQuadric, Shape};
-use traxer::mesh::{load, write_gltf, write_obj};
+use traxer::mesh::{load, write_mesh};
 
 fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
     (a - b).length() <= tol
@@ -144,11 +144,7 @@ fn export_and_import_round_trip_in_every_format() {
     let dir = tempfile::tempdir().unwrap();
     for name in ["c.gltf", "c.glb", "c.obj"] {
         let p = dir.path().join(name);
-        if name.ends_with("obj") {
-            write_obj(&p, &m, "cone").unwrap();
-        } else {
-            write_gltf(&p, &m, "cone").unwrap();
-        }
+        write_mesh(&p, &m, "cone").unwrap();
         let (back, report) = load(&p).unwrap();
         assert!(
             report.normals_from_file && report.warnings.is_empty(),
@@ -198,4 +194,73 @@ fn obj_polygons_are_triangulated_and_normals_kept_or_computed() {
         .unwrap()
         .iter()
         .all(|n| close(*n, DVec3::new(0.0, 0.6, 0.8), 1e-6)));
+}
+
+#[test]
+fn several_named_parts_in_one_file_round_trip_and_are_selected_by_name() {
+    use traxer::mesh::{load_parts, select_parts, write_mesh_parts};
+    let cone = |r: f64| {
+        Shape::Revolution(RevolutionQuadric::cone(
+            r,
+            0.0,
+            r - 2.0,
+            100.0,
+            AzimuthRange::FULL,
+        ))
+        .tessellate(Resolution {
+            segments: 12,
+            rings: 2,
+        })
+    };
+    let (a, b) = (cone(50.0), cone(60.0));
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["p.gltf", "p.glb", "p.obj"] {
+        let p = dir.path().join(name);
+        write_mesh_parts(&p, &[("inner", &a), ("outer", &b)]).unwrap();
+        let (parts, _) = load_parts(&p).unwrap();
+        let names: Vec<&str> = parts.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(names, ["inner", "outer"], "{name}");
+        let outer = select_parts(&p, &parts, Some("outer")).unwrap();
+        assert_eq!(outer.triangles.len(), b.triangles.len(), "{name}");
+        // Every vertex of the selected part lies on the outer cone (r = 60 − z/50).
+        for q in &outer.positions {
+            assert!(
+                (q.truncate().length() - (60.0 - q.z / 50.0)).abs() < 1e-4,
+                "{name}"
+            );
+        }
+        let all = select_parts(&p, &parts, None).unwrap();
+        assert_eq!(all.triangles.len(), a.triangles.len() + b.triangles.len());
+        let e = select_parts(&p, &parts, Some("middle"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("no part named `middle`") && e.contains("inner, outer"),
+            "{e}"
+        );
+    }
+}
+
+#[test]
+fn gltf_parts_can_be_picked_by_an_ancestor_node_name() {
+    use traxer::mesh::{load_parts, select_parts};
+    // "assembly" → "part_a" (mesh) and "part_b" (mesh): a CAD sub-assembly.
+    let nodes = r#"[{"name":"assembly","children":[1,2]},
+                    {"name":"part_a","mesh":0},
+                    {"name":"part_b","mesh":0,"translation":[0,0,3]}]"#;
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("a.gltf");
+    std::fs::write(&p, gltf_with_nodes(nodes, "[0]", "")).unwrap();
+    let (parts, _) = load_parts(&p).unwrap();
+    assert_eq!(parts.len(), 2);
+    assert_eq!(
+        select_parts(&p, &parts, Some("assembly"))
+            .unwrap()
+            .triangles
+            .len(),
+        2
+    );
+    let b = select_parts(&p, &parts, Some("part_b")).unwrap();
+    assert_eq!(b.triangles.len(), 1);
+    assert!(b.positions.iter().all(|q| q.z == 3.0));
 }
