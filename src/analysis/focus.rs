@@ -1,7 +1,8 @@
 //! Best focus from a sweep: the image diameter measured at several sensor
 //! positions z, fitted with the defocus curve of a converging beam,
-//! D(z)² = D₀² + k² (z − z₀)² (a blur of intrinsic size D₀ plus a cone of rays opening with slope k; for a
-//! sum of the two in quadrature the curve is exactly this hyperbola). z₀ is the
+//! D(z)² = D₀² + k² (z − z₀)² (a blur of intrinsic size D₀ plus a cone of rays
+//! opening with slope k; for a sum of the two in quadrature the curve is exactly
+//! this hyperbola). z₀ is the
 //! best focus. The fit is linear least squares on D² = c₀ + c₁z + c₂z², weighted by
 //! 1/D² so that every point counts by its relative error in D, not in D².
 //!
