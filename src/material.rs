@@ -29,10 +29,13 @@ impl Side {
 pub enum Material {
     /// Specular reflection on the reflecting side(s); the weight is multiplied by
     /// the coating's R(E, θ) (`reflectivity` indexes `Scene::reflectivity`), or
-    /// by 1 for a perfect mirror (`None`).
+    /// by 1 for a perfect mirror (`None`); then the direction is perturbed by the
+    /// figure error, if any.
     Mirror {
         side: Side,
         reflectivity: Option<usize>,
+        /// `None` for a perfect figure (exactly specular).
+        figure_error: Option<crate::figure_error::FigureError>,
     },
     /// Stops the photon.
     Absorber,

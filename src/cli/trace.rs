@@ -86,10 +86,10 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
             s.photons_emitted as f64 / result.seconds
         );
         say!(
-            "  reached a sensor {} ({:.2} %), absorbed {}, mirror backs {}, escaped {}, outside sensor area {}, max interactions {}",
+            "  reached a sensor {} ({:.2} %), absorbed {}, mirror backs {}, below surface (figure error) {}, escaped {}, outside sensor area {}, max interactions {}",
             s.reached_sensor,
             100.0 * s.reached_sensor as f64 / s.photons_emitted as f64,
-            s.absorbed, s.absorbed_mirror_back, s.escaped, s.sensor_outside_area, s.max_interactions_reached
+            s.absorbed, s.absorbed_mirror_back, s.scattered_below_surface, s.escaped, s.sensor_outside_area, s.max_interactions_reached
         );
         for (spec, img) in scene.sensors.iter().zip(&result.images) {
             say!(

@@ -162,6 +162,7 @@ fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
         "absorbed": s.absorbed,
         "absorbed_mirror_back": s.absorbed_mirror_back,
         "reflected_into_surface": s.reflected_into_surface,
+        "scattered_below_surface": s.scattered_below_surface,
         "sensor_outside_area": s.sensor_outside_area,
         "sensor_outside_energy_range": s.sensor_outside_energy_range,
         "escaped": s.escaped,

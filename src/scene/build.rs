@@ -5,6 +5,7 @@ use super::desc::*;
 use super::error::SceneError;
 use super::vars;
 use crate::embree::{CommittedScene, Device};
+use crate::figure_error::FigureErrorLibrary;
 use crate::geometry::{
     AnalyticObject, AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape,
     Sphere, Transform,
@@ -194,6 +195,7 @@ impl Builder<'_> {
                 MaterialDesc::Mirror(MirrorDesc {
                     side: SideDesc::Both,
                     coating: None,
+                    figure_error: None,
                 }),
                 0..0,
             ),
@@ -212,6 +214,7 @@ impl Builder<'_> {
             coatings: desc.coatings.clone(),
         });
         let mut coatings: Vec<Coating> = Vec::new();
+        let figure_errors = FigureErrorLibrary::shipped().merged(&desc.figure_errors);
         expand_assemblies(self.path, self.text, &self.dir, &mut desc, &mut materials)?;
 
         let mut objects = Vec::new();
@@ -244,6 +247,17 @@ impl Builder<'_> {
             used_materials.insert(mname.clone());
             let material = match mdesc {
                 MaterialDesc::Mirror(m) => Material::Mirror {
+                    figure_error: match &m.figure_error {
+                        None => None,
+                        Some(spec) => figure_errors.resolve(spec).map_err(|e| {
+                            SceneError::at(
+                                self.path,
+                                self.text,
+                                mspan.start,
+                                format!("material `{mname}`: figure_error: {e}"),
+                            )
+                        })?,
+                    },
                     side: match m.side {
                         SideDesc::Front => Side::Front,
                         SideDesc::Back => Side::Back,
@@ -761,6 +775,7 @@ fn expand_assemblies(
                                 MaterialDesc::Mirror(MirrorDesc {
                                     side: SideDesc::Front,
                                     coating: Some(coating.clone()),
+                                    figure_error: t.figure_error.clone(),
                                 }),
                                 0..0,
                             ));

@@ -49,6 +49,9 @@ pub struct SceneDesc {
     /// Coatings, added to those of data/coatings.toml (same form).
     #[serde(default)]
     pub coatings: BTreeMap<String, crate::xray::coating::CoatingEntry>,
+    /// Figure-error presets, added to those of data/figure_errors.toml.
+    #[serde(default)]
+    pub figure_errors: BTreeMap<String, crate::figure_error::FigureErrorEntry>,
 }
 
 fn default_max_interactions() -> Spanned<u32> {
@@ -90,6 +93,10 @@ pub struct MirrorDesc {
     /// one the mirror is perfect (R = 1).
     #[serde(default)]
     pub coating: Option<String>,
+    /// Figure errors: a preset name (data/figure_errors.toml or this file's
+    /// `[figure_errors]`, "none") or the parameters inline; default none.
+    #[serde(default)]
+    pub figure_error: Option<crate::figure_error::FigureErrorSpec>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -162,6 +169,7 @@ pub struct ObjectDesc {
 /// azimuth_center = 0.0           # degrees: direction of the 30° segments' centre
 /// coating = "perfect"            # optional: one coating for every shell
 ///                                # ("as_built", the default: each shell's own)
+/// figure_error = "llnl_panter"   # optional: figure errors of every mirror
 /// tessellate = { segments = 500, rings = 20 }   # optional: meshes with smooth normals
 /// mesh = "../meshes/llnl_telescope.glb"          # optional: the parts from a mesh file
 /// transform = [ { translate = [0, 0, 0] } ]     # placement of the telescope frame
@@ -183,6 +191,9 @@ pub struct LlnlTelescopeDesc {
     pub azimuth_center: f64,
     #[serde(default)]
     pub coating: Option<String>,
+    /// Figure errors of every mirror (preset name or inline parameters).
+    #[serde(default)]
+    pub figure_error: Option<crate::figure_error::FigureErrorSpec>,
     #[serde(default)]
     pub tessellate: Option<TessellateDesc>,
     /// A mesh file holding the parts, named `<name>_<part>` as `traxer tessellate`

@@ -2,6 +2,7 @@
 
 use super::stats::Statistics;
 use crate::embree::{Query, INVALID_ID};
+use crate::figure_error::Perturbed;
 use crate::material::Material;
 use crate::random::PhotonRng;
 use crate::scene::{ObjectGeometry, Scene};
@@ -163,7 +164,7 @@ pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
 pub fn trace_photon<H: QueryHook>(
     scene: &Scene,
     mut photon: Photon,
-    _rng: &mut PhotonRng,
+    rng: &mut PhotonRng,
     stats: &mut Statistics,
     hook: &mut H,
 ) -> Option<Record> {
@@ -179,7 +180,11 @@ pub fn trace_photon<H: QueryHook>(
         stats.hits_per_object[hit.object] += 1;
         let object = &scene.objects[hit.object];
         match object.material {
-            Material::Mirror { side, reflectivity } => {
+            Material::Mirror {
+                side,
+                reflectivity,
+                figure_error,
+            } => {
                 let from_front = photon.dir.dot(hit.geometric_normal) < 0.0;
                 if !side.reflects(from_front) {
                     stats.absorbed_mirror_back += 1;
@@ -190,7 +195,16 @@ pub fn trace_photon<H: QueryHook>(
                     let theta = photon.dir.dot(hit.shading_normal).abs().min(1.0).asin();
                     photon.weight *= scene.reflectivity[table].reflectivity(photon.energy, theta);
                 }
-                let out = reflect(photon.dir, hit.shading_normal).normalize();
+                let mut out = reflect(photon.dir, hit.shading_normal).normalize();
+                if let Some(fe) = &figure_error {
+                    match fe.perturb(out, hit.shading_normal, rng) {
+                        Perturbed::Direction(d) => out = d,
+                        Perturbed::BelowSurface => {
+                            stats.scattered_below_surface += 1;
+                            return None;
+                        }
+                    }
+                }
                 // With interpolated normals the reflection can point into the facet.
                 let arrival_side = if from_front { 1.0 } else { -1.0 };
                 if hit.on_mesh && out.dot(hit.geometric_normal) * arrival_side <= 0.0 {

@@ -13,6 +13,8 @@ pub struct Statistics {
     pub absorbed_mirror_back: u64,
     /// Reflected on an interpolated normal into the facet it hit (mesh artefact).
     pub reflected_into_surface: u64,
+    /// Tilted below the mirror surface by the figure error (absorbed).
+    pub scattered_below_surface: u64,
     /// Hit a sensor object outside its active area (absorbed, not recorded).
     pub sensor_outside_area: u64,
     /// Reached a sensor with an energy outside its energy bins.
@@ -44,6 +46,7 @@ impl Statistics {
         self.absorbed += o.absorbed;
         self.absorbed_mirror_back += o.absorbed_mirror_back;
         self.reflected_into_surface += o.reflected_into_surface;
+        self.scattered_below_surface += o.scattered_below_surface;
         self.sensor_outside_area += o.sensor_outside_area;
         self.sensor_outside_energy_range += o.sensor_outside_energy_range;
         self.escaped += o.escaped;

@@ -6,6 +6,7 @@ mod common;
 mod determinism;
 mod embree_parity;
 mod errors;
+mod figure_error;
 mod focusing;
 mod geometry;
 mod llnl;

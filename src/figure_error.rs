@@ -1,0 +1,206 @@
+//! Figure errors of imperfect mirrors (SPEC §5): after the specular reflection the
+//! direction is tilted in the plane of incidence by an angle drawn from a mixture
+//! of a narrow and a wide normal distribution, and out of that plane by an angle
+//! from one normal distribution. A photon tilted below the surface is absorbed.
+//!
+//! The widths are standard deviations of the *reflected direction* (not of the
+//! surface slope: a slope error s in the plane of incidence tilts the ray by 2s).
+//! Presets live in data/figure_errors.toml (with how they were obtained); a scene
+//! adds its own in `[figure_errors]` or writes the numbers inline.
+//!
+//! Data flow: `scene::build` resolves a mirror material's `figure_error` to a
+//! [`FigureError`]; the photon loop calls [`FigureError::perturb`] after each
+//! reflection on such a mirror with the photon's own random stream.
+
+use crate::random::PhotonRng;
+use glam::DVec3;
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+const SHIPPED: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/figure_errors.toml"
+));
+
+const ARCSEC: f64 = std::f64::consts::PI / (180.0 * 3600.0);
+
+/// Widths (arcseconds, 1σ of the reflected direction) and mixture weight.
+#[derive(Clone, Copy, Debug, PartialEq, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureError {
+    /// σ of the narrow in-plane component.
+    pub in_plane_narrow: f64,
+    /// σ of the wide in-plane component.
+    pub in_plane_wide: f64,
+    /// Probability that a reflection draws from the wide component (0–1).
+    pub wide_fraction: f64,
+    /// σ of the out-of-plane tilt.
+    pub out_of_plane: f64,
+}
+
+/// What became of a reflected direction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Perturbed {
+    Direction(DVec3),
+    /// Tilted below the surface: the photon is absorbed.
+    BelowSurface,
+}
+
+impl FigureError {
+    /// A perfect figure.
+    pub const NONE: FigureError = FigureError {
+        in_plane_narrow: 0.0,
+        in_plane_wide: 0.0,
+        wide_fraction: 0.0,
+        out_of_plane: 0.0,
+    };
+
+    /// Checks the ranges; the message names the offending key.
+    pub fn validate(&self) -> Result<(), String> {
+        for (k, v) in [
+            ("in_plane_narrow", self.in_plane_narrow),
+            ("in_plane_wide", self.in_plane_wide),
+            ("out_of_plane", self.out_of_plane),
+        ] {
+            if !(v.is_finite() && (0.0..=36_000.0).contains(&v)) {
+                return Err(format!(
+                    "{k} = {v}: expected a width in arcseconds, 0 to 36000"
+                ));
+            }
+        }
+        if !(0.0..=1.0).contains(&self.wide_fraction) {
+            return Err(format!(
+                "wide_fraction = {}: expected a probability, 0 to 1",
+                self.wide_fraction
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether every reflection stays exactly specular.
+    pub fn is_perfect(&self) -> bool {
+        self.out_of_plane == 0.0
+            && (self.in_plane_narrow == 0.0 || self.wide_fraction == 1.0)
+            && (self.in_plane_wide == 0.0 || self.wide_fraction == 0.0)
+    }
+
+    /// Tilts the specular direction `reflected` (unit) off the surface with unit
+    /// normal `normal`. Always draws three numbers from `rng` (mixture choice and
+    /// two normal deviates), so that photons keep their streams aligned whatever
+    /// the parameters: runs with different widths share their random numbers.
+    #[inline]
+    pub fn perturb(&self, reflected: DVec3, normal: DVec3, rng: &mut PhotonRng) -> Perturbed {
+        let choose_wide = rng.uniform() < self.wide_fraction;
+        // Box–Muller: two independent standard normal deviates.
+        let radius = (-2.0 * (1.0 - rng.uniform()).ln()).sqrt();
+        let (sin, cos) = (std::f64::consts::TAU * rng.uniform()).sin_cos();
+        let sigma_in = if choose_wide {
+            self.in_plane_wide
+        } else {
+            self.in_plane_narrow
+        };
+        let a_in = sigma_in * ARCSEC * radius * cos;
+        let a_out = self.out_of_plane * ARCSEC * radius * sin;
+        if a_in == 0.0 && a_out == 0.0 {
+            return Perturbed::Direction(reflected);
+        }
+        // n⊥ is normal to the plane of incidence, s lies in it, perpendicular to
+        // the reflected ray.
+        let n_perp = normal
+            .cross(reflected)
+            .try_normalize()
+            .unwrap_or_else(|| reflected.any_orthonormal_vector());
+        let s = n_perp.cross(reflected);
+        let out = (reflected + s * a_in.tan() + n_perp * a_out.tan()).normalize();
+        // Below the surface: on the other side of it than the specular ray.
+        if out.dot(normal) * reflected.dot(normal) <= 0.0 {
+            Perturbed::BelowSurface
+        } else {
+            Perturbed::Direction(out)
+        }
+    }
+}
+
+/// Named figure-error presets.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureErrorLibrary {
+    #[serde(default)]
+    pub figure_errors: BTreeMap<String, FigureErrorEntry>,
+}
+
+/// A preset: the parameters plus where they came from.
+#[derive(Clone, Debug, Deserialize, serde::Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FigureErrorEntry {
+    pub in_plane_narrow: f64,
+    pub in_plane_wide: f64,
+    pub wide_fraction: f64,
+    pub out_of_plane: f64,
+    /// How the numbers were obtained (free text; fits write their settings here).
+    #[serde(default)]
+    pub source: Option<String>,
+}
+
+impl FigureErrorEntry {
+    pub fn parameters(&self) -> FigureError {
+        FigureError {
+            in_plane_narrow: self.in_plane_narrow,
+            in_plane_wide: self.in_plane_wide,
+            wide_fraction: self.wide_fraction,
+            out_of_plane: self.out_of_plane,
+        }
+    }
+}
+
+/// How a scene names a figure error: a preset, or the numbers inline.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+pub enum FigureErrorSpec {
+    Preset(String),
+    Inline(FigureError),
+}
+
+impl FigureErrorLibrary {
+    /// The presets shipped in data/figure_errors.toml.
+    pub fn shipped() -> FigureErrorLibrary {
+        toml::from_str(SHIPPED).expect("data/figure_errors.toml is valid (tested)")
+    }
+
+    /// This library with `other`'s presets added (`other` wins on equal names).
+    pub fn merged(&self, other: &BTreeMap<String, FigureErrorEntry>) -> FigureErrorLibrary {
+        let mut out = self.clone();
+        out.figure_errors
+            .extend(other.iter().map(|(k, v)| (k.clone(), v.clone())));
+        out
+    }
+
+    /// Resolves a scene's figure error, checked; `None` for a perfect figure.
+    pub fn resolve(&self, spec: &FigureErrorSpec) -> Result<Option<FigureError>, String> {
+        let f = match spec {
+            FigureErrorSpec::Preset(name) => self.get(name)?,
+            FigureErrorSpec::Inline(f) => *f,
+        };
+        f.validate()?;
+        Ok((!f.is_perfect()).then_some(f))
+    }
+
+    /// The preset `name` (`"none"` is always the perfect figure).
+    pub fn get(&self, name: &str) -> Result<FigureError, String> {
+        if name == "none" {
+            return Ok(FigureError::NONE);
+        }
+        self.figure_errors
+            .get(name)
+            .map(FigureErrorEntry::parameters)
+            .ok_or_else(|| {
+                let known: Vec<&str> = std::iter::once("none")
+                    .chain(self.figure_errors.keys().map(|s| s.as_str()))
+                    .collect();
+                format!(
+                    "unknown figure error `{name}` (known: {})",
+                    known.join(", ")
+                )
+            })
+    }
+}

@@ -1,0 +1,258 @@
+//! Figure errors (SPEC §5): the perturbation's statistics drawn directly and
+//! measured on a flat mirror, absorption below the surface, and that a zero figure
+//! error is exactly the perfect mirror.
+
+use glam::DVec3;
+use traxer::figure_error::{FigureError, Perturbed};
+use traxer::random::PhotonRng;
+use traxer::trace::{self, RunConfig};
+
+const ARCSEC: f64 = std::f64::consts::PI / (180.0 * 3600.0);
+
+#[test]
+fn perturbation_has_zero_mean_and_the_requested_widths() {
+    let fe = FigureError {
+        in_plane_narrow: 30.0,
+        in_plane_wide: 200.0,
+        wide_fraction: 0.25,
+        out_of_plane: 12.0,
+    };
+    // A ray reflected at 0.8° off a surface with normal +z, travelling along +x.
+    let g = 0.8f64.to_radians();
+    let n = DVec3::Z;
+    let r = DVec3::new(g.cos(), 0.0, g.sin());
+    let n_perp = n.cross(r).normalize();
+    let s = n_perp.cross(r);
+    let count = 400_000;
+    let (mut m_in, mut m_out, mut in2, mut in4, mut out2, mut cross) =
+        (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for i in 0..count {
+        let mut rng = PhotonRng::new(7, i);
+        let Perturbed::Direction(d) = fe.perturb(r, n, &mut rng) else {
+            panic!("200″ tilts cannot reach 0.8° below the surface at this count");
+        };
+        assert!((d.length() - 1.0).abs() < 1e-12);
+        // The in-plane and out-of-plane tilt angles, exactly.
+        let a = d.dot(s).atan2(d.dot(r)) / ARCSEC;
+        let b = d.dot(n_perp).atan2(d.dot(r)) / ARCSEC;
+        m_in += a;
+        m_out += b;
+        in2 += a * a;
+        in4 += a.powi(4);
+        out2 += b * b;
+        cross += a * b;
+    }
+    let c = count as f64;
+    let (w, sn, sw, so) = (
+        fe.wide_fraction,
+        fe.in_plane_narrow,
+        fe.in_plane_wide,
+        fe.out_of_plane,
+    );
+    let var_in = (1.0 - w) * sn * sn + w * sw * sw;
+    // Means: zero within 4 standard errors.
+    assert!(
+        (m_in / c).abs() < 4.0 * (var_in / c).sqrt(),
+        "in-plane mean {}",
+        m_in / c
+    );
+    assert!(
+        (m_out / c).abs() < 4.0 * so / c.sqrt(),
+        "out-of-plane mean {}",
+        m_out / c
+    );
+    // Widths: the mixture's variance and fourth moment (3 Σ wᵢσᵢ⁴), and σ⊥.
+    assert!(
+        (in2 / c / var_in - 1.0).abs() < 0.02,
+        "{} vs {var_in}",
+        in2 / c
+    );
+    let m4 = 3.0 * ((1.0 - w) * sn.powi(4) + w * sw.powi(4));
+    assert!((in4 / c / m4 - 1.0).abs() < 0.05, "{} vs {m4}", in4 / c);
+    assert!(
+        (out2 / c / (so * so) - 1.0).abs() < 0.01,
+        "{} vs {}",
+        out2 / c,
+        so * so
+    );
+    // Independent directions: correlation ≈ 0.
+    let corr = cross / c / (in2 / c * out2 / c).sqrt();
+    assert!(corr.abs() < 0.01, "correlation {corr}");
+}
+
+#[test]
+fn zero_widths_leave_the_reflection_bit_for_bit_specular() {
+    let fe = FigureError {
+        in_plane_narrow: 0.0,
+        in_plane_wide: 0.0,
+        wide_fraction: 0.4,
+        out_of_plane: 0.0,
+    };
+    assert!(fe.is_perfect());
+    let r = DVec3::new(0.3, 0.1, 0.2).normalize();
+    for i in 0..100 {
+        assert_eq!(
+            fe.perturb(r, DVec3::Z, &mut PhotonRng::new(1, i)),
+            Perturbed::Direction(r)
+        );
+    }
+}
+
+/// The spot on the flat-mirror bench's screen: (mean, variance) along x and y in
+/// mm, and the photons recorded, for a mirror material line `figure`.
+fn flat_mirror_spot(graze_deg: f64, figure: &str) -> ([f64; 4], u64, u64) {
+    let mirror = format!("type = \"mirror\"\n{figure}");
+    let s = crate::common::scene(&crate::common::flat_mirror_bench(
+        graze_deg,
+        &mirror,
+        "{ line = 1.49 }",
+        600,
+        "",
+        "",
+    ));
+    let r = trace::run(
+        &s,
+        &RunConfig {
+            photons: 200_000,
+            seed: 3,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        },
+    )
+    .unwrap();
+    let img = &r.images[0].flux;
+    let (n, pitch) = (600usize, 0.1);
+    let (mut w, mut sx, mut sy, mut sxx, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for (k, &v) in img.iter().enumerate() {
+        let (x, y) = (
+            ((k % n) as f64 + 0.5) * pitch,
+            ((k / n) as f64 + 0.5) * pitch,
+        );
+        w += v;
+        sx += v * x;
+        sy += v * y;
+        sxx += v * x * x;
+        syy += v * y * y;
+    }
+    let (mx, my) = (sx / w, sy / w);
+    (
+        [mx, sxx / w - mx * mx, my, syy / w - my * my],
+        r.stats.reached_sensor,
+        r.stats.scattered_below_surface,
+    )
+}
+
+#[test]
+fn flat_mirror_spreads_the_spot_in_and_out_of_the_plane_of_incidence() {
+    // θ = 3°: the reflected beam leaves at 2θ = 6° from −z in the y–z plane (the
+    // plane of incidence) and meets the screen 200 mm below, so an in-plane tilt δ
+    // moves the spot along y by 200·δ/cos²(2θ) and an out-of-plane tilt ε along x
+    // by (200/cos 2θ)·ε. Widths far below θ: nothing is tilted below the surface.
+    let (graze, s_in, s_out) = (3.0f64, 1000.0, 400.0);
+    let (perfect, n0, _) = flat_mirror_spot(graze, "");
+    let (fuzzy, n1, below) = flat_mirror_spot(
+        graze,
+        &format!(
+            "figure_error = {{ in_plane_narrow = {s_in}, in_plane_wide = 0.0, wide_fraction = 0.0, out_of_plane = {s_out} }}"
+        ),
+    );
+    assert_eq!((n0, n1, below), (200_000, 200_000, 0));
+    let c2 = (2.0 * graze).to_radians().cos();
+    let want_y = 200.0 * s_in * ARCSEC / (c2 * c2);
+    let want_x = 200.0 / c2 * s_out * ARCSEC;
+    // The pencil beam's own size (and the pixels) add in quadrature: subtract the
+    // perfect mirror's variance.
+    let got_x = (fuzzy[1] - perfect[1]).sqrt();
+    let got_y = (fuzzy[3] - perfect[3]).sqrt();
+    assert!(
+        (got_y / want_y - 1.0).abs() < 0.02,
+        "in-plane: {got_y} mm vs {want_y}"
+    );
+    assert!(
+        (got_x / want_x - 1.0).abs() < 0.03,
+        "out-of-plane: {got_x} mm vs {want_x}"
+    );
+    // The spot stays centred where the specular beam lands.
+    assert!((fuzzy[0] - perfect[0]).abs() < 0.01 && (fuzzy[2] - perfect[2]).abs() < 0.02);
+}
+
+#[test]
+fn photons_tilted_below_the_surface_are_absorbed() {
+    // In-plane σ equal to the grazing angle (0.3° = 1080″): a tilt below −θ, i.e.
+    // a standard normal deviate below −1, goes into the mirror: Φ(−1) = 0.158655.
+    let (_, reached, below) = flat_mirror_spot(
+        0.3,
+        "figure_error = { in_plane_narrow = 1080.0, in_plane_wide = 0.0, wide_fraction = 0.0, out_of_plane = 0.0 }",
+    );
+    let p = below as f64 / 200_000.0;
+    let sigma = (0.158655f64 * (1.0 - 0.158655) / 200_000.0).sqrt();
+    assert!((p - 0.158655).abs() < 4.0 * sigma, "absorbed fraction {p}");
+    assert_eq!(reached + below, 200_000);
+}
+
+#[test]
+fn zero_figure_error_reproduces_the_perfect_mirror_exactly() {
+    let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
+    let dev = crate::common::device();
+    let run = |fe: &str| {
+        let s = traxer::scene::Scene::load(&dev, &scene, &[format!("figure_error={fe}")]).unwrap();
+        let cfg = RunConfig {
+            photons: 30_000,
+            seed: 5,
+            threads: 0,
+            progress: false,
+            first_photon: 0,
+        };
+        trace::run(&s, &cfg).unwrap()
+    };
+    let perfect = run("\"none\"");
+    let zero = run(
+        "{ in_plane_narrow = 0.0, in_plane_wide = 0.0, wide_fraction = 0.3, out_of_plane = 0.0 }",
+    );
+    assert_eq!(perfect.images[0].flux, zero.images[0].flux);
+    assert_eq!(perfect.stats, zero.stats);
+    // ... while a small one changes the image.
+    let small = run(
+        "{ in_plane_narrow = 5.0, in_plane_wide = 0.0, wide_fraction = 0.0, out_of_plane = 0.0 }",
+    );
+    assert_ne!(perfect.images[0].flux, small.images[0].flux);
+}
+
+#[test]
+fn bad_figure_errors_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |fe: &str| {
+        format!(
+            r#"
+[[sources]]
+type = "parallel"
+aperture = {{ center = [0, 0, 10], radius = 1.0 }}
+energy = {{ line = 1.49 }}
+
+[materials.m]
+type = "mirror"
+figure_error = {fe}
+
+[[objects]]
+material = "m"
+shape = {{ type = "disk", radius = 5.0 }}
+"#
+        )
+    };
+    let e = crate::common::load_error(dir.path(), &scene("\"nosuch\""));
+    assert!(
+        e.contains("unknown figure error `nosuch`") && e.contains("none"),
+        "{e}"
+    );
+    let e = crate::common::load_error(
+        dir.path(),
+        &scene("{ in_plane_narrow = 1.0, in_plane_wide = 2.0, wide_fraction = 1.5, out_of_plane = 0.0 }"),
+    );
+    assert!(e.contains("wide_fraction = 1.5"), "{e}");
+    let e = crate::common::load_error(
+        dir.path(),
+        &scene("{ in_plane_narrow = -1.0, in_plane_wide = 2.0, wide_fraction = 0.5, out_of_plane = 0.0 }"),
+    );
+    assert!(e.contains("in_plane_narrow = -1"), "{e}");
+}
