@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installs what traxer needs to build, if it is missing: Intel Embree (3.13 or 4.x)
-# and libclang (for bindgen), from the system's packages. Safe to run repeatedly.
+# Installs what traxer needs to build, if it is missing: Intel Embree (3.13 or 4.x),
+# libclang (for bindgen) and CMake (for NLopt), from the system's packages. Safe to run repeatedly.
 # Set EMBREE_DIR to use an Embree of your own instead.
 set -euo pipefail
 
@@ -28,6 +28,8 @@ missing=()
 have_embree || missing+=(libembree-dev)
 have_libclang || missing+=(libclang-dev)
 command -v cc >/dev/null 2>&1 || missing+=(build-essential)
+# The nlopt crate (figure-error fit) builds NLopt's C sources with CMake.
+command -v cmake >/dev/null 2>&1 || missing+=(cmake)
 
 if [ ${#missing[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

@@ -28,6 +28,7 @@ enum Command {
     Eef(cli::eef::EefArgs),
     Focus(cli::focus::FocusArgs),
     Compare(cli::compare::CompareArgs),
+    FitFigureError(cli::fit_figure_error::FitFigureErrorArgs),
 }
 
 fn main() -> ExitCode {
@@ -41,6 +42,7 @@ fn main() -> ExitCode {
         Command::Eef(a) => cli::eef::run(a),
         Command::Focus(a) => cli::focus::run(a),
         Command::Compare(a) => cli::compare::run(a),
+        Command::FitFigureError(a) => cli::fit_figure_error::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

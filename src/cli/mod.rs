@@ -12,6 +12,7 @@ macro_rules! say {
 pub mod bench;
 pub mod compare;
 pub mod eef;
+pub mod fit_figure_error;
 pub mod focus;
 pub mod info;
 pub mod measure;

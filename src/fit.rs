@@ -1,0 +1,280 @@
+//! Fitting the figure-error model (SPEC §5) to measured image quality: every
+//! candidate parameter set is traced through the same built scene with the same
+//! photons (common random numbers: the objective is a smooth function of the
+//! parameters, not a noisy one), the 50/80/90 % diameters are measured, and NLopt
+//! minimises their squared relative errors to the targets — DIRECT-L (a global,
+//! derivative-free search over the bounds, as TrAXer used) followed by a local
+//! Sbplx polish from the best point.
+//!
+//! Data flow: `traxer fit-figure-error` builds the scene once, calls [`fit`] with
+//! the bounds and targets, and writes the history and the preset.
+
+use crate::analysis::{analyse, ImageGeometry, ImageQuality};
+use crate::figure_error::FigureError;
+use crate::material::Material;
+use crate::scene::Scene;
+use crate::trace::{self, RunConfig};
+
+/// The parameters in the order of [`FigureError`]'s fields.
+pub const PARAMETERS: [&str; 4] = [
+    "in_plane_narrow",
+    "in_plane_wide",
+    "wide_fraction",
+    "out_of_plane",
+];
+
+/// Search range of each parameter (equal ends: held fixed).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bounds {
+    pub lower: [f64; 4],
+    pub upper: [f64; 4],
+}
+
+impl Default for Bounds {
+    /// Narrow 0–120″, wide 0–900″, fraction 0–0.6, out of plane fixed at 0: at
+    /// grazing incidence an azimuthal slope error s tilts the ray by only
+    /// ≈ 2·s·sin α (α < 1°), and three targets determine three parameters.
+    fn default() -> Self {
+        Bounds {
+            lower: [0.0, 0.0, 0.0, 0.0],
+            upper: [120.0, 900.0, 0.6, 0.0],
+        }
+    }
+}
+
+/// Measured (or wanted) diameters in arcseconds.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Diameters {
+    pub hpd: f64,
+    pub d80: f64,
+    pub d90: f64,
+}
+
+impl Diameters {
+    /// Sum of squared relative differences to `target`.
+    pub fn error_to(&self, target: &Diameters) -> f64 {
+        (self.hpd / target.hpd - 1.0).powi(2)
+            + (self.d80 / target.d80 - 1.0).powi(2)
+            + (self.d90 / target.d90 - 1.0).powi(2)
+    }
+}
+
+/// One objective evaluation.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Evaluation {
+    pub index: usize,
+    pub parameters: FigureError,
+    /// `None` when no flux reached the sensor.
+    pub diameters: Option<Diameters>,
+    pub error: f64,
+    /// Which stage asked: "global" (DIRECT-L) or "local" (Sbplx).
+    pub stage: &'static str,
+}
+
+/// Gives every mirror of the scene the figure error `fe` (`None`: perfect).
+pub fn set_figure_error(scene: &mut Scene, fe: Option<FigureError>) {
+    for o in &mut scene.objects {
+        if let Material::Mirror { figure_error, .. } = &mut o.material {
+            *figure_error = fe.filter(|f| !f.is_perfect());
+        }
+    }
+}
+
+/// Traces the scene as it is and measures sensor `sensor` in arcseconds.
+pub fn measure(
+    scene: &Scene,
+    sensor: usize,
+    cfg: &RunConfig,
+) -> Result<Option<Diameters>, rayon::ThreadPoolBuildError> {
+    let result = trace::run(scene, cfg)?;
+    let spec = &scene.sensors[sensor];
+    let q: Option<ImageQuality> = analyse(
+        &result.images[sensor].flux_summed(spec),
+        &ImageGeometry::of_sensor(spec),
+        spec.focal_length,
+    )
+    .map(|(q, _)| q);
+    Ok(q.and_then(|q| {
+        Some(Diameters {
+            hpd: q.hpd_arcsec?,
+            d80: q.d80_arcsec?,
+            d90: q.d90_arcsec?,
+        })
+    }))
+}
+
+/// Budget and settings of a fit.
+#[derive(Clone, Debug)]
+pub struct FitSettings {
+    pub bounds: Bounds,
+    pub target: Diameters,
+    pub run: RunConfig,
+    pub sensor: usize,
+    /// Evaluations for DIRECT-L, then for the local polish.
+    pub global_evaluations: u32,
+    pub local_evaluations: u32,
+}
+
+/// The outcome: the best parameters and every evaluation in order.
+#[derive(Clone, Debug)]
+pub struct FitResult {
+    pub best: Evaluation,
+    pub history: Vec<Evaluation>,
+}
+
+struct State<'a, P: FnMut(&Evaluation, &Evaluation)> {
+    scene: &'a mut Scene,
+    settings: &'a FitSettings,
+    free: Vec<usize>,
+    history: Vec<Evaluation>,
+    best: Option<Evaluation>,
+    stage: &'static str,
+    progress: P,
+    failure: Option<rayon::ThreadPoolBuildError>,
+}
+
+impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
+    fn parameters(&self, x: &[f64]) -> FigureError {
+        let mut p = self.settings.bounds.lower;
+        for (&i, &v) in self.free.iter().zip(x) {
+            p[i] = v;
+        }
+        FigureError {
+            in_plane_narrow: p[0],
+            in_plane_wide: p[1],
+            wide_fraction: p[2],
+            out_of_plane: p[3],
+        }
+    }
+
+    fn evaluate(&mut self, x: &[f64]) -> f64 {
+        let fe = self.parameters(x);
+        set_figure_error(self.scene, Some(fe));
+        let diameters = match measure(self.scene, self.settings.sensor, &self.settings.run) {
+            Ok(d) => d,
+            Err(e) => {
+                self.failure = Some(e);
+                None
+            }
+        };
+        // No image at all is the worst possible outcome, not an error.
+        let error = diameters.map_or(1e6, |d| d.error_to(&self.settings.target));
+        let e = Evaluation {
+            index: self.history.len() + 1,
+            parameters: fe,
+            diameters,
+            error,
+            stage: self.stage,
+        };
+        if self.best.as_ref().is_none_or(|b| e.error < b.error) {
+            self.best = Some(e.clone());
+        }
+        (self.progress)(&e, self.best.as_ref().expect("set above"));
+        self.history.push(e);
+        error
+    }
+}
+
+/// Runs the fit on `scene` (whose mirrors' figure errors it overwrites; they hold
+/// the best parameters afterwards). `progress` sees each evaluation and the best
+/// so far.
+pub fn fit(
+    scene: &mut Scene,
+    settings: &FitSettings,
+    progress: impl FnMut(&Evaluation, &Evaluation),
+) -> Result<FitResult, String> {
+    let b = &settings.bounds;
+    for ((name, lo), hi) in PARAMETERS.iter().zip(b.lower).zip(b.upper) {
+        if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
+            return Err(format!(
+                "bounds of {name}: expected lower ≤ upper, got {lo}:{hi}"
+            ));
+        }
+    }
+    let free: Vec<usize> = (0..4).filter(|&i| b.upper[i] > b.lower[i]).collect();
+    let mut state = State {
+        scene,
+        settings,
+        free: free.clone(),
+        history: Vec::new(),
+        best: None,
+        stage: "global",
+        progress,
+        failure: None,
+    };
+    if free.is_empty() {
+        state.evaluate(&[]);
+    } else {
+        let lower: Vec<f64> = free.iter().map(|&i| b.lower[i]).collect();
+        let upper: Vec<f64> = free.iter().map(|&i| b.upper[i]).collect();
+        let mut x: Vec<f64> = lower
+            .iter()
+            .zip(&upper)
+            .map(|(l, u)| 0.5 * (l + u))
+            .collect();
+        for (stage, algorithm, evaluations) in [
+            (
+                "global",
+                nlopt::Algorithm::DirectL,
+                settings.global_evaluations,
+            ),
+            ("local", nlopt::Algorithm::Sbplx, settings.local_evaluations),
+        ] {
+            if evaluations == 0 {
+                continue;
+            }
+            state.stage = stage;
+            let mut opt = nlopt::Nlopt::new(
+                algorithm,
+                free.len(),
+                |x: &[f64], _grad: Option<&mut [f64]>, s: &mut &mut State<_>| s.evaluate(x),
+                nlopt::Target::Minimize,
+                &mut state,
+            );
+            // The polish starts with steps of 2 % of each range: DIRECT-L has
+            // already located the basin to a few % (its cells at this budget).
+            let steps: Vec<f64> = lower
+                .iter()
+                .zip(&upper)
+                .map(|(l, u)| 0.02 * (u - l))
+                .collect();
+            let setup = opt
+                .set_lower_bounds(&lower)
+                .and_then(|_| opt.set_upper_bounds(&upper))
+                .and_then(|_| opt.set_maxeval(evaluations))
+                .and_then(|_| opt.set_xtol_rel(1e-4))
+                .and_then(|_| match stage {
+                    "local" => opt.set_initial_step(&steps),
+                    _ => Ok(nlopt::SuccessState::Success),
+                });
+            if setup.is_err() {
+                return Err(format!("NLopt refused the {stage} settings"));
+            }
+            // Stopping at the evaluation budget is the normal end; the best
+            // point is tracked by the state either way.
+            let _ = opt.optimize(&mut x);
+            drop(opt);
+            if let Some(best) = &state.best {
+                x = free.iter().map(|&i| field(&best.parameters, i)).collect();
+            }
+        }
+    }
+    if let Some(e) = state.failure.take() {
+        return Err(format!("cannot run the traces: {e}"));
+    }
+    let best = state.best.clone().expect("at least one evaluation");
+    set_figure_error(state.scene, Some(best.parameters));
+    Ok(FitResult {
+        best,
+        history: state.history,
+    })
+}
+
+fn field(f: &FigureError, i: usize) -> f64 {
+    [
+        f.in_plane_narrow,
+        f.in_plane_wide,
+        f.wide_fraction,
+        f.out_of_plane,
+    ][i]
+}
