@@ -113,6 +113,26 @@ pub struct FitSettings {
     /// Evaluations for DIRECT-L, then for the local polish.
     pub global_evaluations: u32,
     pub local_evaluations: u32,
+    /// The local polish: NLopt's BOBYQA (quadratic models; the default) or Sbplx.
+    pub local_algorithm: LocalAlgorithm,
+}
+
+/// Derivative-free local optimisers of NLopt for the polish.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LocalAlgorithm {
+    Bobyqa,
+    Sbplx,
+    NelderMead,
+}
+
+impl LocalAlgorithm {
+    fn nlopt(self) -> nlopt::Algorithm {
+        match self {
+            LocalAlgorithm::Bobyqa => nlopt::Algorithm::Bobyqa,
+            LocalAlgorithm::Sbplx => nlopt::Algorithm::Sbplx,
+            LocalAlgorithm::NelderMead => nlopt::Algorithm::Neldermead,
+        }
+    }
 }
 
 /// The outcome: the best parameters and every evaluation in order.
@@ -218,7 +238,11 @@ pub fn fit(
                 nlopt::Algorithm::DirectL,
                 settings.global_evaluations,
             ),
-            ("local", nlopt::Algorithm::Sbplx, settings.local_evaluations),
+            (
+                "local",
+                settings.local_algorithm.nlopt(),
+                settings.local_evaluations,
+            ),
         ] {
             if evaluations == 0 {
                 continue;

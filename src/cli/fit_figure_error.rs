@@ -8,7 +8,9 @@ use anyhow::Context;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use traxer::fit::{fit, measure, set_figure_error, Bounds, Diameters, FitSettings, PARAMETERS};
+use traxer::fit::{
+    fit, measure, set_figure_error, Bounds, Diameters, FitSettings, LocalAlgorithm, PARAMETERS,
+};
 use traxer::output::{atomic_write, write_json};
 use traxer::trace::RunConfig;
 
@@ -49,9 +51,12 @@ pub struct FitFigureErrorArgs {
     /// Evaluations of the global search (DIRECT-L).
     #[arg(long, default_value_t = 150)]
     pub global_evals: u32,
-    /// Evaluations of the local polish (Sbplx).
+    /// Evaluations of the local polish.
     #[arg(long, default_value_t = 60)]
     pub local_evals: u32,
+    /// Local optimiser of the polish.
+    #[arg(long, value_enum, default_value = "bobyqa")]
+    pub local_algorithm: LocalAlgorithm,
     /// Extra seeds traced with the best parameters to show the Monte Carlo spread.
     #[arg(long, default_value_t = 3)]
     pub check_seeds: u64,
@@ -156,6 +161,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         sensor,
         global_evaluations: a.global_evals,
         local_evaluations: a.local_evals,
+        local_algorithm: a.local_algorithm,
     };
     let started = std::time::Instant::now();
     let quiet = a.quiet;
@@ -238,13 +244,14 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     atomic_write(&a.out.join("history.csv"), csv.as_bytes())?;
     let p = &best.parameters;
     let source = format!(
-        "traxer fit-figure-error {} {}(targets HPD {}″, 80 % {}″, 90 % {}″; DIRECT-L {} + Sbplx {} evaluations of {} photons, seed {}; bounds {}; traxer {} ({})). Best: HPD {:.1}″, 80 % {:.1}″, 90 % {:.1}″; over {} seeds {:.1} ± {:.1}″, {:.1} ± {:.1}″, {:.1} ± {:.1}″",
+        "traxer fit-figure-error {} {}(targets HPD {}″, 80 % {}″, 90 % {}″; DIRECT-L {} + {:?} {} evaluations of {} photons, seed {}; bounds {}; traxer {} ({})). Best: HPD {:.1}″, 80 % {:.1}″, 90 % {:.1}″; over {} seeds {:.1} ± {:.1}″, {:.1} ± {:.1}″, {:.1} ± {:.1}″",
         a.scene.display(),
         a.define.iter().map(|d| format!("-D {d} ")).collect::<String>(),
         target.hpd,
         target.d80,
         target.d90,
         a.global_evals,
+        a.local_algorithm,
         a.local_evals,
         a.photons,
         a.seed,

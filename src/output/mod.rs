@@ -5,12 +5,14 @@
 //! them here to be written into the `--out` folder.
 
 mod image_png;
+mod montage;
 mod npy;
 mod plot;
 mod provenance;
 mod run_files;
 
 pub use image_png::{write_png, Scale};
+pub use montage::{write_montage, Tile};
 pub use npy::{write_npy_f64, write_npy_u64};
 pub use plot::{line_plot, Series};
 pub use provenance::{git_hash, sha256_hex, Provenance};

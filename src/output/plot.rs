@@ -12,7 +12,7 @@ const FONT: &[u8] = include_bytes!(concat!(
     "/data/fonts/DejaVuSans.ttf"
 ));
 
-fn register_font() {
+pub(super) fn register_font() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         // Cannot fail for a valid TTF; a failure would only lose the text.

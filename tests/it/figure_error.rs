@@ -298,6 +298,7 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
         sensor: 0,
         global_evaluations: 40,
         local_evaluations: 40,
+        local_algorithm: traxer::fit::LocalAlgorithm::Bobyqa,
     };
     let result = fit(&mut scene, &settings, |_, _| {}).unwrap();
     let p = result.best.parameters;
