@@ -17,26 +17,41 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(2_000_000);
     println!(
-        "{:<40} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
-        "scene, coating", "triangles", "photons/s", "sensor ph/s", "queries", "raw rays/s", "ratio"
+        "{:<66} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
+        "scene, variables",
+        "triangles",
+        "photons/s",
+        "sensor ph/s",
+        "queries",
+        "raw rays/s",
+        "ratio"
     );
-    for (name, coating) in [
-        ("wolter1_parallel.toml", "perfect"),
-        ("wolter1_parallel.toml", "llnl_recipe_3"),
-        ("wolter1_meshed.toml", "perfect"),
-        ("wolter1_meshed.toml", "llnl_recipe_3"),
-        ("panter_al_ka.toml", "perfect"),
-        ("panter_al_ka.toml", "as_built"),
-        ("panter_al_ka_meshed.toml", "perfect"),
-        ("panter_al_ka_meshed.toml", "as_built"),
+    for (name, defines) in [
+        ("wolter1_parallel.toml", "coating=perfect"),
+        ("wolter1_parallel.toml", "coating=llnl_recipe_3"),
+        ("wolter1_meshed.toml", "coating=perfect"),
+        ("wolter1_meshed.toml", "coating=llnl_recipe_3"),
+        ("panter_al_ka.toml", "coating=perfect figure_error=none"),
+        (
+            "panter_al_ka.toml",
+            "coating=as_built figure_error=llnl_panter",
+        ),
+        (
+            "panter_al_ka_meshed.toml",
+            "coating=perfect figure_error=none",
+        ),
+        (
+            "panter_al_ka_meshed.toml",
+            "coating=as_built figure_error=llnl_panter",
+        ),
     ] {
-        let defines = [format!("coating={coating}")];
+        let defines: Vec<String> = defines.split(' ').map(String::from).collect();
         let scene =
             Scene::load(&device, &root.join("scenes").join(name), &defines).expect("shipped scene");
         let r = traxer::bench::run(&scene, photons, 0, 300_000).expect("thread pool");
         println!(
-            "{:<40} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
-            format!("{name}, {coating}"),
+            "{:<66} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
+            format!("{name}, {}", defines.join(" ")),
             r.triangles,
             r.photons_per_second,
             r.sensor_photons_per_second,

@@ -84,8 +84,8 @@ fn main() -> anyhow::Result<()> {
                     .collect(),
             ));
             let caption = match variant {
-                "perfect" => "perfect mirrors",
-                _ => "figure errors (llnl_panter)",
+                "perfect" => "perfect figure",
+                _ => "figure errors",
             };
             dirs.push((dir, caption, q));
         }
@@ -94,10 +94,10 @@ fn main() -> anyhow::Result<()> {
             for (file, what) in [
                 ("sensor.png", "linear"),
                 ("sensor_log.png", "log"),
-                ("sensor_eef.png", "encircled energy"),
+                ("sensor_eef.png", "EEF"),
             ] {
                 tiles.push((
-                    format!("{label}, {caption}: {what} (HPD {hpd:.0}″)"),
+                    format!("{label}, {caption}, {what}: HPD {hpd:.0}″"),
                     dir.join(file),
                 ));
             }

@@ -113,7 +113,7 @@ pub struct FitSettings {
     /// Evaluations for DIRECT-L, then for the local polish.
     pub global_evaluations: u32,
     pub local_evaluations: u32,
-    /// The local polish: NLopt's BOBYQA (quadratic models; the default) or Sbplx.
+    /// The local polish: NLopt's Sbplx (the command's default), BOBYQA or Nelder–Mead.
     pub local_algorithm: LocalAlgorithm,
 }
 

@@ -55,7 +55,7 @@ pub struct FitFigureErrorArgs {
     #[arg(long, default_value_t = 60)]
     pub local_evals: u32,
     /// Local optimiser of the polish.
-    #[arg(long, value_enum, default_value = "bobyqa")]
+    #[arg(long, value_enum, default_value = "sbplx")]
     pub local_algorithm: LocalAlgorithm,
     /// Extra seeds traced with the best parameters to show the Monte Carlo spread.
     #[arg(long, default_value_t = 3)]

@@ -270,7 +270,7 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
     let mut scene = traxer::scene::Scene::load(
         &dev,
         &crate::common::repo().join("scenes/panter_al_ka.toml"),
-        &["coating=perfect".into()],
+        &["coating=perfect".into(), "figure_error=none".into()],
     )
     .unwrap();
     let truth = FigureError {
@@ -298,7 +298,7 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
         sensor: 0,
         global_evaluations: 40,
         local_evaluations: 40,
-        local_algorithm: traxer::fit::LocalAlgorithm::Bobyqa,
+        local_algorithm: traxer::fit::LocalAlgorithm::Sbplx,
     };
     let result = fit(&mut scene, &settings, |_, _| {}).unwrap();
     let p = result.best.parameters;
@@ -311,6 +311,7 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
     ] {
         assert!((got / want - 1.0).abs() < 0.005, "{d:?} vs {target:?}");
     }
+    eprintln!("recovered {p:?} with {d:?}, truth {target:?}");
     // ... and the parameters to 5 %.
     assert!((p.in_plane_narrow / 40.0 - 1.0).abs() < 0.05, "{p:?}");
     assert!((p.wide_fraction / 0.15 - 1.0).abs() < 0.05, "{p:?}");
@@ -388,4 +389,31 @@ fn fit_command_writes_history_and_a_loadable_preset() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown parameter"));
+}
+
+#[test]
+fn fitted_preset_reproduces_the_panter_al_ka_measurement() {
+    // The shipped preset (data/figure_errors.toml, fitted with 1 M photons per
+    // evaluation) on the shipped scene: HPD, 80 % and 90 % within 2 % of PANTER's
+    // 206″, 397″, 549″ (SPEC §3) with another seed and 400 000 photons (Monte
+    // Carlo spread ≈ 0.3 %; the fit reached +1.6 %, −0.9 %, −0.2 %).
+    use traxer::fit::measure;
+    let dev = crate::common::device();
+    let scene = traxer::scene::Scene::load(
+        &dev,
+        &crate::common::repo().join("scenes/panter_al_ka.toml"),
+        &[],
+    )
+    .unwrap();
+    let run = RunConfig {
+        photons: 400_000,
+        seed: 99,
+        threads: 0,
+        progress: false,
+        first_photon: 0,
+    };
+    let d = measure(&scene, 0, &run).unwrap().unwrap();
+    for (got, want) in [(d.hpd, 206.0), (d.d80, 397.0), (d.d90, 549.0)] {
+        assert!((got / want - 1.0).abs() < 0.02, "{d:?}");
+    }
 }
