@@ -70,6 +70,7 @@ impl Statistics {
             + self.absorbed
             + self.absorbed_mirror_back
             + self.reflected_into_surface
+            + self.scattered_below_surface
             + self.sensor_outside_area
             + self.sensor_outside_energy_range
             + self.escaped
