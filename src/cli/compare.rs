@@ -3,8 +3,8 @@
 //! as one built from exported meshes), with the image quality, the photons
 //! reaching the sensor and the speed of each, relative to the analytic run.
 
-use super::measure::{pick_sensor, trace_and_measure, Measured};
-use super::{parse_define, InputError};
+use super::measure::{pick_sensor, run_config, trace_and_measure, Measured};
+use super::parse_define;
 use anyhow::Context;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -12,7 +12,6 @@ use std::path::PathBuf;
 use traxer::geometry::Resolution;
 use traxer::output::{atomic_write, write_json};
 use traxer::scene::{Representation, Scene};
-use traxer::trace::RunConfig;
 
 /// Compare the analytic scene with meshes of it: HPD / 80 % / 90 %, photons on the
 /// sensor and photons per second.
@@ -77,16 +76,7 @@ struct Row {
 }
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
-    if a.photons == 0 {
-        return Err(InputError("--photons must be at least 1".into()).into());
-    }
-    let cfg = RunConfig {
-        photons: a.photons,
-        seed: a.seed,
-        threads: a.threads,
-        progress: false,
-        first_photon: 0,
-    };
+    let cfg = run_config(a.photons, a.seed, a.threads)?;
     let device = traxer::embree::Device::new()?;
     let mut runs: Vec<(String, PathBuf, Representation)> =
         vec![("analytic".into(), a.scene.clone(), Representation::Analytic)];

@@ -2,7 +2,7 @@
 //! to measured HPD / 80 % / 90 % diameters (see `traxer::fit`), with progress, a
 //! CSV history and the result as a preset file.
 
-use super::measure::pick_sensor;
+use super::measure::{pick_sensor, run_config};
 use super::{load_scene, parse_define, InputError};
 use anyhow::Context;
 use serde_json::json;
@@ -134,9 +134,6 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     {
         return Err(InputError("the targets must be positive diameters (arcsec)".into()).into());
     }
-    if a.photons == 0 {
-        return Err(InputError("--photons must be at least 1".into()).into());
-    }
     let bounds = parse_bounds(&a.bounds)?;
     let (_device, mut scene) = load_scene(&a.scene, &a.define)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
@@ -147,13 +144,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let run = RunConfig {
-        photons: a.photons,
-        seed: a.seed,
-        threads: a.threads,
-        progress: false,
-        first_photon: 0,
-    };
+    let run = run_config(a.photons, a.seed, a.threads)?;
     let settings = FitSettings {
         bounds,
         target,

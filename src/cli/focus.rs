@@ -1,7 +1,7 @@
 //! `traxer focus`: sweep a scene variable (normally the sensor position), measure
 //! the image at each value with the same random numbers, and fit the best focus.
 
-use super::measure::{pick_sensor, trace_and_measure};
+use super::measure::{pick_sensor, run_config, trace_and_measure};
 use super::{load_scene, parse_define, InputError};
 use anyhow::Context;
 use serde_json::json;
@@ -10,7 +10,6 @@ use std::path::PathBuf;
 use traxer::analysis::focus::{fit_defocus, DefocusFit};
 use traxer::analysis::ImageQuality;
 use traxer::output::{atomic_write, line_plot, write_json, Series};
-use traxer::trace::RunConfig;
 
 /// Find the best focus: trace the scene at several sensor positions and fit the
 /// image diameters.
@@ -73,16 +72,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     if !a.from.is_finite() || !a.to.is_finite() || a.from == a.to {
         return Err(InputError("--from and --to must be two different numbers".into()).into());
     }
-    if a.photons == 0 {
-        return Err(InputError("--photons must be at least 1".into()).into());
-    }
-    let cfg = RunConfig {
-        photons: a.photons,
-        seed: a.seed,
-        threads: a.threads,
-        progress: false,
-        first_photon: 0,
-    };
+    let cfg = run_config(a.photons, a.seed, a.threads)?;
     let mut steps = Vec::with_capacity(a.steps);
     let mut focal_length = None;
     let mut sensor_name = String::new();

@@ -6,6 +6,21 @@ use traxer::analysis::{analyse, ImageGeometry, ImageQuality};
 use traxer::scene::Scene;
 use traxer::trace::{self, RunConfig};
 
+/// The run settings of one of several comparable traces: same seed, no progress
+/// bar (the command prints a line per run instead).
+pub fn run_config(photons: u64, seed: u64, threads: usize) -> Result<RunConfig, InputError> {
+    if photons == 0 {
+        return Err(InputError("--photons must be at least 1".into()));
+    }
+    Ok(RunConfig {
+        photons,
+        seed,
+        threads,
+        progress: false,
+        first_photon: 0,
+    })
+}
+
 /// The sensor to measure: the one named, or the scene's only sensor.
 pub fn pick_sensor(scene: &Scene, name: Option<&str>) -> Result<usize, InputError> {
     let names: Vec<&str> = scene.sensors.iter().map(|s| s.name.as_str()).collect();

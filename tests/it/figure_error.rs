@@ -7,6 +7,16 @@ use traxer::figure_error::{FigureError, Perturbed};
 use traxer::random::PhotonRng;
 use traxer::trace::{self, RunConfig};
 
+/// PANTER's Al Kα diameters (SPEC §3) as `fit-figure-error` arguments.
+const PANTER_AL_TARGETS: [&str; 6] = [
+    "--target-hpd",
+    "206",
+    "--target-c80",
+    "397",
+    "--target-c90",
+    "549",
+];
+
 const ARCSEC: f64 = std::f64::consts::PI / (180.0 * 3600.0);
 
 #[test]
@@ -328,14 +338,7 @@ fn fit_command_writes_history_and_a_loadable_preset() {
         Command::new(env!("CARGO_BIN_EXE_traxer"))
             .arg("fit-figure-error")
             .arg(&scene)
-            .args([
-                "--target-hpd",
-                "206",
-                "--target-c80",
-                "397",
-                "--target-c90",
-                "549",
-            ])
+            .args(PANTER_AL_TARGETS)
             .args(["-n", "20000", "--global-evals", "8", "--local-evals", "4"])
             .args([
                 "--check-seeds",
@@ -376,14 +379,7 @@ fn fit_command_writes_history_and_a_loadable_preset() {
     let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
         .arg("fit-figure-error")
         .arg(&scene)
-        .args([
-            "--target-hpd",
-            "206",
-            "--target-c80",
-            "397",
-            "--target-c90",
-            "549",
-        ])
+        .args(PANTER_AL_TARGETS)
         .args(["--bound", "narrow=0:50"])
         .output()
         .unwrap();
