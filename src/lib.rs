@@ -15,6 +15,7 @@ pub mod material;
 pub mod mesh;
 pub mod output;
 pub mod random;
+pub mod render;
 pub mod scene;
 pub mod sensor;
 pub mod source;

@@ -29,6 +29,7 @@ enum Command {
     Focus(cli::focus::FocusArgs),
     Compare(cli::compare::CompareArgs),
     FitFigureError(cli::fit_figure_error::FitFigureErrorArgs),
+    Render(cli::render::RenderArgs),
 }
 
 fn main() -> ExitCode {
@@ -43,6 +44,7 @@ fn main() -> ExitCode {
         Command::Focus(a) => cli::focus::run(a),
         Command::Compare(a) => cli::compare::run(a),
         Command::FitFigureError(a) => cli::fit_figure_error::run(a),
+        Command::Render(a) => cli::render::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,7 +1,7 @@
 //! `traxer bench`: photons per second, and raw Embree rays per second on the same
 //! rays.
 
-use super::{load_scene, parse_define};
+use super::{load_xray_scene, parse_define};
 use std::path::PathBuf;
 
 /// Measure tracing speed on a scene and compare it with raw Embree queries.
@@ -34,7 +34,7 @@ pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     if a.photons == 0 {
         return Err(super::InputError("--photons must be at least 1".into()).into());
     }
-    let (_device, scene) = load_scene(&a.scene, &a.define)?;
+    let (_device, scene) = load_xray_scene(&a.scene, &a.define)?;
     let r = traxer::bench::run(&scene, a.photons, a.threads, a.raw_photons)?;
     if a.json {
         say!("{}", serde_json::to_string_pretty(&r)?);

@@ -97,6 +97,13 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let mut rows = Vec::new();
     for (label, path, repr) in runs {
         let scene = Scene::load_as(&device, &path, &a.define, repr)?;
+        if scene.sources.is_empty() {
+            return Err(super::InputError(format!(
+                "{}: the scene has no [[sources]]: nothing to compare",
+                path.display()
+            ))
+            .into());
+        }
         let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
         let m = trace_and_measure(&scene, sensor, &cfg)?;
         if !a.quiet {

@@ -31,7 +31,7 @@ pub struct EefArgs {
 }
 
 /// Reads any numeric .npy as f64 with its shape.
-fn read_npy(path: &Path) -> Result<(Vec<u64>, Vec<f64>), InputError> {
+pub fn read_npy(path: &Path) -> Result<(Vec<u64>, Vec<f64>), InputError> {
     let bad = |m: String| InputError(format!("{}: {m}", path.display()));
     let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
     let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;

@@ -3,7 +3,7 @@
 //! CSV history and the result as a preset file.
 
 use super::measure::{pick_sensor, run_config};
-use super::{load_scene, parse_define, InputError};
+use super::{load_xray_scene, parse_define, InputError};
 use anyhow::Context;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -135,7 +135,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         return Err(InputError("the targets must be positive diameters (arcsec)".into()).into());
     }
     let bounds = parse_bounds(&a.bounds)?;
-    let (_device, mut scene) = load_scene(&a.scene, &a.define)?;
+    let (_device, mut scene) = load_xray_scene(&a.scene, &a.define)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {
         return Err(InputError(format!(

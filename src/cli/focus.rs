@@ -2,7 +2,7 @@
 //! the image at each value with the same random numbers, and fit the best focus.
 
 use super::measure::{pick_sensor, run_config, trace_and_measure};
-use super::{load_scene, parse_define, InputError};
+use super::{load_xray_scene, parse_define, InputError};
 use anyhow::Context;
 use serde_json::json;
 use std::fmt::Write as _;
@@ -80,7 +80,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         let value = a.from + (a.to - a.from) * i as f64 / (a.steps - 1) as f64;
         let mut defines = a.define.clone();
         defines.push(format!("{}={value}", a.var));
-        let (_device, scene) = load_scene(&a.scene, &defines)?;
+        let (_device, scene) = load_xray_scene(&a.scene, &defines)?;
         let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
         focal_length = scene.sensors[sensor].focal_length;
         sensor_name.clone_from(&scene.sensors[sensor].name);

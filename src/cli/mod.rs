@@ -17,6 +17,7 @@ pub mod focus;
 pub mod info;
 pub mod measure;
 pub mod reflectivity;
+pub mod render;
 pub mod tessellate;
 pub mod trace;
 
@@ -52,6 +53,22 @@ pub fn load_scene(
     let scene = traxer::scene::Scene::load(&device, path, defines)?;
     for w in &scene.warnings {
         eprintln!("warning: {w}");
+    }
+    Ok((device, scene))
+}
+
+/// Loads a scene for X-ray tracing: as [`load_scene`], and it must have sources.
+pub fn load_xray_scene(
+    path: &std::path::Path,
+    defines: &[String],
+) -> anyhow::Result<(traxer::embree::Device, traxer::scene::Scene)> {
+    let (device, scene) = load_scene(path, defines)?;
+    if scene.sources.is_empty() {
+        return Err(InputError(format!(
+            "{}: the scene has no [[sources]]: nothing to trace (a scene without sources can only be rendered)",
+            path.display()
+        ))
+        .into());
     }
     Ok((device, scene))
 }

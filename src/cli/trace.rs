@@ -1,6 +1,6 @@
 //! `traxer trace`: run a scene and write the sensor images and summary.
 
-use super::{load_scene, parse_define};
+use super::{load_xray_scene, parse_define};
 use anyhow::Context;
 use std::io::IsTerminal;
 use std::path::PathBuf;
@@ -45,7 +45,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     if a.photons == 0 {
         return Err(super::InputError("--photons must be at least 1".into()).into());
     }
-    let (device, scene) = load_scene(&a.scene, &a.define)?;
+    let (device, scene) = load_xray_scene(&a.scene, &a.define)?;
     if scene.sensors.is_empty() {
         eprintln!("warning: the scene has no sensor; only statistics will be written");
     }

@@ -13,6 +13,7 @@ use crate::geometry::{
 use crate::material::{Material, Side};
 use crate::mesh::{self, TriangleMesh};
 use crate::output::sha256_hex;
+use crate::render::{Appearance, Camera, Sky};
 use crate::sensor::SensorSpec;
 use crate::source::{AnnulusSector, ParallelBeam, PointSource, Source, Spectrum};
 use crate::xray::{Coating, CoatingLibrary, ReflectivityTable};
@@ -39,6 +40,10 @@ pub struct Scene {
     /// `Material::Mirror::reflectivity`), over the sources' energy range.
     pub reflectivity: Vec<ReflectivityTable>,
     pub embree: CommittedScene<AnalyticObject>,
+    /// Named cameras for visible-light renders.
+    pub cameras: BTreeMap<String, Camera>,
+    /// The sky of visible-light renders.
+    pub sky: Sky,
     /// Things worth telling the user (skipped mesh primitives, ...).
     pub warnings: Vec<String>,
     pub triangle_count: usize,
@@ -51,6 +56,8 @@ pub struct Object {
     /// Local frame → world (for sensors' pixel grids and for reporting).
     pub transform: Transform,
     pub geometry: ObjectGeometry,
+    /// How it looks in visible-light renders.
+    pub appearance: Appearance,
 }
 
 // Few objects per scene: keeping the analytic shape inline costs nothing.
@@ -409,11 +416,16 @@ impl Builder<'_> {
                 }
             }
             .map_err(|e| SceneError::new(self.path, None, format!("object `{name}`: {e}")))?;
+            let appearance = match &od.appearance {
+                None => Appearance::default_for(&material),
+                Some(a) => self.appearance(a.get_ref(), a.span(), &name)?,
+            };
             objects.push(Object {
                 name,
                 material,
                 transform,
                 geometry,
+                appearance,
             });
         }
         for (name, (_, span)) in &materials {
@@ -423,13 +435,6 @@ impl Builder<'_> {
                     format!("material `{name}` is not used by any object"),
                 );
             }
-        }
-        if desc.sources.is_empty() {
-            return Err(SceneError::new(
-                self.path,
-                None,
-                "the scene has no [[sources]]",
-            ));
         }
         let sources = desc
             .sources
@@ -465,7 +470,44 @@ impl Builder<'_> {
                 format!("Embree could not build the scene: {e}"),
             )
         })?;
+        let mut cameras = BTreeMap::new();
+        for (name, c) in &desc.cameras {
+            let camera = Camera {
+                look_from: DVec3::from(c.get_ref().look_from),
+                look_at: DVec3::from(c.get_ref().look_at),
+                up: DVec3::from(c.get_ref().up),
+                vfov: c.get_ref().vfov,
+            };
+            camera
+                .validate()
+                .or_else(|m| self.err(c.span(), format!("camera `{name}`: {m}")))?;
+            cameras.insert(name.clone(), camera);
+        }
+        let sky = match &desc.sky {
+            None => Sky::default(),
+            Some(k) => {
+                let d = k.get_ref();
+                let colours_ok = [d.zenith, d.horizon]
+                    .iter()
+                    .flatten()
+                    .all(|v| v.is_finite() && *v >= 0.0);
+                let up = DVec3::from(d.up);
+                if !colours_ok || !up.is_finite() || up.length() == 0.0 {
+                    return self.err(
+                        k.span(),
+                        "sky: zenith and horizon are colours (≥ 0), up a non-zero direction",
+                    );
+                }
+                Sky {
+                    zenith: DVec3::from(d.zenith),
+                    horizon: DVec3::from(d.horizon),
+                    up: up.normalize(),
+                }
+            }
+        };
         Ok(Scene {
+            cameras,
+            sky,
             path: self.path.to_path_buf(),
             text_sha256: String::new(),
             overrides: Vec::new(),
@@ -478,6 +520,55 @@ impl Builder<'_> {
             embree,
             warnings,
             triangle_count,
+        })
+    }
+
+    fn appearance(
+        &self,
+        d: &AppearanceDesc,
+        span: std::ops::Range<usize>,
+        object: &str,
+    ) -> Result<Appearance, SceneError> {
+        let colour = |c: [f64; 3], what: &str| {
+            if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                Ok(DVec3::from(c))
+            } else {
+                self.err(
+                    span.clone(),
+                    format!("object `{object}`: appearance {what} must be three numbers ≥ 0 (linear RGB)"),
+                )
+            }
+        };
+        Ok(match d {
+            AppearanceDesc::Diffuse { color } => Appearance::Diffuse {
+                color: colour(*color, "color")?,
+            },
+            AppearanceDesc::Metal { color, roughness } => {
+                if !(0.0..=1.0).contains(roughness) {
+                    return self.err(
+                        span,
+                        format!("object `{object}`: roughness = {roughness}: expected 0 to 1"),
+                    );
+                }
+                Appearance::Metal {
+                    color: colour(*color, "color")?,
+                    roughness: *roughness,
+                }
+            }
+            AppearanceDesc::Glass { ior } => {
+                if !(ior.is_finite() && *ior >= 1.0) {
+                    return self.err(
+                        span,
+                        format!(
+                            "object `{object}`: ior = {ior}: expected an index of refraction ≥ 1"
+                        ),
+                    );
+                }
+                Appearance::Glass { ior: *ior }
+            }
+            AppearanceDesc::Emitting { color } => Appearance::Emitting {
+                color: colour(*color, "color")?,
+            },
         })
     }
 
@@ -814,6 +905,7 @@ fn expand_assemblies(
                             transform,
                             tessellate: t.tessellate.map(|r| Spanned::new(span.clone(), r)),
                             smooth_normals: meshed && is_mirror,
+                            appearance: None,
                         },
                     ));
                 }

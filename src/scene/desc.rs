@@ -52,6 +52,12 @@ pub struct SceneDesc {
     /// Figure-error presets, added to those of data/figure_errors.toml.
     #[serde(default)]
     pub figure_errors: BTreeMap<String, crate::figure_error::FigureErrorEntry>,
+    /// Named cameras for visible-light renders (`traxer render --camera NAME`).
+    #[serde(default)]
+    pub cameras: BTreeMap<String, Spanned<CameraDesc>>,
+    /// The sky that lights visible-light renders.
+    #[serde(default)]
+    pub sky: Option<Spanned<SkyDesc>>,
 }
 
 fn default_max_interactions() -> Spanned<u32> {
@@ -157,6 +163,80 @@ pub struct ObjectDesc {
     pub tessellate: Option<Spanned<TessellateDesc>>,
     #[serde(default)]
     pub smooth_normals: bool,
+    /// Visible-light look (renders only); default from the material.
+    #[serde(default)]
+    pub appearance: Option<Spanned<AppearanceDesc>>,
+}
+
+/// A camera for visible-light renders.
+///
+/// ```toml
+/// [cameras.overview]
+/// look_from = [600.0, 300.0, 800.0]
+/// look_at = [0.0, 0.0, -700.0]
+/// up = [0.0, 1.0, 0.0]      # default +y
+/// vfov = 30.0               # vertical field of view, degrees
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct CameraDesc {
+    pub look_from: [f64; 3],
+    pub look_at: [f64; 3],
+    #[serde(default = "y_up")]
+    pub up: [f64; 3],
+    pub vfov: f64,
+}
+
+fn y_up() -> [f64; 3] {
+    [0.0, 1.0, 0.0]
+}
+
+/// The sky of visible-light renders: `zenith` colour along `up`, `horizon`
+/// colour below, blended linearly (the same colour twice: a uniform sky).
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SkyDesc {
+    #[serde(default = "sky_zenith")]
+    pub zenith: [f64; 3],
+    #[serde(default = "sky_horizon")]
+    pub horizon: [f64; 3],
+    #[serde(default = "y_up")]
+    pub up: [f64; 3],
+}
+
+fn sky_zenith() -> [f64; 3] {
+    [0.5, 0.7, 1.0]
+}
+
+fn sky_horizon() -> [f64; 3] {
+    [1.0, 1.0, 1.0]
+}
+
+/// Visible-light appearance of an object.
+///
+/// ```toml
+/// appearance = { type = "diffuse", color = [0.8, 0.3, 0.3] }
+/// appearance = { type = "metal", color = [0.9, 0.9, 0.9], roughness = 0.05 }
+/// appearance = { type = "glass", ior = 1.5 }
+/// appearance = { type = "emitting", color = [4.0, 4.0, 4.0] }
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum AppearanceDesc {
+    Diffuse {
+        color: [f64; 3],
+    },
+    Metal {
+        color: [f64; 3],
+        #[serde(default)]
+        roughness: f64,
+    },
+    Glass {
+        ior: f64,
+    },
+    Emitting {
+        color: [f64; 3],
+    },
 }
 
 /// Built-in assemblies: many objects from one entry.

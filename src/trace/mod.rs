@@ -123,6 +123,13 @@ pub fn trace_range_with<H: QueryHook>(
     let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
     let mut records = Vec::new();
     let n_sources = scene.sources.len() as u64;
+    if n_sources == 0 {
+        // A scene for visible-light renders only: nothing is emitted.
+        return (
+            Vec::new(),
+            Statistics::new(scene.objects.len(), scene.sensors.len()),
+        );
+    }
     for i in lo..hi {
         let mut rng = PhotonRng::new(seed, i);
         let photon = scene.sources[(i % n_sources) as usize].emit(&mut rng);

@@ -13,6 +13,7 @@ mod llnl;
 mod mesh_io;
 mod meshed_telescope;
 mod photon_loop;
+mod render;
 mod scenes;
 mod sources;
 mod xray;

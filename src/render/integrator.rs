@@ -1,0 +1,221 @@
+//! The path tracer: per pixel `spp` camera rays through random points of the
+//! pixel, each followed through at most `max_depth` bounces (diffuse, metal,
+//! glass), lit by the sky and by emitting surfaces. Pixel k draws its random
+//! numbers from the stream (seed, k), so a render is identical for any number of
+//! threads.
+
+use super::{Appearance, Camera, Sky};
+use crate::material::Material;
+use crate::random::PhotonRng;
+use crate::scene::Scene;
+use crate::trace::{intersect, reflect, SurfaceHit};
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Image size and sampling.
+#[derive(Clone, Copy, Debug)]
+pub struct RenderSettings {
+    pub width: usize,
+    pub height: usize,
+    /// Samples (camera rays) per pixel.
+    pub spp: u32,
+    /// Bounces after which a path stops (contributing nothing more).
+    pub max_depth: u32,
+    pub seed: u64,
+}
+
+/// An X-ray sensor image shown on its sensor's face as emitted light.
+#[derive(Clone, Debug)]
+pub struct SensorTexture {
+    /// Index of the sensor object in the scene.
+    pub object: usize,
+    pub size: [f64; 2],
+    pub pixels: [usize; 2],
+    /// Linear RGB radiance per pixel, row-major [iy][ix], iy along local +y.
+    pub radiance: Vec<DVec3>,
+}
+
+impl SensorTexture {
+    /// The image through viridis (`values` row-major, like the `.npy` files),
+    /// scaled so that the brightest pixel emits `brightness`.
+    pub fn viridis(
+        object: usize,
+        size: [f64; 2],
+        pixels: [usize; 2],
+        values: &[f64],
+        log_decades: Option<u32>,
+        brightness: f64,
+    ) -> SensorTexture {
+        let max = values.iter().cloned().fold(0.0, f64::max);
+        let radiance = values
+            .iter()
+            .map(|&v| {
+                let t = if max <= 0.0 || v <= 0.0 {
+                    0.0
+                } else if let Some(d) = log_decades {
+                    let d = d.max(1) as f64;
+                    ((v / max).log10() + d) / d
+                } else {
+                    v / max
+                };
+                let c = colorous::VIRIDIS.eval_continuous(t.clamp(0.0, 1.0));
+                // The colour map is sRGB; light adds in linear RGB.
+                DVec3::new(
+                    srgb_to_linear(c.r),
+                    srgb_to_linear(c.g),
+                    srgb_to_linear(c.b),
+                ) * brightness
+            })
+            .collect();
+        SensorTexture {
+            object,
+            size,
+            pixels,
+            radiance,
+        }
+    }
+
+    fn at(&self, local: DVec3) -> DVec3 {
+        let fx = local.x / self.size[0] + 0.5;
+        let fy = local.y / self.size[1] + 0.5;
+        let ix = ((fx * self.pixels[0] as f64) as isize).clamp(0, self.pixels[0] as isize - 1);
+        let iy = ((fy * self.pixels[1] as f64) as isize).clamp(0, self.pixels[1] as isize - 1);
+        self.radiance[iy as usize * self.pixels[0] + ix as usize]
+    }
+}
+
+fn srgb_to_linear(c: u8) -> f64 {
+    let c = c as f64 / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Renders the scene: linear RGB radiance per pixel, row-major from the top row.
+pub fn render(
+    scene: &Scene,
+    camera: &Camera,
+    sky: &Sky,
+    textures: &[SensorTexture],
+    s: &RenderSettings,
+) -> Vec<DVec3> {
+    let frame = camera.frame(s.width as f64 / s.height as f64);
+    let mut image = vec![DVec3::ZERO; s.width * s.height];
+    image
+        .par_chunks_mut(s.width)
+        .enumerate()
+        .for_each(|(row, pixels)| {
+            for (col, px) in pixels.iter_mut().enumerate() {
+                let mut rng = PhotonRng::new(s.seed, (row * s.width + col) as u64);
+                let mut sum = DVec3::ZERO;
+                for _ in 0..s.spp {
+                    let u = (col as f64 + rng.uniform()) / s.width as f64;
+                    let v = (row as f64 + rng.uniform()) / s.height as f64;
+                    let (origin, dir) = frame.ray(u, v);
+                    sum += radiance(scene, sky, textures, origin, dir, s.max_depth, &mut rng);
+                }
+                *px = sum / s.spp.max(1) as f64;
+            }
+        });
+    image
+}
+
+/// Light arriving at `origin` from direction `-dir`.
+fn radiance(
+    scene: &Scene,
+    sky: &Sky,
+    textures: &[SensorTexture],
+    mut origin: DVec3,
+    mut dir: DVec3,
+    max_depth: u32,
+    rng: &mut PhotonRng,
+) -> DVec3 {
+    let mut throughput = DVec3::ONE;
+    let mut start: Option<SurfaceHit> = None;
+    for _ in 0..max_depth {
+        let Some(hit) = intersect(scene, origin, dir, start.as_ref()) else {
+            return throughput * sky.radiance(dir);
+        };
+        let object = &scene.objects[hit.object];
+        // An X-ray image on its sensor glows; the rest of the sensor looks as it is.
+        if let Material::Sensor { .. } = object.material {
+            if let Some(t) = textures.iter().find(|t| t.object == hit.object) {
+                let local = object.transform.to_local.transform_point3(hit.point);
+                return throughput * t.at(local);
+            }
+        }
+        let front = dir.dot(hit.geometric_normal) < 0.0;
+        // The shading normal on the side the ray comes from.
+        let n = if dir.dot(hit.shading_normal) < 0.0 {
+            hit.shading_normal
+        } else {
+            -hit.shading_normal
+        };
+        let next = match object.appearance {
+            Appearance::Emitting { color } => return throughput * color,
+            Appearance::Diffuse { color } => {
+                throughput *= color;
+                (n + unit_vector(rng)).try_normalize().unwrap_or(n)
+            }
+            Appearance::Metal { color, roughness } => {
+                throughput *= color;
+                let d = (reflect(dir, n) + in_unit_sphere(rng) * roughness)
+                    .try_normalize()
+                    .unwrap_or(n);
+                // A blurred direction into the surface is mirrored back out, so the
+                // metal reflects all of `color` (energy is conserved).
+                if d.dot(n) < 0.0 {
+                    reflect(d, n)
+                } else {
+                    d
+                }
+            }
+            Appearance::Glass { ior } => {
+                let eta = if front { 1.0 / ior } else { ior };
+                let cos = (-dir.dot(n)).min(1.0);
+                let sin = (1.0 - cos * cos).sqrt();
+                let r0 = ((1.0 - eta) / (1.0 + eta)).powi(2);
+                let schlick = r0 + (1.0 - r0) * (1.0 - cos).powi(5);
+                if eta * sin > 1.0 || schlick > rng.uniform() {
+                    reflect(dir, n)
+                } else {
+                    let perp = (dir + n * cos) * eta;
+                    let par = -n * (1.0 - perp.length_squared()).abs().sqrt();
+                    (perp + par).normalize()
+                }
+            }
+        };
+        origin = hit.point;
+        dir = next;
+        start = Some(hit);
+    }
+    DVec3::ZERO
+}
+
+/// Uniform on the unit sphere.
+fn unit_vector(rng: &mut PhotonRng) -> DVec3 {
+    let z = 2.0 * rng.uniform() - 1.0;
+    let (s, c) = (std::f64::consts::TAU * rng.uniform()).sin_cos();
+    let r = (1.0 - z * z).sqrt();
+    DVec3::new(r * c, r * s, z)
+}
+
+/// Uniform in the unit ball.
+fn in_unit_sphere(rng: &mut PhotonRng) -> DVec3 {
+    unit_vector(rng) * rng.uniform().cbrt()
+}
+
+/// The PNG bytes' values: sRGB-encoded, clamped to [0, 1].
+pub fn to_srgb8(c: DVec3) -> [u8; 3] {
+    c.to_array().map(|v| {
+        let v = v.clamp(0.0, 1.0);
+        let e = if v <= 0.003_130_8 {
+            12.92 * v
+        } else {
+            1.055 * v.powf(1.0 / 2.4) - 0.055
+        };
+        (e * 255.0 + 0.5) as u8
+    })
+}

@@ -1,0 +1,232 @@
+//! Visible-light renders: closed-form lighting checks (furnace tests), the camera
+//! frame, reproducibility across threads, and X-ray images on sensors.
+
+use glam::DVec3;
+use traxer::render::{render, Camera, RenderSettings, SensorTexture};
+use traxer::scene::Scene;
+
+const UNIFORM_SKY: &str = "[sky]\nzenith = [1.0, 1.0, 1.0]\nhorizon = [1.0, 1.0, 1.0]\n";
+
+fn one_sphere(appearance: &str) -> Scene {
+    crate::common::scene(&format!(
+        r#"{UNIFORM_SKY}
+[[objects]]
+name = "ball"
+material = "absorber"
+shape = {{ type = "sphere", radius = 1.0 }}
+appearance = {appearance}
+"#
+    ))
+}
+
+fn settings(spp: u32) -> RenderSettings {
+    RenderSettings {
+        width: 48,
+        height: 32,
+        spp,
+        max_depth: 64,
+        seed: 7,
+    }
+}
+
+fn looking_at_origin(vfov: f64) -> Camera {
+    Camera {
+        look_from: DVec3::new(0.0, 0.0, 6.0),
+        look_at: DVec3::ZERO,
+        up: DVec3::Y,
+        vfov,
+    }
+}
+
+#[test]
+fn convex_objects_under_a_uniform_sky_show_their_albedo_exactly() {
+    // Under a uniform sky of radiance 1, a ray that hits a convex object bounces
+    // once and escapes to the sky: a diffuse or polished-metal surface of albedo ρ
+    // has radiance ρ whatever the direction, the background 1.
+    for (appearance, rho) in [
+        (r#"{ type = "diffuse", color = [0.6, 0.6, 0.6] }"#, 0.6),
+        (
+            r#"{ type = "metal", color = [0.8, 0.8, 0.8], roughness = 0.3 }"#,
+            0.8,
+        ),
+    ] {
+        let s = one_sphere(appearance);
+        let img = render(&s, &looking_at_origin(30.0), &s.sky, &[], &settings(4));
+        let (w, h) = (48, 32);
+        // The centre pixel sees the sphere, the corner the sky.
+        let centre = img[(h / 2) * w + w / 2];
+        assert!(
+            (centre - DVec3::splat(rho)).abs().max_element() < 1e-12,
+            "{centre}"
+        );
+        assert!((img[0] - DVec3::ONE).abs().max_element() < 1e-12);
+        // Every pixel is a mix of the two (edge pixels see both).
+        assert!(img.iter().all(|c| c.x >= rho - 1e-12 && c.x <= 1.0 + 1e-12));
+    }
+}
+
+#[test]
+fn clear_glass_under_a_uniform_sky_is_invisible() {
+    // A lossless dielectric only redirects light: every path ends in the uniform
+    // sky with full weight, so the picture is uniformly 1 (energy conservation of
+    // the Fresnel split and refraction), up to paths cut at max_depth.
+    let s = one_sphere(r#"{ type = "glass", ior = 1.5 }"#);
+    let img = render(&s, &looking_at_origin(30.0), &s.sky, &[], &settings(16));
+    let mean = img.iter().map(|c| c.x).sum::<f64>() / img.len() as f64;
+    assert!((mean - 1.0).abs() < 1e-3, "mean {mean}");
+}
+
+#[test]
+fn an_object_at_the_look_at_point_appears_at_the_image_centre() {
+    // A small glowing sphere at look_at, and a second one 1 unit above it
+    // (camera 6 units away, vfov 20°): it must appear tan⁻¹(1/6) above the centre,
+    // i.e. (1/6)/tan(10°) of the half-height.
+    let s = crate::common::scene(
+        r#"
+[sky]
+zenith = [0.0, 0.0, 0.0]
+horizon = [0.0, 0.0, 0.0]
+
+[[objects]]
+name = "target"
+material = "absorber"
+shape = { type = "sphere", radius = 0.05 }
+transform = [ { translate = [0.3, -0.2, 0.0] } ]
+appearance = { type = "emitting", color = [1.0, 0.0, 0.0] }
+
+[[objects]]
+name = "above"
+material = "absorber"
+shape = { type = "sphere", radius = 0.05 }
+transform = [ { translate = [0.3, 0.8, 0.0] } ]
+appearance = { type = "emitting", color = [0.0, 1.0, 0.0] }
+"#,
+    );
+    let cam = Camera {
+        look_from: DVec3::new(0.3, -0.2, 6.0),
+        look_at: DVec3::new(0.3, -0.2, 0.0),
+        up: DVec3::Y,
+        vfov: 20.0,
+    };
+    let (w, h) = (201, 201);
+    let s_ = RenderSettings {
+        width: w,
+        height: h,
+        spp: 4,
+        max_depth: 4,
+        seed: 1,
+    };
+    let img = render(&s, &cam, &s.sky, &[], &s_);
+    let centroid = |f: fn(&DVec3) -> f64| {
+        let (mut sw, mut sx, mut sy) = (0.0, 0.0, 0.0);
+        for (k, c) in img.iter().enumerate() {
+            let v = f(c);
+            sw += v;
+            sx += v * ((k % w) as f64 + 0.5);
+            sy += v * ((k / w) as f64 + 0.5);
+        }
+        (sx / sw, sy / sw)
+    };
+    let (rx, ry) = centroid(|c| c.x);
+    assert!(
+        (rx - 100.5).abs() < 0.5 && (ry - 100.5).abs() < 0.5,
+        "red at ({rx}, {ry})"
+    );
+    let (gx, gy) = centroid(|c| c.y);
+    let expect_up = (1.0f64 / 6.0) / 10f64.to_radians().tan() * 100.5;
+    assert!((gx - 100.5).abs() < 0.5, "green at x = {gx}");
+    // Rows count down from the top: "above" means a smaller row.
+    assert!(
+        (100.5 - gy - expect_up).abs() < 1.0,
+        "green {} rows up, expected {expect_up}",
+        100.5 - gy
+    );
+}
+
+#[test]
+fn the_same_seed_gives_the_same_picture_on_any_number_of_threads() {
+    let s = crate::common::scene(
+        &std::fs::read_to_string(crate::common::repo().join("scenes/spheres.toml")).unwrap(),
+    );
+    let cam = s.cameras["classic"];
+    let st = RenderSettings {
+        width: 60,
+        height: 40,
+        spp: 4,
+        max_depth: 12,
+        seed: 3,
+    };
+    let run = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| render(&s, &cam, &s.sky, &[], &st))
+    };
+    let one = run(1);
+    assert_eq!(one, run(2));
+    assert_eq!(one, run(3));
+    // ... and another seed gives another picture.
+    let other = render(&s, &cam, &s.sky, &[], &RenderSettings { seed: 4, ..st });
+    assert_ne!(one, other);
+}
+
+#[test]
+fn a_sensor_image_glows_on_the_sensor_face() {
+    // A 2 × 2 pixel sensor seen face on, filling the view: its left column holds
+    // the maximum, the right column nothing. The left half of the picture shows
+    // viridis' bright end times the brightness, the right half its dark end.
+    let s = crate::common::scene(
+        r#"
+[sky]
+zenith = [0.0, 0.0, 0.0]
+horizon = [0.0, 0.0, 0.0]
+
+[materials.detector]
+type = "sensor"
+size = [10.0, 10.0]
+pixels = [2, 2]
+
+[[objects]]
+name = "sensor"
+material = "detector"
+shape = { type = "rectangle", size = [10.0, 10.0] }
+"#,
+    );
+    let tex = SensorTexture::viridis(0, [10.0, 10.0], [2, 2], &[4.0, 0.0, 4.0, 0.0], None, 2.0);
+    let cam = Camera {
+        look_from: DVec3::new(0.0, 0.0, 10.0),
+        look_at: DVec3::ZERO,
+        up: DVec3::Y,
+        vfov: 20.0,
+    };
+    let st = RenderSettings {
+        width: 20,
+        height: 20,
+        spp: 1,
+        max_depth: 4,
+        seed: 1,
+    };
+    let img = render(&s, &cam, &s.sky, &[tex], &st);
+    // viridis(1) = #fde725, viridis(0) = #440154 (sRGB) → linear.
+    let lin = |c: u8| {
+        let c = c as f64 / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let bright = DVec3::new(lin(0xfd), lin(0xe7), lin(0x25)) * 2.0;
+    let dark = DVec3::new(lin(0x44), lin(0x01), lin(0x54)) * 2.0;
+    assert!(
+        (img[10 * 20 + 5] - bright).abs().max_element() < 0.02,
+        "{}",
+        img[10 * 20 + 5]
+    );
+    assert!(
+        (img[10 * 20 + 15] - dark).abs().max_element() < 0.02,
+        "{}",
+        img[10 * 20 + 15]
+    );
+}
