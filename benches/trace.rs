@@ -3,7 +3,8 @@
 //! telescope is the shipped meshes/llnl_telescope.glb), Embree queries per photon, and the
 //! raw `rtcIntersect1` rate on the same rays (the same numbers come from
 //! `traxer bench SCENE`); then reflectivity evaluations per second, direct and
-//! through the photon loop's tables.
+//! through the photon loop's tables; camera rays per second of the visible-light
+//! renders of scenes/spheres.toml and the PANTER telescope view.
 
 use std::path::Path;
 use traxer::embree::Device;
@@ -79,6 +80,37 @@ fn main() {
             r.direct_per_second,
             r.table_per_second,
             r.table_build_seconds
+        );
+    }
+    println!();
+    println!(
+        "{:<36} {:>10} {:>5} {:>16}",
+        "visible-light render", "pixels", "spp", "camera rays/s"
+    );
+    for (name, camera, (w, h), spp) in [
+        ("spheres.toml", "classic", (600, 400), 16),
+        ("panter_al_ka.toml", "telescope", (480, 300), 16),
+    ] {
+        let scene =
+            Scene::load(&device, &root.join("scenes").join(name), &[]).expect("shipped scene");
+        let settings = traxer::render::RenderSettings {
+            width: w,
+            height: h,
+            spp,
+            max_depth: 12,
+            seed: 1,
+        };
+        let start = std::time::Instant::now();
+        let img =
+            traxer::render::render(&scene, &scene.cameras[camera], &scene.sky, &[], &settings);
+        let seconds = start.elapsed().as_secs_f64();
+        assert_eq!(img.len(), w * h);
+        println!(
+            "{:<36} {:>10} {:>5} {:>16.0}",
+            format!("{name}, camera {camera}"),
+            format!("{w}×{h}"),
+            spp,
+            (w * h) as f64 * spp as f64 / seconds
         );
     }
 }

@@ -14,3 +14,13 @@ cp "$tmp/focus/focus.png" docs/img/panter_al_ka_focus.png
 rm -rf "$tmp"
 # PANTER Al/Ti/Fe Kα: perfect figure vs the fitted figure errors, and all EEFs.
 cargo run --release --quiet --example panter_pictures
+# Visible-light renders: the classic spheres, and the LLNL telescope with the
+# PANTER Al Kα image glowing on its sensor.
+$T render scenes/spheres.toml --width 600 --height 400 --spp 64 --out docs/img/spheres.png
+tmp=$(mktemp -d)
+$T trace scenes/panter_al_ka.toml -n 2000000 --out "$tmp" -q
+$T render scenes/panter_al_ka.toml --camera telescope --width 480 --height 300 --spp 64 \
+  --sensor-image "$tmp" --log-decades 3 --out docs/img/llnl_telescope_view.png
+$T render scenes/panter_al_ka.toml --camera sensor --width 480 --height 300 --spp 16 \
+  --sensor-image "$tmp" --log-decades 3 --out docs/img/llnl_sensor_view.png
+rm -rf "$tmp"

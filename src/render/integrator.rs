@@ -139,14 +139,14 @@ fn radiance(
             return throughput * sky.radiance(dir);
         };
         let object = &scene.objects[hit.object];
-        // An X-ray image on its sensor glows; the rest of the sensor looks as it is.
-        if let Material::Sensor { .. } = object.material {
+        let front = dir.dot(hit.geometric_normal) < 0.0;
+        // An X-ray image glows on its sensor's face; the back looks as it is.
+        if let (Material::Sensor { .. }, true) = (object.material, front) {
             if let Some(t) = textures.iter().find(|t| t.object == hit.object) {
                 let local = object.transform.to_local.transform_point3(hit.point);
                 return throughput * t.at(local);
             }
         }
-        let front = dir.dot(hit.geometric_normal) < 0.0;
         // The shading normal on the side the ray comes from.
         let n = if dir.dot(hit.shading_normal) < 0.0 {
             hit.shading_normal
