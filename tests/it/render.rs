@@ -230,3 +230,72 @@ shape = { type = "rectangle", size = [10.0, 10.0] }
         img[10 * 20 + 15]
     );
 }
+
+#[test]
+fn render_command_writes_a_png_and_refuses_bad_cameras() {
+    use std::process::Command;
+    let dir = tempfile::tempdir().unwrap();
+    let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
+    let png = dir.path().join("t.png");
+    crate::common::run_ok(
+        Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .arg("render")
+            .arg(&scene)
+            .args([
+                "--camera",
+                "telescope",
+                "--width",
+                "40",
+                "--height",
+                "30",
+                "--spp",
+                "2",
+            ])
+            .arg("--out")
+            .arg(&png),
+    );
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!(img.dimensions(), (40, 30));
+    // Several cameras and none chosen, an unknown one, a degenerate one, and a
+    // sensor image of the wrong shape: exit code 2, no picture written.
+    for args in [
+        vec![],
+        vec!["--camera", "nope"],
+        vec![
+            "--camera",
+            "sensor",
+            "--up",
+            "0,0,1",
+            "--look-from",
+            "0,0,5",
+            "--look-at",
+            "0,0,0",
+        ],
+        vec!["--camera", "sensor", "--vfov", "0"],
+    ] {
+        let bad = dir.path().join("bad.png");
+        let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+            .arg("render")
+            .arg(&scene)
+            .args(&args)
+            .arg("--out")
+            .arg(&bad)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(!bad.exists(), "{args:?}");
+    }
+    let npy = dir.path().join("wrong.npy");
+    traxer::output::write_npy_f64(&npy, &[3, 3], &[1.0; 9]).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .arg("render")
+        .arg(&scene)
+        .args(["--camera", "sensor", "--sensor-image"])
+        .arg(&npy)
+        .arg("--out")
+        .arg(dir.path().join("bad.png"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("does not match sensor"));
+}
