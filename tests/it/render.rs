@@ -19,13 +19,14 @@ appearance = {appearance}
     ))
 }
 
-fn settings(spp: u32) -> RenderSettings {
+/// Render settings: size, samples per pixel, maximum depth, seed.
+fn settings(size: (usize, usize), spp: u32, max_depth: u32, seed: u64) -> RenderSettings {
     RenderSettings {
-        width: 48,
-        height: 32,
+        width: size.0,
+        height: size.1,
         spp,
-        max_depth: 64,
-        seed: 7,
+        max_depth,
+        seed,
     }
 }
 
@@ -51,7 +52,13 @@ fn convex_objects_under_a_uniform_sky_show_their_albedo_exactly() {
         ),
     ] {
         let s = one_sphere(appearance);
-        let img = render(&s, &looking_at_origin(30.0), &s.sky, &[], &settings(4));
+        let img = render(
+            &s,
+            &looking_at_origin(30.0),
+            &s.sky,
+            &[],
+            &settings((48, 32), 4, 64, 7),
+        );
         let (w, h) = (48, 32);
         // The centre pixel sees the sphere, the corner the sky.
         let centre = img[(h / 2) * w + w / 2];
@@ -71,7 +78,13 @@ fn clear_glass_under_a_uniform_sky_is_invisible() {
     // sky with full weight, so the picture is uniformly 1 (energy conservation of
     // the Fresnel split and refraction), up to paths cut at max_depth.
     let s = one_sphere(r#"{ type = "glass", ior = 1.5 }"#);
-    let img = render(&s, &looking_at_origin(30.0), &s.sky, &[], &settings(16));
+    let img = render(
+        &s,
+        &looking_at_origin(30.0),
+        &s.sky,
+        &[],
+        &settings((48, 32), 16, 64, 7),
+    );
     let mean = img.iter().map(|c| c.x).sum::<f64>() / img.len() as f64;
     assert!((mean - 1.0).abs() < 1e-3, "mean {mean}");
 }
@@ -109,14 +122,7 @@ appearance = { type = "emitting", color = [0.0, 1.0, 0.0] }
         vfov: 20.0,
     };
     let (w, h) = (201, 201);
-    let s_ = RenderSettings {
-        width: w,
-        height: h,
-        spp: 4,
-        max_depth: 4,
-        seed: 1,
-    };
-    let img = render(&s, &cam, &s.sky, &[], &s_);
+    let img = render(&s, &cam, &s.sky, &[], &settings((w, h), 4, 4, 1));
     let centroid = |f: fn(&DVec3) -> f64| {
         let (mut sw, mut sx, mut sy) = (0.0, 0.0, 0.0);
         for (k, c) in img.iter().enumerate() {
@@ -149,13 +155,7 @@ fn the_same_seed_gives_the_same_picture_on_any_number_of_threads() {
         &std::fs::read_to_string(crate::common::repo().join("scenes/spheres.toml")).unwrap(),
     );
     let cam = s.cameras["classic"];
-    let st = RenderSettings {
-        width: 60,
-        height: 40,
-        spp: 4,
-        max_depth: 12,
-        seed: 3,
-    };
+    let st = settings((60, 40), 4, 12, 3);
     let run = |threads| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -200,13 +200,7 @@ shape = { type = "rectangle", size = [10.0, 10.0] }
         up: DVec3::Y,
         vfov: 20.0,
     };
-    let st = RenderSettings {
-        width: 20,
-        height: 20,
-        spp: 1,
-        max_depth: 4,
-        seed: 1,
-    };
+    let st = settings((20, 20), 1, 4, 1);
     let img = render(&s, &cam, &s.sky, &[tex], &st);
     // viridis(1) = #fde725, viridis(0) = #440154 (sRGB) → linear.
     let lin = |c: u8| {
