@@ -15,6 +15,7 @@ pub mod eef;
 pub mod fit_figure_error;
 pub mod focus;
 pub mod info;
+pub mod inspect;
 pub mod measure;
 pub mod reflectivity;
 pub mod render;

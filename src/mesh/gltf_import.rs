@@ -3,7 +3,7 @@
 //! node's world matrix. Each node with a mesh becomes one [`MeshPart`], named after
 //! the node (aliases: its mesh and its ancestor nodes).
 
-use super::{ImportReport, MeshError, MeshPart, TriangleMesh};
+use super::{ImportReport, MeshError, MeshPart, Skipped, TriangleMesh};
 use glam::{DMat3, DMat4, DVec3};
 use gltf::mesh::Mode;
 use std::path::Path;
@@ -15,24 +15,33 @@ const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_me
 pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
     let gltf = gltf::Gltf::open(path).map_err(|e| bad(describe(&e)))?;
-    if let Some(ext) = gltf.document.extensions_required().next() {
+    let doc = &gltf.document;
+    if let Some(ext) = doc.extensions_required().next() {
         let why = if COMPRESSION_EXTENSIONS.contains(&ext) {
             "compressed geometry is not supported; export the file without mesh compression"
         } else {
             "traxer does not support this extension"
         };
-        return Err(bad(format!("requires the glTF extension {ext}: {why}")));
+        let users = primitives_using(doc, ext);
+        let users = if users.is_empty() {
+            String::new()
+        } else {
+            format!(" (used by {users})")
+        };
+        return Err(bad(format!(
+            "requires the glTF extension {ext}{users}: {why}"
+        )));
     }
     let base = path.parent();
-    let buffers = gltf::import_buffers(&gltf.document, base, gltf.blob.clone())
+    let buffers = gltf::import_buffers(doc, base, gltf.blob.clone())
         .map_err(|e| bad(format!("cannot load its buffers: {}", describe(&e))))?;
 
     let mut parts = Vec::new();
     let mut report = ImportReport {
         normals_from_file: true,
+        extensions_used: doc.extensions_used().map(String::from).collect(),
         ..Default::default()
     };
-    let doc = &gltf.document;
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
         Some(scene) => scene.nodes().collect(),
         None => {
@@ -60,41 +69,57 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         }
         let local = DMat4::from_cols_array_2d(&node.transform().matrix().map(|c| c.map(f64::from)));
         let world = parent * local;
+        let node_name = node
+            .name()
+            .map(String::from)
+            .unwrap_or_else(|| format!("node{}", node.index()));
+        for key in node.extensions().into_iter().flat_map(|e| e.keys()) {
+            let what = if key == "EXT_mesh_gpu_instancing" {
+                ": only the node itself is traced, not its instances"
+            } else {
+                ""
+            };
+            report.notes.push(format!(
+                "node '{node_name}' carries {key} data, which traxer ignores{what}"
+            ));
+        }
         if let Some(m) = node.mesh() {
-            let mut mesh = TriangleMesh::default();
+            let mut part = MeshPart {
+                name: node_name,
+                aliases: m.name().map(String::from).into_iter().collect(),
+                mesh: TriangleMesh::default(),
+                primitives: Vec::new(),
+            };
+            part.aliases.extend(ancestors.iter().cloned());
             for prim in m.primitives() {
-                let label = format!(
-                    "primitive {} of mesh {}",
-                    prim.index(),
-                    m.name()
-                        .map(|n| format!("'{n}'"))
-                        .unwrap_or(format!("#{}", m.index()))
-                );
+                let label = primitive_label(&m, &prim);
+                for key in prim.extensions().into_iter().flat_map(|e| e.keys()) {
+                    report.notes.push(format!(
+                        "{label} carries {key} data, which traxer ignores (it reads the primitive's plain accessors)"
+                    ));
+                }
                 // Reading accessors walks offsets from the file; guard against a
                 // malformed file making the gltf crate panic.
-                let part = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                     read_primitive(&prim, &buffers, &world)
                 }))
                 .map_err(|_| bad(format!("{label}: malformed accessor data")))?;
-                match part {
-                    Ok((part, had_normals)) => {
+                match read {
+                    Ok((mesh, had_normals)) => {
                         report.normals_from_file &= had_normals;
-                        mesh.append(part);
+                        part.push_primitive(label, mesh, had_normals);
                     }
-                    Err(Skip(reason)) => report.warnings.push(format!("{label} skipped: {reason}")),
+                    Err(Unusable::Skip(reason)) => report.skipped.push(Skipped {
+                        what: label,
+                        reason,
+                    }),
+                    Err(Unusable::Broken(message)) => {
+                        return Err(bad(format!("{label}: {message}")))
+                    }
                 }
             }
-            if !mesh.triangles.is_empty() {
-                let mut aliases: Vec<String> = m.name().map(String::from).into_iter().collect();
-                aliases.extend(ancestors.iter().cloned());
-                parts.push(MeshPart {
-                    name: node
-                        .name()
-                        .map(String::from)
-                        .unwrap_or_else(|| format!("node{}", node.index())),
-                    aliases,
-                    mesh,
-                });
+            if !part.mesh.triangles.is_empty() {
+                parts.push(part);
             }
         }
         let mut names = ancestors;
@@ -109,24 +134,54 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
     Ok((parts, report))
 }
 
-struct Skip(String);
+/// "primitive 2 of mesh 'rails'" (or "of mesh #3" when the mesh has no name).
+fn primitive_label(m: &gltf::Mesh, prim: &gltf::Primitive) -> String {
+    let mesh = m
+        .name()
+        .map(|n| format!("'{n}'"))
+        .unwrap_or(format!("#{}", m.index()));
+    format!("primitive {} of mesh {mesh}", prim.index())
+}
+
+/// The primitives that carry data of extension `ext`, for the refusal message.
+fn primitives_using(doc: &gltf::Document, ext: &str) -> String {
+    let users: Vec<String> = doc
+        .meshes()
+        .flat_map(|m| {
+            m.primitives()
+                .filter(|p| p.extensions().is_some_and(|e| e.contains_key(ext)))
+                .map(|p| primitive_label(&m, &p))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    match users.len() {
+        0..=3 => users.join(", "),
+        n => format!("{}, ... ({n} primitives in all)", users[..3].join(", ")),
+    }
+}
+
+/// Why a primitive adds no triangles: left out with a warning, or a broken file.
+enum Unusable {
+    Skip(String),
+    Broken(String),
+}
 
 fn read_primitive(
     prim: &gltf::Primitive,
     buffers: &[gltf::buffer::Data],
     world: &DMat4,
-) -> Result<(TriangleMesh, bool), Skip> {
+) -> Result<(TriangleMesh, bool), Unusable> {
     let mode = prim.mode();
     if !matches!(
         mode,
         Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
     ) {
-        return Err(Skip(format!("mode {mode:?} has no triangles")));
+        return Err(Unusable::Skip(format!("mode {mode:?} has no triangles")));
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
     let positions: Vec<DVec3> = reader
         .read_positions()
-        .ok_or_else(|| Skip("no POSITION attribute".into()))?
+        .ok_or_else(|| Unusable::Skip("no POSITION attribute".into()))?
         .map(|p| world.transform_point3(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)))
         .collect();
     let indices: Vec<u32> = match reader.read_indices() {
@@ -173,18 +228,23 @@ fn read_primitive(
         triangles,
     };
     let had_normals = matches!(&file_normals, Some(n) if n.len() == mesh.positions.len());
-    // Bad indices would make normal computation index out of range: leave them for
-    // validate() to report, and skip computing.
-    let indices_ok = mesh
+    // An index past this primitive's vertices would silently point into the next
+    // primitive once the part is assembled: refuse the file.
+    let n = mesh.positions.len();
+    if let Some((i, t)) = mesh
         .triangles
         .iter()
-        .all(|t| t.iter().all(|&k| (k as usize) < mesh.positions.len()));
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&k| k as usize >= n))
+    {
+        return Err(Unusable::Broken(format!(
+            "triangle {i} uses vertex index {t:?} but the primitive has only {n} vertices"
+        )));
+    }
     mesh.normals = if had_normals {
         file_normals
-    } else if indices_ok {
-        Some(mesh.computed_normals())
     } else {
-        Some(vec![DVec3::Z; mesh.positions.len()])
+        Some(mesh.computed_normals())
     };
     Ok((mesh, had_normals))
 }

@@ -4,15 +4,19 @@
 //! Data flow: `scene::build` calls [`load`] for every `mesh` shape of a scene file
 //! (and `geometry::Shape::tessellate` produces the same [`TriangleMesh`] for
 //! tessellated analytic shapes); the mesh is transformed to world space and handed
-//! to Embree. `traxer tessellate` writes meshes with [`export`].
+//! to Embree. `traxer tessellate` writes meshes with [`export`]; `traxer inspect`
+//! reports on imported files with [`quality`] and [`units`].
 
 mod export;
 mod gltf_import;
 mod obj_import;
+pub mod quality;
+pub mod units;
 
 pub use export::{write_gltf, write_mesh, write_mesh_parts, write_obj};
 
 use glam::DVec3;
+use std::ops::Range;
 use std::path::{Path, PathBuf};
 
 /// A triangle mesh in f64 (Embree receives an f32 copy of the world-space vertices).
@@ -28,11 +32,36 @@ pub struct TriangleMesh {
 /// What an import found besides the triangles.
 #[derive(Clone, Debug, Default)]
 pub struct ImportReport {
-    /// Things skipped, with reasons (e.g. "primitive 2 of mesh 'x': mode Lines").
-    pub warnings: Vec<String>,
+    /// Pieces of the file that hold no usable triangles (a glTF primitive of lines
+    /// or points, an OBJ object without faces), with the reason.
+    pub skipped: Vec<Skipped>,
+    /// Other things the user should know (e.g. extension data that was ignored).
+    pub notes: Vec<String>,
     /// Whether the file provided vertex normals for every triangle (otherwise the
     /// missing ones were computed from the geometry).
     pub normals_from_file: bool,
+    /// The glTF extensions the file declares it uses (none for OBJ).
+    pub extensions_used: Vec<String>,
+}
+
+/// A piece of a mesh file that the importer left out.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Skipped {
+    /// Which piece, e.g. "primitive 2 of mesh 'rails'" or "object 'axis'".
+    pub what: String,
+    /// Why, e.g. "mode Lines has no triangles".
+    pub reason: String,
+}
+
+impl ImportReport {
+    /// Everything worth a warning, one line each (skipped pieces, then notes).
+    pub fn warnings(&self) -> Vec<String> {
+        self.skipped
+            .iter()
+            .map(|s| format!("{} skipped: {}", s.what, s.reason))
+            .chain(self.notes.iter().cloned())
+            .collect()
+    }
 }
 
 /// Why a mesh file cannot be used.
@@ -62,12 +91,66 @@ pub struct MeshPart {
     /// (so that a CAD sub-assembly can be picked as a whole).
     pub aliases: Vec<String>,
     pub mesh: TriangleMesh,
+    /// Where each glTF primitive (or the OBJ object) sits in `mesh`, in file order.
+    pub primitives: Vec<Primitive>,
+}
+
+/// One glTF primitive (one OBJ object) of a [`MeshPart`]: its triangles and
+/// vertices are contiguous ranges of the part's mesh.
+#[derive(Clone, Debug)]
+pub struct Primitive {
+    /// e.g. "primitive 0 of mesh 'shell_1'" or "object 'bore'".
+    pub label: String,
+    pub triangles: Range<usize>,
+    pub vertices: Range<usize>,
+    /// Whether the file gave this primitive vertex normals (else they were computed).
+    pub normals_from_file: bool,
 }
 
 impl MeshPart {
     /// Whether `name` selects this part.
     pub fn is_named(&self, name: &str) -> bool {
         self.name == name || self.aliases.iter().any(|a| a == name)
+    }
+
+    /// Whether every primitive of the part came with normals from the file.
+    pub fn normals_from_file(&self) -> bool {
+        self.primitives.iter().all(|p| p.normals_from_file)
+    }
+
+    /// One primitive as a mesh of its own (indices renumbered from 0).
+    pub fn primitive_mesh(&self, p: &Primitive) -> TriangleMesh {
+        let base = p.vertices.start as u32;
+        TriangleMesh {
+            positions: self.mesh.positions[p.vertices.clone()].to_vec(),
+            normals: self
+                .mesh
+                .normals
+                .as_ref()
+                .map(|n| n[p.vertices.clone()].to_vec()),
+            triangles: self.mesh.triangles[p.triangles.clone()]
+                .iter()
+                .map(|t| t.map(|k| k.wrapping_sub(base)))
+                .collect(),
+        }
+    }
+
+    /// Appends one imported primitive to the part, recording where it went.
+    pub(crate) fn push_primitive(
+        &mut self,
+        label: String,
+        mesh: TriangleMesh,
+        normals_from_file: bool,
+    ) {
+        let triangles = self.mesh.triangles.len()..self.mesh.triangles.len() + mesh.triangles.len();
+        let vertices = self.mesh.positions.len()..self.mesh.positions.len() + mesh.positions.len();
+        self.mesh.append(mesh);
+        self.primitives.push(Primitive {
+            label,
+            triangles,
+            vertices,
+            normals_from_file,
+        });
     }
 }
 

@@ -1,7 +1,7 @@
 //! Wavefront OBJ import through `tobj`: polygons are triangulated, each object
 //! (or group) of the file is one [`MeshPart`]; material libraries are ignored.
 
-use super::{ImportReport, MeshError, MeshPart, TriangleMesh};
+use super::{ImportReport, MeshError, MeshPart, Skipped, TriangleMesh};
 use glam::DVec3;
 use std::path::Path;
 
@@ -30,9 +30,10 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
     for model in models {
         let m = &model.mesh;
         if m.indices.is_empty() {
-            report
-                .warnings
-                .push(format!("object '{}' skipped: no faces", model.name));
+            report.skipped.push(Skipped {
+                what: format!("object '{}'", model.name),
+                reason: "no faces (points or lines only)".into(),
+            });
             continue;
         }
         let positions: Vec<DVec3> = m
@@ -51,11 +52,22 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             triangles,
         };
         let n = part.positions.len();
-        let indices_ok = part
+        if let Some((i, t)) = part
             .triangles
             .iter()
-            .all(|t| t.iter().all(|&k| (k as usize) < n));
-        if m.normals.len() == 3 * n && n > 0 {
+            .enumerate()
+            .find(|(_, t)| t.iter().any(|&k| k as usize >= n))
+        {
+            return Err(MeshError::invalid(
+                path,
+                format!(
+                    "object '{}': triangle {i} uses vertex index {t:?} but the object has only {n} vertices",
+                    model.name
+                ),
+            ));
+        }
+        let had_normals = m.normals.len() == 3 * n && n > 0;
+        if had_normals {
             part.normals = Some(
                 m.normals
                     .chunks_exact(3)
@@ -68,17 +80,16 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             );
         } else {
             report.normals_from_file = false;
-            part.normals = Some(if indices_ok {
-                part.computed_normals()
-            } else {
-                vec![DVec3::Z; n]
-            });
+            part.normals = Some(part.computed_normals());
         }
-        parts.push(MeshPart {
+        let mut piece = MeshPart {
             name: model.name.clone(),
             aliases: Vec::new(),
-            mesh: part,
-        });
+            mesh: TriangleMesh::default(),
+            primitives: Vec::new(),
+        };
+        piece.push_primitive(format!("object '{}'", model.name), part, had_normals);
+        parts.push(piece);
     }
     Ok((parts, report))
 }

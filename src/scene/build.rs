@@ -363,8 +363,8 @@ impl Builder<'_> {
                         let (parts, report) = mesh::load_parts(&file).map_err(at)?;
                         warnings.extend(
                             report
-                                .warnings
-                                .iter()
+                                .warnings()
+                                .into_iter()
                                 .map(|w| format!("{}: {w}", file.display())),
                         );
                         mesh_files.insert(file.clone(), parts);
