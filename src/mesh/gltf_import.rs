@@ -14,9 +14,15 @@ const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_me
 
 pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
-    let gltf = gltf::Gltf::open(path).map_err(|e| bad(describe(&e)))?;
-    let doc = &gltf.document;
-    if let Some(ext) = doc.extensions_required().next() {
+    // Read without validation first: the gltf crate's validation rejects any
+    // required extension with a bare "Unsupported extension", and the user needs
+    // to know which one, where it is used and what to do.
+    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_reader_without_validation(std::io::BufReader::new(file))
+            .map_err(|e| bad(describe(&e)))?;
+    if let Some(ext) = document.extensions_required().next() {
+        let doc = &document;
         let why = if COMPRESSION_EXTENSIONS.contains(&ext) {
             "compressed geometry is not supported; export the file without mesh compression"
         } else {
@@ -32,8 +38,11 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             "requires the glTF extension {ext}{users}: {why}"
         )));
     }
+    let document =
+        gltf::Document::from_json(document.into_json()).map_err(|e| bad(describe(&e)))?;
+    let doc = &document;
     let base = path.parent();
-    let buffers = gltf::import_buffers(doc, base, gltf.blob.clone())
+    let buffers = gltf::import_buffers(doc, base, blob)
         .map_err(|e| bad(format!("cannot load its buffers: {}", describe(&e))))?;
 
     let mut parts = Vec::new();

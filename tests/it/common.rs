@@ -117,3 +117,93 @@ pub fn load_error(dir: &Path, text: &str) -> String {
         Err(e) => e.to_string(),
     }
 }
+
+/// A minimal glTF with one triangle (0,0,0), (1,0,0), (0,1,0) as mesh 0 (+ optional
+/// extra primitives), the given node list and one scene per entry of `scenes` (its
+/// node list; the first is the default), buffer embedded as a data URI.
+pub fn gltf_with_nodes(nodes: &str, scenes: &[&str], extra_primitives: &str) -> String {
+    use base64::Engine;
+    let mut bin = Vec::new();
+    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        for c in v {
+            bin.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let uri = base64::engine::general_purpose::STANDARD.encode(&bin);
+    let scenes: Vec<String> = scenes
+        .iter()
+        .map(|n| format!(r#"{{"nodes":{n}}}"#))
+        .collect();
+    let scenes = scenes.join(",");
+    format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{scenes}],"nodes":{nodes},
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}{extra_primitives}]}}],
+"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{uri}"}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
+    )
+}
+
+/// Mesh files that must not import: (file name, content, words the error must
+/// contain). Non-finite coordinates, indices out of range, no triangles, garbage,
+/// a truncated binary glTF, broken JSON, compressed geometry.
+pub fn broken_mesh_files() -> Vec<(&'static str, Vec<u8>, Vec<&'static str>)> {
+    let mut files: Vec<(&str, Vec<u8>, Vec<&str>)> = vec![
+        ("nan.obj", b"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n".to_vec(), vec!["non-finite"]),
+        ("range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n".to_vec(), vec![]),
+        ("empty.obj", b"# nothing\nv 0 0 0\n".to_vec(), vec!["no triangles"]),
+        ("garbage.obj", b"v 0 zero 0\nf 1 2 3\n".to_vec(), vec!["not a valid OBJ"]),
+        (
+            "broken.gltf",
+            b"{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ".to_vec(),
+            vec!["not valid glTF JSON"],
+        ),
+        (
+            "draco.gltf",
+            br#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"meshes":[]}"#.to_vec(),
+            vec!["requires the glTF extension KHR_draco_mesh_compression", "export the file without mesh compression"],
+        ),
+        (
+            "lines.gltf",
+            gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
+                .replace(r#""POSITION":0}}"#, r#""POSITION":0},"mode":1}"#)
+                .into_bytes(),
+            vec!["no triangles"],
+        ),
+    ];
+    let m = traxer::geometry::Shape::Sphere(traxer::geometry::Sphere { radius: 1.0 }).tessellate(
+        traxer::geometry::Resolution {
+            segments: 8,
+            rings: 4,
+        },
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("ok.glb");
+    traxer::mesh::write_mesh(&glb, &m, "s").unwrap();
+    let bytes = std::fs::read(&glb).unwrap();
+    files.push(("truncated.glb", bytes[..bytes.len() / 2].to_vec(), vec![]));
+    // Three vertices, indices [0, 1, 7].
+    let mut bin = Vec::new();
+    for c in [0f32, 0., 0., 1., 0., 0., 0., 1., 0.] {
+        bin.extend_from_slice(&c.to_le_bytes());
+    }
+    for i in [0u32, 1, 7] {
+        bin.extend_from_slice(&i.to_le_bytes());
+    }
+    use base64::Engine;
+    let uri = base64::engine::general_purpose::STANDARD.encode(&bin);
+    let bad = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
+"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
+"buffers":[{{"byteLength":48,"uri":"data:application/octet-stream;base64,{uri}"}}],
+"bufferViews":[{{"buffer":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":12}}],
+"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+             {{"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}}]}}"#
+    );
+    files.push((
+        "badindex.gltf",
+        bad.into_bytes(),
+        vec!["vertex index", "only 3 vertices"],
+    ));
+    files
+}

@@ -1,7 +1,7 @@
 //! Bad input gives a clear error naming file, line and key, exit code 2, and never
 //! a panic; a failed run gives exit code 1.
 
-use crate::common::write;
+use crate::common::{broken_mesh_files, write};
 use std::path::Path;
 use std::process::Command;
 
@@ -181,64 +181,9 @@ fn expect_mesh_error(file: &str, content: &[u8], needles: &[&str]) {
 
 #[test]
 fn broken_meshes_give_clear_errors() {
-    expect_mesh_error(
-        "nan.obj",
-        b"v 0 0 0\nv 1 0 nan\nv 0 1 0\nf 1 2 3\n",
-        &["non-finite"],
-    );
-    expect_mesh_error("range.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", &[]);
-    expect_mesh_error("empty.obj", b"# nothing\nv 0 0 0\n", &["no triangles"]);
-    expect_mesh_error(
-        "garbage.obj",
-        b"v 0 zero 0\nf 1 2 3\n",
-        &["not a valid OBJ"],
-    );
-    // glTF: truncated binary, broken JSON, compressed geometry, index out of range.
-    let dir = tempfile::tempdir().unwrap();
-    let m = traxer::geometry::Shape::Sphere(traxer::geometry::Sphere { radius: 1.0 }).tessellate(
-        traxer::geometry::Resolution {
-            segments: 8,
-            rings: 4,
-        },
-    );
-    let glb = dir.path().join("ok.glb");
-    traxer::mesh::write_mesh(&glb, &m, "s").unwrap();
-    let bytes = std::fs::read(&glb).unwrap();
-    expect_mesh_error("truncated.glb", &bytes[..bytes.len() / 2], &[]);
-    expect_mesh_error(
-        "broken.gltf",
-        b"{ \"asset\": { \"version\": \"2.0\" }, \"meshes\": [ ",
-        &["not valid glTF JSON"],
-    );
-    let draco = r#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"meshes":[]}"#;
-    expect_mesh_error(
-        "draco.gltf",
-        draco.as_bytes(),
-        &["KHR_draco_mesh_compression", "compress"],
-    );
-    // Three vertices, indices [0, 1, 7].
-    let mut bin = Vec::new();
-    for c in [0f32, 0., 0., 1., 0., 0., 0., 1., 0.] {
-        bin.extend_from_slice(&c.to_le_bytes());
+    for (file, content, needles) in broken_mesh_files() {
+        expect_mesh_error(file, &content, &needles);
     }
-    for i in [0u32, 1, 7] {
-        bin.extend_from_slice(&i.to_le_bytes());
-    }
-    use base64::Engine;
-    let uri = base64::engine::general_purpose::STANDARD.encode(&bin);
-    let bad = format!(
-        r#"{{"asset":{{"version":"2.0"}},"scenes":[{{"nodes":[0]}}],"nodes":[{{"mesh":0}}],
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"indices":1}}]}}],
-"buffers":[{{"byteLength":48,"uri":"data:application/octet-stream;base64,{uri}"}}],
-"bufferViews":[{{"buffer":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":12}}],
-"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
-             {{"bufferView":1,"componentType":5125,"count":3,"type":"SCALAR"}}]}}"#
-    );
-    expect_mesh_error(
-        "badindex.gltf",
-        bad.as_bytes(),
-        &["vertex index", "only 3 vertices"],
-    );
 }
 
 #[test]

@@ -9,6 +9,7 @@ mod errors;
 mod figure_error;
 mod focusing;
 mod geometry;
+mod inspect;
 mod llnl;
 mod mesh_io;
 mod meshed_telescope;

@@ -1,32 +1,13 @@
 //! glTF and OBJ import: hierarchy transforms, buffer layouts, primitive modes,
 //! normals, and export round trips.
 
+use crate::common::gltf_with_nodes;
 use glam::DVec3;
 use traxer::geometry::{AzimuthRange, Resolution, RevolutionQuadric, Shape};
 use traxer::mesh::{load, write_mesh};
 
 fn close(a: DVec3, b: DVec3, tol: f64) -> bool {
     (a - b).length() <= tol
-}
-
-/// A minimal glTF with one triangle (+ optional extra primitives) and the given
-/// node list, buffer embedded as a data URI.
-fn gltf_with_nodes(nodes: &str, scene_nodes: &str, extra_primitives: &str) -> String {
-    use base64::Engine;
-    let mut bin = Vec::new();
-    for v in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
-        for c in v {
-            bin.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    let uri = base64::engine::general_purpose::STANDARD.encode(&bin);
-    format!(
-        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":{scene_nodes}}}],"nodes":{nodes},
-"meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}{extra_primitives}]}}],
-"buffers":[{{"byteLength":36,"uri":"data:application/octet-stream;base64,{uri}"}}],
-"bufferViews":[{{"buffer":0,"byteLength":36}}],
-"accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}}]}}"#
-    )
 }
 
 #[test]
@@ -40,7 +21,7 @@ fn gltf_node_hierarchy_transforms_are_applied() {
     );
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("h.gltf");
-    std::fs::write(&p, gltf_with_nodes(&nodes, "[0]", "")).unwrap();
+    std::fs::write(&p, gltf_with_nodes(&nodes, &["[0]"], "")).unwrap();
     let (m, report) = load(&p).unwrap();
     assert!(!report.normals_from_file, "the file has no normals");
     let expect = |v: DVec3| {
@@ -70,7 +51,7 @@ fn gltf_mirroring_node_reverses_winding_and_other_modes_are_skipped() {
         &p,
         gltf_with_nodes(
             r#"[{"scale":[1,1,-1],"mesh":0}]"#,
-            "[0]",
+            &["[0]"],
             r#",{"attributes":{"POSITION":0},"mode":1}"#,
         ),
     )
@@ -251,7 +232,7 @@ fn gltf_parts_can_be_picked_by_an_ancestor_node_name() {
                     {"name":"part_b","mesh":0,"translation":[0,0,3]}]"#;
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("a.gltf");
-    std::fs::write(&p, gltf_with_nodes(nodes, "[0]", "")).unwrap();
+    std::fs::write(&p, gltf_with_nodes(nodes, &["[0]"], "")).unwrap();
     let (parts, _) = load_parts(&p).unwrap();
     assert_eq!(parts.len(), 2);
     assert_eq!(
