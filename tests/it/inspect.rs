@@ -236,6 +236,25 @@ fn holes_fins_and_degenerate_triangles_are_counted() {
     assert_eq!(topology(&t), [0, 16, 0, 0, 1]);
     assert_bounds(&t, [0.0; 3], [3.0, 3.0, 0.0], 0.0);
 
+    // Two triangles of a unit square whose shared corner (1,0,0) is written twice,
+    // the second copy moved by δ: welded below 1e-6 of the diagonal (√2), a crack
+    // above it.
+    for (delta, boundary, distinct) in [(1e-7, 4, 4), (1e-5, 6, 5)] {
+        let text = format!(
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv {} 0 0\nv 1 1 0\nf 1 2 3\nf 4 5 3\n",
+            1.0 + delta
+        );
+        let t = inspect_ok(&write(dir.path(), "crack.obj", &text), &[])["total"].clone();
+        assert_eq!(count(&t, "boundary_edges"), boundary, "δ = {delta}");
+        assert_eq!(count(&t, "distinct_positions"), distinct, "δ = {delta}");
+    }
+
+    // Zero area to f32 precision (height 5e-10 of the longest side) is degenerate;
+    // a thin but real triangle (height 1e-5 of it) is not.
+    let text = "v 0 0 0\nv 1 0 0\nv 2 1e-9 0\nv 0 1e-5 0\nf 1 2 3\nf 1 2 4\n";
+    let t = inspect_ok(&write(dir.path(), "thin.obj", text), &[])["total"].clone();
+    assert_eq!(count(&t, "degenerate_triangles"), 1);
+
     // A fin: three triangles on the edge (0,0,0)–(1,0,0); a collinear sliver and
     // a triangle with a repeated corner (both degenerate); a separate triangle.
     let text = "o fin\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 2 0 0\n\
