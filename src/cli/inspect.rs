@@ -181,7 +181,11 @@ fn inspect_file(path: &Path, expect_size: Option<f64>) -> (FileReport, Option<Me
             .iter()
             .any(|p| p.primitives.iter().any(|q| q.normals_from_file)),
     );
-    let quality = analyse(&whole, all_file);
+    // One part is the whole file: do not analyse a large mesh twice.
+    let quality = match report.parts.as_slice() {
+        [only] => only.quality.clone(),
+        _ => analyse(&whole, all_file),
+    };
     report.units = Some(hint(quality.bounds.largest_extent(), expect_size));
     report.total = Some(Total {
         parts: parts.len(),
@@ -192,21 +196,27 @@ fn inspect_file(path: &Path, expect_size: Option<f64>) -> (FileReport, Option<Me
 }
 
 fn part_report(part: &MeshPart) -> PartReport {
+    let all = part.normals_from_file();
+    let quality = analyse(&part.mesh, all);
     let primitives = part
         .primitives
         .iter()
         .map(|p| PrimitiveReport {
             label: p.label.clone(),
             normals: normals_label(p.normals_from_file, p.normals_from_file),
-            quality: analyse(&part.primitive_mesh(p), p.normals_from_file),
+            // A part of one primitive is that primitive.
+            quality: if part.primitives.len() == 1 {
+                quality.clone()
+            } else {
+                analyse(&part.primitive_mesh(p), p.normals_from_file)
+            },
         })
         .collect();
-    let all = part.normals_from_file();
     PartReport {
         name: part.name.clone(),
         aliases: part.aliases.clone(),
         normals: normals_label(all, part.primitives.iter().any(|p| p.normals_from_file)),
-        quality: analyse(&part.mesh, all),
+        quality,
         primitives,
     }
 }
@@ -276,7 +286,7 @@ fn print_text(r: &FileReport) {
     say!("  units: {}", u.message);
     say!("  parts:");
     say!(
-        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>8} {:>8}  bounds (mm)",
+        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>9} {:>8}  bounds (mm)",
         "name",
         "triangles",
         "vertices",
@@ -284,7 +294,7 @@ fn print_text(r: &FileReport) {
         "degen",
         "boundary",
         "non-man.",
-        "flipped",
+        "mis-wound",
         "normals"
     );
     for p in &r.parts {
@@ -300,7 +310,7 @@ fn print_text(r: &FileReport) {
 
 fn part_row(name: &str, normals: &str, q: &MeshQuality) {
     say!(
-        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>8} {:>8}  {}",
+        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>9} {:>8}  {}",
         name,
         q.triangles,
         q.vertices,

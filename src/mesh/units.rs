@@ -141,7 +141,7 @@ pub fn hint(largest_extent: f64, expected_mm: Option<f64>) -> UnitsHint {
             metres,
             format!(
                 "largest extent {} units: read as millimetres (as traxer does) that is too small for a telescope, magnet or detector part. \
-                 The file is probably in metres (glTF's convention), which makes it {}: {}. (In inches it would be {}: scale 25.4.)",
+                 The file is probably in metres (glTF's convention, and a common CAD export unit), which makes it {}: {}. (In inches it would be {}: scale 25.4.)",
                 round(l),
                 as_mm(metres),
                 fix(metres),
