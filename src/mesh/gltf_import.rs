@@ -42,8 +42,23 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         gltf::Document::from_json(document.into_json()).map_err(|e| bad(describe(&e)))?;
     let doc = &document;
     let base = path.parent();
-    let buffers = gltf::import_buffers(doc, base, blob)
-        .map_err(|e| bad(format!("cannot load its buffers: {}", describe(&e))))?;
+    let buffers = gltf::import_buffers(doc, base, blob).map_err(|e| {
+        // The gltf crate's I/O error does not say which file: find it.
+        let missing = doc.buffers().find_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
+                let file = base.unwrap_or(Path::new(".")).join(uri);
+                (!file.exists()).then(|| {
+                    format!(
+                        "buffer {} refers to {}, which does not exist",
+                        b.index(),
+                        file.display()
+                    )
+                })
+            }
+            _ => None,
+        });
+        bad(missing.unwrap_or_else(|| format!("cannot load its buffers: {}", describe(&e))))
+    })?;
 
     let mut parts = Vec::new();
     let mut report = ImportReport {

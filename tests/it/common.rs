@@ -171,6 +171,14 @@ pub fn broken_mesh_files() -> Vec<(&'static str, Vec<u8>, Vec<&'static str>)> {
             vec!["no triangles"],
         ),
     ];
+    // An external buffer that is not there.
+    files.push((
+        "nobuffer.gltf",
+        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
+            .replace(r#""uri":"data:"#, r#""uri":"nothere.bin","x":"data:"#)
+            .into_bytes(),
+        vec!["buffer 0 refers to", "nothere.bin", "does not exist"],
+    ));
     let m = traxer::geometry::Shape::Sphere(traxer::geometry::Sphere { radius: 1.0 }).tessellate(
         traxer::geometry::Resolution {
             segments: 8,
