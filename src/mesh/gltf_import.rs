@@ -67,7 +67,22 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         ..Default::default()
     };
     let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
-        Some(scene) => scene.nodes().collect(),
+        Some(scene) => {
+            let count = doc.scenes().count();
+            if count > 1 {
+                let name = scene.name().map(|n| format!(" '{n}'")).unwrap_or_default();
+                report.notes.push(format!(
+                    "the file has {count} scenes: only scene {}{name} ({}) is read",
+                    scene.index(),
+                    if doc.default_scene().is_some() {
+                        "the default"
+                    } else {
+                        "the first; no default is set"
+                    }
+                ));
+            }
+            scene.nodes().collect()
+        }
         None => {
             // No scene: every node that is nobody's child is a root.
             let children: std::collections::HashSet<usize> = doc

@@ -396,6 +396,10 @@ fn gltf_hierarchy_is_placed_as_the_tracer_places_it() {
     assert_bounds(t, [98.0, 0.0, 0.0], [102.0, 2.0, 20.0], 1e-6);
     assert!((num(t, "area") - 4.0).abs() < 1e-6);
     assert_eq!(count(t, "components"), 2);
+    assert_eq!(
+        f["notes"][0],
+        "the file has 2 scenes: only scene 0 (the default) is read"
+    );
     // One skipped entry per placement of the mesh's LINES primitive.
     let skipped = f["skipped"].as_array().unwrap();
     assert_eq!(skipped.len(), 2, "{skipped:?}");
