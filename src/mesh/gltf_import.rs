@@ -218,14 +218,25 @@ fn read_primitive(
         return Err(Unusable::Skip(format!("mode {mode:?} has no triangles")));
     }
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
+    let position_accessor = prim
+        .get(&gltf::Semantic::Positions)
+        .ok_or_else(|| Unusable::Skip("no POSITION attribute".into()))?;
     let positions: Vec<DVec3> = reader
         .read_positions()
-        .ok_or_else(|| Unusable::Skip("no POSITION attribute".into()))?
+        .ok_or_else(|| unreadable("POSITION", &position_accessor))?
         .map(|p| world.transform_point3(DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64)))
         .collect();
-    let indices: Vec<u32> = match reader.read_indices() {
-        Some(ix) => ix.into_u32().collect(),
-        None => (0..positions.len() as u32).collect(),
+    // Never fewer elements than declared: a truncated export must not lose
+    // triangles silently.
+    complete("POSITION", &position_accessor, positions.len())?;
+    let indices: Vec<u32> = match (reader.read_indices(), prim.indices()) {
+        (Some(ix), Some(accessor)) => {
+            let ix: Vec<u32> = ix.into_u32().collect();
+            complete("indices", &accessor, ix.len())?;
+            ix
+        }
+        (None, Some(accessor)) => return Err(unreadable("indices", &accessor)),
+        _ => (0..positions.len() as u32).collect(),
     };
     let mut triangles: Vec<[u32; 3]> = match mode {
         Mode::Triangles => indices
@@ -266,6 +277,21 @@ fn read_primitive(
         normals: None,
         triangles,
     };
+    match (&file_normals, prim.get(&gltf::Semantic::Normals)) {
+        (Some(normals), Some(accessor)) => {
+            complete("NORMAL", &accessor, normals.len())?;
+            if normals.len() != mesh.positions.len() {
+                return Err(Unusable::Broken(format!(
+                    "its NORMAL accessor {} has {} elements for {} positions (glTF requires one per vertex)",
+                    accessor.index(),
+                    normals.len(),
+                    mesh.positions.len()
+                )));
+            }
+        }
+        (None, Some(accessor)) => return Err(unreadable("NORMAL", &accessor)),
+        _ => {}
+    }
     let had_normals = matches!(&file_normals, Some(n) if n.len() == mesh.positions.len());
     // An index past this primitive's vertices would silently point into the next
     // primitive once the part is assembled: refuse the file.
@@ -286,6 +312,29 @@ fn read_primitive(
         Some(mesh.computed_normals())
     };
     Ok((mesh, had_normals))
+}
+
+/// Checks that all `count` elements an accessor declares were read.
+fn complete(what: &str, accessor: &gltf::Accessor, read: usize) -> Result<(), Unusable> {
+    if read == accessor.count() {
+        Ok(())
+    } else {
+        Err(Unusable::Broken(format!(
+            "its {what} accessor {} declares {} elements but its buffer view holds only {read}",
+            accessor.index(),
+            accessor.count()
+        )))
+    }
+}
+
+/// An accessor the gltf crate cannot read: no buffer view, or a view (or buffer)
+/// too short for the elements it declares.
+fn unreadable(what: &str, accessor: &gltf::Accessor) -> Unusable {
+    Unusable::Broken(format!(
+        "its {what} accessor {} declares {} elements that its buffer view does not hold (view too short, or none)",
+        accessor.index(),
+        accessor.count()
+    ))
 }
 
 /// The gltf crate's errors, in words a user can act on.

@@ -171,6 +171,27 @@ pub fn broken_mesh_files() -> Vec<(&'static str, Vec<u8>, Vec<&'static str>)> {
             vec!["no triangles"],
         ),
     ];
+    // An accessor declaring 6 vertices in a 3-vertex buffer view (the gltf crate
+    // alone would read nothing, or what fits, without complaint).
+    files.push((
+        "short.gltf",
+        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
+            .replace(r#""count":3"#, r#""count":6"#)
+            .into_bytes(),
+        vec!["POSITION accessor 0 declares 6 elements"],
+    ));
+    // The same for a NORMAL accessor (else the normals would silently be computed).
+    files.push((
+        "shortnormals.gltf",
+        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
+            .replace(r#""POSITION":0}"#, r#""POSITION":0,"NORMAL":1}"#)
+            .replace(
+                r#""max":[1,1,0]}]"#,
+                r#""max":[1,1,0]},{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3"}]"#,
+            )
+            .into_bytes(),
+        vec!["NORMAL accessor 1 declares 6 elements"],
+    ));
     // An external buffer that is not there.
     files.push((
         "nobuffer.gltf",
