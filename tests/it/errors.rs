@@ -107,18 +107,40 @@ fn unknown_shape_key_and_shape_type() {
 
 #[test]
 fn wrong_type_names_the_line() {
+    // Inside a `type = ...` table serde reports the whole table; the error names
+    // the value's own line and key.
     let bad = GOOD.replace("pixels = [10, 10]", "pixels = \"many\"");
-    // Inside a `type = ...` table the TOML parser reports the table's line.
     expect_input_error(
         &bad,
         &[],
-        &["scene.toml:5", "invalid type: string \"many\""],
+        &[
+            "scene.toml:8: `materials.detector.pixels`: invalid type: string \"many\"",
+            "| pixels = \"many\"",
+        ],
+    );
+    let bad = GOOD.replace("pixels = [10, 10]", "pixels = [10, -10]");
+    expect_input_error(
+        &bad,
+        &[],
+        &["scene.toml:8: `materials.detector.pixels[1]`: invalid value: integer `-10`"],
     );
     let bad = GOOD.replace("radius = 1.0 }", "radius = \"wide\" }");
     expect_input_error(
         &bad,
         &[],
-        &["scene.toml:10", "invalid type: string \"wide\""],
+        &["scene.toml:12: `sources[0].aperture.radius`: invalid type: string \"wide\""],
+    );
+    let bad = GOOD.replace("pixels = [10, 10]", "pixels = [10, 10]\nside = \"front\"");
+    expect_input_error(
+        &bad,
+        &[],
+        &["scene.toml:9: `materials.detector.side`: unknown field `side`"],
+    );
+    // A bad value that came from a variable points at the line that uses it.
+    expect_input_error(
+        GOOD,
+        &["-D", "energy=true"],
+        &["scene.toml:13: `sources[0].energy.line`: invalid type: boolean `true`"],
     );
 }
 
