@@ -283,10 +283,11 @@ fn print_text(r: &FileReport) {
         sig(q.area)
     );
     say!("  topology: {}", topology_text(q));
+    say!("  facets: {}", facet_text(q));
     say!("  units: {}", u.message);
     say!("  parts:");
     say!(
-        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>9} {:>8}  bounds (mm)",
+        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>9} {:>9} {:>8}  bounds (mm)",
         "name",
         "triangles",
         "vertices",
@@ -295,6 +296,7 @@ fn print_text(r: &FileReport) {
         "boundary",
         "non-man.",
         "mis-wound",
+        "step/deg",
         "normals"
     );
     for p in &r.parts {
@@ -310,7 +312,7 @@ fn print_text(r: &FileReport) {
 
 fn part_row(name: &str, normals: &str, q: &MeshQuality) {
     say!(
-        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>9} {:>8}  {}",
+        "    {:<24} {:>9} {:>9} {:>12} {:>6} {:>8} {:>8} {:>9} {:>9} {:>8}  {}",
         name,
         q.triangles,
         q.vertices,
@@ -319,6 +321,8 @@ fn part_row(name: &str, normals: &str, q: &MeshQuality) {
         q.boundary_edges,
         q.non_manifold_edges,
         q.inconsistent_winding_edges,
+        q.facet_step_deg
+            .map_or("-".to_string(), |d| format!("{d:.4}")),
         normals,
         bounds_text(q)
     );
@@ -334,6 +338,23 @@ fn bounds_text(q: &MeshQuality) -> String {
         sig(b.max[1]),
         sig(b.min[2]),
         sig(b.max[2])
+    )
+}
+
+fn facet_text(q: &MeshQuality) -> String {
+    let step = match q.facet_step_deg {
+        Some(d) if d < 1e-6 => "neighbours below a crease lie in one plane".to_string(),
+        Some(d) => format!(
+            "neighbours bend by up to {}° ({}″) on curved surfaces",
+            sig(d),
+            sig(d * 3600.0)
+        ),
+        None => "no curved surfaces".to_string(),
+    };
+    format!(
+        "{step}; {} creases (bends of {}° or more)",
+        q.creases,
+        traxer::mesh::quality::CREASE_DEG
     )
 }
 

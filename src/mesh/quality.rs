@@ -25,6 +25,20 @@ pub const WELD_TOLERANCE: f64 = 1e-6;
 /// degenerate: to Embree's f32 arithmetic (relative precision 6e-8) it has no area.
 pub const DEGENERATE_HEIGHT: f64 = 1e-7;
 
+/// Neighbouring facets bent by this much or more meet at an intended edge (a
+/// crease), not at a step of a tessellated curved surface.
+pub const CREASE_DEG: f64 = 30.0;
+
+/// How the triangles use one (welded) edge.
+#[derive(Clone, Copy, Default)]
+struct EdgeUse {
+    triangles: u32,
+    /// Uses that run from the lower to the higher vertex index.
+    low_to_high: u32,
+    /// The first two triangles on the edge.
+    first: [u32; 2],
+}
+
 /// Axis-aligned bounds in world space (millimetres as the tracer reads them).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub struct Bounds {
@@ -74,6 +88,13 @@ pub struct MeshQuality {
     /// when the winding makes the front sides face outwards, negative when the
     /// mesh is inside out.
     pub enclosed_volume: Option<f64>,
+    /// Largest bend (degrees) between neighbouring facets below [`CREASE_DEG`]: the
+    /// tessellation step of curved surfaces. A flat facet's normal is off the true
+    /// surface by up to half of it (use `smooth_normals` on mirrors). `None` when
+    /// no two facets meet at less than a crease.
+    pub facet_step_deg: Option<f64>,
+    /// Edges where facets meet at [`CREASE_DEG`] or more (box edges, rims).
+    pub creases: usize,
     /// For vertex normals read from the file: triangles whose normals point
     /// against their winding (the geometric front side); `None` when computed.
     pub normals_against_winding: Option<usize>,
@@ -117,25 +138,50 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
         }
     }
 
-    // Undirected welded edge → (triangles using it, of which running low → high).
-    let mut edges: HashMap<(u32, u32), (u32, u32)> =
-        HashMap::with_capacity(mesh.triangles.len() * 2);
+    // Undirected welded edge → its uses.
+    let mut edges: HashMap<(u32, u32), EdgeUse> = HashMap::with_capacity(mesh.triangles.len() * 2);
     let mut components = UnionFind::new(distinct_positions);
-    for t in &mesh.triangles {
+    for (i, t) in mesh.triangles.iter().enumerate() {
         let w = t.map(|k| welded[k as usize]);
         if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] {
             continue; // its edges have no length
         }
         for (a, b) in [(w[0], w[1]), (w[1], w[2]), (w[2], w[0])] {
-            let e = edges.entry((a.min(b), a.max(b))).or_insert((0, 0));
-            e.0 += 1;
-            e.1 += u32::from(a < b);
+            let e = edges.entry((a.min(b), a.max(b))).or_default();
+            if e.triangles < 2 {
+                e.first[e.triangles as usize] = i as u32;
+            }
+            e.triangles += 1;
+            e.low_to_high += u32::from(a < b);
             components.join(a, b);
         }
     }
-    let boundary_edges = edges.values().filter(|e| e.0 == 1).count();
-    let non_manifold_edges = edges.values().filter(|e| e.0 > 2).count();
-    let inconsistent_winding_edges = edges.values().filter(|e| e.0 == 2 && e.1 != 1).count();
+    let boundary_edges = edges.values().filter(|e| e.triangles == 1).count();
+    let non_manifold_edges = edges.values().filter(|e| e.triangles > 2).count();
+    let inconsistent_winding_edges = edges
+        .values()
+        .filter(|e| e.triangles == 2 && e.low_to_high != 1)
+        .count();
+    // Bend between neighbouring facets, as unoriented planes (a winding fault is
+    // reported above, not here).
+    let mut facet_step_deg: Option<f64> = None;
+    let mut creases = 0;
+    for e in edges.values().filter(|e| e.triangles == 2) {
+        let (n1, n2) = (
+            mesh.face_normal(e.first[0] as usize).normalize_or_zero(),
+            mesh.face_normal(e.first[1] as usize).normalize_or_zero(),
+        );
+        if n1 == DVec3::ZERO || n2 == DVec3::ZERO {
+            continue;
+        }
+        let cos = n1.dot(n2).abs().min(1.0);
+        let angle = n1.cross(n2).length().atan2(cos).to_degrees();
+        if angle >= CREASE_DEG {
+            creases += 1;
+        } else {
+            facet_step_deg = Some(facet_step_deg.unwrap_or(0.0).max(angle));
+        }
+    }
     let mut roots: Vec<u32> = mesh
         .triangles
         .iter()
@@ -181,6 +227,8 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
         boundary_edges,
         non_manifold_edges,
         inconsistent_winding_edges,
+        facet_step_deg,
+        creases,
         components: roots.len(),
         closed,
         enclosed_volume,

@@ -116,6 +116,9 @@ fn unit_cube_counts_bounds_area_and_orientation_are_exact() {
     assert!((num(t, "enclosed_volume") - 1.0).abs() < 1e-12, "{t}");
     assert_eq!(t["normals"], "computed");
     assert!(t["normals_against_winding"].is_null());
+    // 12 cube edges at 90°; the quads' diagonals are flat.
+    assert_eq!(count(t, "creases"), 12);
+    assert_eq!(num(t, "facet_step_deg"), 0.0);
     assert_eq!(f["parts"][0]["name"], "cube");
     assert_eq!(f["parts"][0]["primitives"][0]["label"], "object 'cube'");
 
@@ -341,6 +344,20 @@ fn tessellated_cone_section_matches_its_closed_form() {
     );
     assert_eq!(t["normals"], "file");
     assert_eq!(count(t, "normals_against_winding"), 0);
+    // Neighbouring facets turn by Δφ about the axis; their normals, inclined by
+    // the cone's half-angle a to the radial direction, bend by
+    // acos(cos²a cos Δφ + sin²a). No creases.
+    let a = ((r1 - r2) / (z1 - z2)).atan();
+    let dphi = (30.0 / segments as f64).to_radians();
+    let step = (a.cos().powi(2) * dphi.cos() + a.sin().powi(2))
+        .acos()
+        .to_degrees();
+    assert!(
+        (num(t, "facet_step_deg") - step).abs() < 1e-3,
+        "{} vs {step}",
+        num(t, "facet_step_deg")
+    );
+    assert_eq!(count(t, "creases"), 0);
     assert_eq!(f["units"]["suspected_unit"], "mm");
     assert!(f["units"]["scale"].is_null());
 
