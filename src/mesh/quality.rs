@@ -122,9 +122,12 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
 
     let mut area = 0.0;
     let mut degenerate_triangles = 0;
+    // Unit facet normals, `None` for degenerate triangles (whose normal is noise).
+    let mut facet_normals: Vec<Option<DVec3>> = Vec::with_capacity(mesh.triangles.len());
     for t in &mesh.triangles {
         let [a, b, c] = corners(t);
-        let twice_area = (b - a).cross(c - a).length();
+        let cross = (b - a).cross(c - a);
+        let twice_area = cross.length();
         area += 0.5 * twice_area;
         let w = t.map(|k| welded[k as usize]);
         let longest = (b - a)
@@ -135,6 +138,9 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
         if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] || twice_area <= DEGENERATE_HEIGHT * longest
         {
             degenerate_triangles += 1;
+            facet_normals.push(None);
+        } else {
+            facet_normals.push(Some(cross / twice_area));
         }
     }
 
@@ -167,13 +173,12 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
     let mut facet_step_deg: Option<f64> = None;
     let mut creases = 0;
     for e in edges.values().filter(|e| e.triangles == 2) {
-        let (n1, n2) = (
-            mesh.face_normal(e.first[0] as usize).normalize_or_zero(),
-            mesh.face_normal(e.first[1] as usize).normalize_or_zero(),
-        );
-        if n1 == DVec3::ZERO || n2 == DVec3::ZERO {
+        let (Some(n1), Some(n2)) = (
+            facet_normals[e.first[0] as usize],
+            facet_normals[e.first[1] as usize],
+        ) else {
             continue;
-        }
+        };
         let cos = n1.dot(n2).abs().min(1.0);
         let angle = n1.cross(n2).length().atan2(cos).to_degrees();
         if angle >= CREASE_DEG {
