@@ -110,19 +110,7 @@ impl AnalyticObject {
     /// World-space bounds: the eight mapped corners of the local box.
     pub fn world_bounds(&self) -> (DVec3, DVec3) {
         let (lo, hi) = self.shape.bounds();
-        let mut wlo = DVec3::splat(f64::INFINITY);
-        let mut whi = DVec3::splat(f64::NEG_INFINITY);
-        for i in 0..8 {
-            let c = DVec3::new(
-                if i & 1 == 0 { lo.x } else { hi.x },
-                if i & 2 == 0 { lo.y } else { hi.y },
-                if i & 4 == 0 { lo.z } else { hi.z },
-            );
-            let w = self.transform.point(c);
-            wlo = wlo.min(w);
-            whi = whi.max(w);
-        }
-        (wlo, whi)
+        self.transform.box_to_world(lo, hi)
     }
 }
 

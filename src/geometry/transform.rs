@@ -37,6 +37,23 @@ impl Transform {
         self.to_world.transform_point3(p)
     }
 
+    /// World-space axis-aligned box around a local box: its eight mapped corners
+    /// (exact without rotations, an enclosing box with them).
+    pub fn box_to_world(&self, lo: DVec3, hi: DVec3) -> (DVec3, DVec3) {
+        (0..8)
+            .map(|i| {
+                self.point(DVec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                ))
+            })
+            .fold(
+                (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                |(a, b), p| (a.min(p), b.max(p)),
+            )
+    }
+
     pub fn vector(&self, v: DVec3) -> DVec3 {
         self.to_world.transform_vector3(v)
     }

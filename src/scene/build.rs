@@ -371,6 +371,17 @@ impl Builder<'_> {
                     }
                     let mesh = mesh::select_parts(&file, &mesh_files[&file], m.part.as_deref())
                         .map_err(at)?;
+                    // The most common silent CAD mistake: a file in metres.
+                    let extent = world_extent(&mesh, &transform);
+                    if extent < mesh::units::SMALLEST_PLAUSIBLE_MM {
+                        warnings.push(format!(
+                            "object `{name}`: {} is only {extent:.4} mm across after its transform; \
+                             if the file is in metres add `{{ scale = 1000.0 }}` as the first transform step \
+                             (`traxer inspect {}` checks the file)",
+                            file.display(),
+                            file.display()
+                        ));
+                    }
                     self.mesh_object(mesh, &transform, od.smooth_normals)
                 }
                 shape => {
@@ -986,4 +997,12 @@ pub fn inline_shape(text: &str) -> Result<Shape, SceneError> {
         representation: Representation::AsWritten,
     };
     b.shape(w.shape.get_ref(), w.shape.span())
+}
+
+/// Largest edge of the world-space box around a mesh's local box (an upper bound
+/// of its world extent; exact without rotations).
+fn world_extent(mesh: &TriangleMesh, transform: &Transform) -> f64 {
+    let (lo, hi) = mesh.bounds();
+    let (wlo, whi) = transform.box_to_world(lo, hi);
+    (whi - wlo).max_element()
 }

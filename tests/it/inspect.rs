@@ -467,6 +467,21 @@ fn units_hint_names_metres_and_inches_and_the_scale() {
     };
     let z_max = m.positions.iter().map(|p| p.z).fold(0.0, f64::max);
     assert!((z_max - 450.0).abs() < 1e-9, "{z_max}");
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    // Without the scale the tracer itself warns.
+    let text = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("transform = [{ scale = 1000.0 }]\n", "");
+    let unscaled = write(dir.path(), "s.toml", &text);
+    let loaded = traxer::scene::Scene::load(&crate::common::device(), &unscaled, &[]).unwrap();
+    assert!(
+        loaded
+            .warnings
+            .iter()
+            .any(|w| w.contains("only 0.4500 mm across") && w.contains("{ scale = 1000.0 }")),
+        "{:?}",
+        loaded.warnings
+    );
 }
 
 #[test]
