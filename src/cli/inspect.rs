@@ -10,7 +10,7 @@ use serde::Serialize;
 use std::path::{Path, PathBuf};
 use traxer::mesh::quality::{analyse, MeshQuality};
 use traxer::mesh::units::{hint, UnitsHint};
-use traxer::mesh::{self, MeshError, MeshPart};
+use traxer::mesh::{self, MeshError, MeshPart, Skipped};
 
 /// Check mesh files (glTF .gltf/.glb, OBJ) before tracing them.
 ///
@@ -52,7 +52,7 @@ struct FileReport {
     error: Option<String>,
     total: Option<Total>,
     parts: Vec<PartReport>,
-    skipped: Vec<SkippedReport>,
+    skipped: Vec<Skipped>,
     notes: Vec<String>,
     extensions_used: Vec<String>,
     units: Option<UnitsHint>,
@@ -82,12 +82,6 @@ struct PrimitiveReport {
     normals: &'static str,
     #[serde(flatten)]
     quality: MeshQuality,
-}
-
-#[derive(Serialize)]
-struct SkippedReport {
-    what: String,
-    reason: String,
 }
 
 pub fn run(a: InspectArgs) -> anyhow::Result<()> {
@@ -154,14 +148,7 @@ fn inspect_file(path: &Path, expect_size: Option<f64>) -> (FileReport, Option<Me
             return (report, Some(e));
         }
     };
-    report.skipped = import
-        .skipped
-        .iter()
-        .map(|s| SkippedReport {
-            what: s.what.clone(),
-            reason: s.reason.clone(),
-        })
-        .collect();
+    report.skipped = import.skipped.clone();
     report.notes = import.notes.clone();
     report.extensions_used = import.extensions_used.clone();
     // The whole file, checked as the tracer checks a `mesh` shape without `part`.

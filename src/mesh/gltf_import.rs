@@ -133,8 +133,13 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             for prim in m.primitives() {
                 let label = primitive_label(&m, &prim);
                 for key in prim.extensions().into_iter().flat_map(|e| e.keys()) {
+                    let what = if COMPRESSION_EXTENSIONS.contains(&key.as_str()) {
+                        ": its uncompressed accessors are read"
+                    } else {
+                        ""
+                    };
                     report.notes.push(format!(
-                        "{label} carries {key} data, which traxer ignores (it reads the primitive's plain accessors)"
+                        "{label} carries {key} data, which traxer ignores{what}"
                     ));
                 }
                 // Reading accessors walks offsets from the file; guard against a

@@ -44,8 +44,9 @@ pub struct ImportReport {
     pub extensions_used: Vec<String>,
 }
 
-/// A piece of a mesh file that the importer left out.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// A piece of a mesh file that the importer left out (its fields are JSON keys of
+/// `traxer inspect --json`).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
 pub struct Skipped {
     /// Which piece, e.g. "primitive 2 of mesh 'rails'" or "object 'axis'".
     pub what: String,
