@@ -17,8 +17,8 @@ use traxer::mesh::{self, MeshError, MeshPart, Skipped};
 /// Reports, per part (glTF node with a mesh, OBJ object), per primitive and for the
 /// whole file: triangles, vertices, world-space bounding box, surface area,
 /// degenerate triangles, boundary (open) and non-manifold edges, neighbours wound
-/// the other way, normals, skipped and refused pieces, and whether the units look
-/// like millimetres. Exit code 0 when every file imports, 2 when one cannot (with
+/// the other way, normals, the tessellation step of curved surfaces, skipped and
+/// refused pieces, and whether the units look like millimetres. Exit code 0 when every file imports, 2 when one cannot (with
 /// the error the tracer would give).
 #[derive(clap::Args)]
 pub struct InspectArgs {
