@@ -13,6 +13,17 @@ use std::path::Path;
 const COMPRESSION_EXTENSIONS: [&str; 2] = ["KHR_draco_mesh_compression", "EXT_meshopt_compression"];
 
 pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
+    // The gltf crate can panic on malformed files (e.g. an attribute naming an
+    // accessor that does not exist makes its validation index past a list).
+    super::guard::quietly(|| load_unguarded(path)).unwrap_or_else(|why| {
+        Err(MeshError::invalid(
+            path,
+            format!("malformed glTF: the glTF reader failed on it ({why})"),
+        ))
+    })
+}
+
+fn load_unguarded(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
     // Read without validation first: the gltf crate's validation rejects any
     // required extension with a bare "Unsupported extension", and the user needs
@@ -142,12 +153,10 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
                         "{label} carries {key} data, which traxer ignores{what}"
                     ));
                 }
-                // Reading accessors walks offsets from the file; guard against a
-                // malformed file making the gltf crate panic.
-                let read = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    read_primitive(&prim, &buffers, &world)
-                }))
-                .map_err(|_| bad(format!("{label}: malformed accessor data")))?;
+                // Reading accessors walks offsets from the file: a malformed one
+                // can make the gltf crate panic.
+                let read = super::guard::quietly(|| read_primitive(&prim, &buffers, &world))
+                    .map_err(|why| bad(format!("{label}: malformed accessor data ({why})")))?;
                 match read {
                     Ok((mesh, had_normals)) => {
                         report.normals_from_file &= had_normals;
@@ -226,6 +235,26 @@ fn read_primitive(
     let position_accessor = prim
         .get(&gltf::Semantic::Positions)
         .ok_or_else(|| Unusable::Skip("no POSITION attribute".into()))?;
+    // The types glTF allows (without extensions, which are refused when required);
+    // the gltf crate would misread or panic on others.
+    use gltf::accessor::{DataType, Dimensions};
+    expect_type(
+        "POSITION",
+        &position_accessor,
+        Dimensions::Vec3,
+        &[DataType::F32],
+    )?;
+    if let Some(a) = prim.get(&gltf::Semantic::Normals) {
+        expect_type("NORMAL", &a, Dimensions::Vec3, &[DataType::F32])?;
+    }
+    if let Some(a) = prim.indices() {
+        expect_type(
+            "indices",
+            &a,
+            Dimensions::Scalar,
+            &[DataType::U8, DataType::U16, DataType::U32],
+        )?;
+    }
     let positions: Vec<DVec3> = reader
         .read_positions()
         .ok_or_else(|| unreadable("POSITION", &position_accessor))?
@@ -328,6 +357,30 @@ fn complete(what: &str, accessor: &gltf::Accessor, read: usize) -> Result<(), Un
             "its {what} accessor {} declares {} elements but its buffer view holds only {read}",
             accessor.index(),
             accessor.count()
+        )))
+    }
+}
+
+/// Checks an accessor's element type against what glTF allows for its use.
+fn expect_type(
+    what: &str,
+    accessor: &gltf::Accessor,
+    dimensions: gltf::accessor::Dimensions,
+    types: &[gltf::accessor::DataType],
+) -> Result<(), Unusable> {
+    if accessor.dimensions() == dimensions && types.contains(&accessor.data_type()) {
+        Ok(())
+    } else {
+        Err(Unusable::Broken(format!(
+            "its {what} accessor {} holds {:?} of {:?}; glTF requires {dimensions:?} of {}",
+            accessor.index(),
+            accessor.dimensions(),
+            accessor.data_type(),
+            types
+                .iter()
+                .map(|t| format!("{t:?}"))
+                .collect::<Vec<_>>()
+                .join(" or ")
         )))
     }
 }

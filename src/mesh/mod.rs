@@ -9,6 +9,7 @@
 
 mod export;
 mod gltf_import;
+mod guard;
 mod obj_import;
 pub mod quality;
 pub mod units;

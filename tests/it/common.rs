@@ -192,6 +192,24 @@ pub fn broken_mesh_files() -> Vec<(&'static str, Vec<u8>, Vec<&'static str>)> {
             .into_bytes(),
         vec!["NORMAL accessor 1 declares 6 elements"],
     ));
+    // An attribute naming an accessor that does not exist: the gltf crate's own
+    // validation panics on it (it indexes the accessor list before checking).
+    files.push((
+        "noaccessor.gltf",
+        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
+            .replace(r#""POSITION":0}"#, r#""POSITION":4}"#)
+            .into_bytes(),
+        vec!["malformed glTF"],
+    ));
+    // Indices stored as VEC3 floats (the gltf crate reaches `unreachable!()` on
+    // index types glTF does not allow).
+    files.push((
+        "floatindices.gltf",
+        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
+            .replace(r#""POSITION":0}"#, r#""POSITION":0},"indices":0"#)
+            .into_bytes(),
+        vec!["indices accessor 0 holds Vec3 of F32", "U8 or U16 or U32"],
+    ));
     // An external buffer that is not there.
     files.push((
         "nobuffer.gltf",
