@@ -75,8 +75,12 @@ pub trait UserGeometry: Send + Sync + 'static {
     ) -> Option<f64>;
 }
 
+/// Embree's bound on ray origin and direction components (`FLT_LARGE` in its
+/// sources); `Ray::valid()` rejects anything larger.
+const EMBREE_FLT_LARGE: f32 = 1.844e18;
+
 /// One ray query, in f64. Embree's triangle test sees the f32 rounding of it;
-/// user geometry sees it exactly.
+/// user geometry sees it exactly. A query Embree cannot represent misses.
 #[derive(Clone, Copy, Debug)]
 pub struct Query {
     pub origin: [f64; 3],
@@ -448,6 +452,18 @@ impl<U: UserGeometry> CommittedScene<U> {
             },
             ..Default::default()
         };
+        // A ray Embree cannot represent (NaN, or coordinates beyond its FLT_LARGE)
+        // makes a debug-asserting Embree build abort the whole process: it misses
+        // instead. Scenes keep everything within geometry::WORLD_LIMIT_MM, so only
+        // a numerical accident can get here.
+        let r = &rh.ray;
+        let valid = [r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z]
+            .iter()
+            .all(|v| v.abs() <= EMBREE_FLT_LARGE)
+            && !r.tfar.is_nan();
+        if !valid {
+            return None;
+        }
         rh.hit.geomID = INVALID_ID;
         rh.hit.primID = INVALID_ID;
         for id in rh.hit.instID.iter_mut() {

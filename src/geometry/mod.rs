@@ -30,6 +30,20 @@ pub use transform::Transform;
 
 use glam::DVec3;
 
+/// Every position a scene uses (object bounds, sources, targets, cameras) must lie
+/// within ±this many millimetres (1000 km) of the origin. Embree works in float32:
+/// at 1e9 mm neighbouring floats are 64 mm apart, and beyond ~1.8e18 Embree rejects
+/// a ray outright (an assertion that aborts the process). A source as far away as
+/// the Sun must start its photons near the target instead.
+pub const WORLD_LIMIT_MM: f64 = 1e9;
+
+/// Whether every coordinate lies within ±[`WORLD_LIMIT_MM`].
+pub fn within_world(points: &[DVec3]) -> bool {
+    points
+        .iter()
+        .all(|p| p.is_finite() && p.abs().max_element() <= WORLD_LIMIT_MM)
+}
+
 /// Roots of a·t² + b·t + c = 0 in ascending order, computed without cancellation
 /// (the grazing rays of X-ray optics make a or b tiny). `None` if there is no real
 /// root; a linear equation (a = 0) gives one root twice.

@@ -28,6 +28,12 @@ impl Camera {
         if !(self.look_from.is_finite() && self.look_at.is_finite() && self.up.is_finite()) {
             return Err("look_from, look_at and up must be finite".into());
         }
+        if !crate::geometry::within_world(&[self.look_from, self.look_at]) {
+            return Err(format!(
+                "look_from and look_at must lie within ±{:e} mm of the origin",
+                crate::geometry::WORLD_LIMIT_MM
+            ));
+        }
         if forward.length() == 0.0 {
             return Err("look_from and look_at must differ".into());
         }

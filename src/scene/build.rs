@@ -7,8 +7,8 @@ use super::vars;
 use crate::embree::{CommittedScene, Device};
 use crate::figure_error::FigureErrorLibrary;
 use crate::geometry::{
-    AnalyticObject, AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape,
-    Sphere, Transform,
+    within_world, AnalyticObject, AzimuthRange, Cuboid, Disk, Rectangle, Resolution,
+    RevolutionQuadric, Shape, Sphere, Transform, WORLD_LIMIT_MM,
 };
 use crate::material::{Material, Side};
 use crate::mesh::{self, TriangleMesh};
@@ -417,6 +417,21 @@ impl Builder<'_> {
                     }
                 }
             };
+            let (lo, hi) = match &geometry {
+                ObjectGeometry::Analytic(a) => a.world_bounds(),
+                ObjectGeometry::Mesh(m) => m.positions.iter().fold(
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                    |(a, b), &p| (a.min(p), b.max(p)),
+                ),
+            };
+            if !within_world(&[lo, hi]) {
+                return self.err(
+                    ospan,
+                    format!(
+                        "object `{name}` reaches from {lo} to {hi} mm: everything must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry; check the sizes, the transform and the mesh units)"
+                    ),
+                );
+            }
             match &geometry {
                 ObjectGeometry::Analytic(a) => embree.add_user(id, *a),
                 ObjectGeometry::Mesh(m) => {
@@ -760,6 +775,22 @@ impl Builder<'_> {
                 _ => self.err(span.clone(), "source energy: { line = E } with E > 0 or { band = [min, max] } with 0 < min < max (keV)"),
             }
         };
+        let far = |points: &[[f64; 3]]| {
+            !within_world(&points.iter().map(|&p| DVec3::from(p)).collect::<Vec<_>>())
+        };
+        if match d {
+            SourceDesc::Parallel(p) => {
+                far(&[p.aperture.center]) || p.aperture.radius > WORLD_LIMIT_MM
+            }
+            SourceDesc::Point(p) => {
+                far(&[p.position, p.target.center]) || p.target.radius > WORLD_LIMIT_MM
+            }
+        } {
+            return self.err(
+                span,
+                format!("source positions, centres and radii must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry: start photons near the target)"),
+            );
+        }
         let aperture_ok = |a: &ApertureDesc| {
             a.azimuth
                 .is_none_or(|[f, t]| f.is_finite() && t.is_finite() && f < t && t - f <= 360.0)

@@ -219,3 +219,36 @@ fn mesh_reflections_never_rehit_their_surface() {
     );
     reflected_rays_never_rehit_their_surface("tessellate = { segments = 100, rings = 4 }");
 }
+
+#[test]
+fn rays_embree_cannot_represent_miss_instead_of_aborting() {
+    // Debian's Embree 3 asserts `ray.valid()` and aborts the process on NaN or
+    // coordinates beyond 1.8e18; such a query must simply miss. A sphere around
+    // the origin is hit by the valid ray and by nothing else.
+    let s = scene(
+        r#"
+[[objects]]
+name = "ball"
+material = "absorber"
+shape = { type = "sphere", radius = 10.0 }
+"#,
+    );
+    let q = |origin: [f64; 3], dir: [f64; 3]| traxer::embree::Query {
+        origin,
+        dir,
+        t_max: f64::INFINITY,
+        start_geometry: traxer::embree::INVALID_ID,
+    };
+    assert!(s
+        .embree
+        .intersect(&q([0.0, 0.0, 100.0], [0.0, 0.0, -1.0]))
+        .is_some());
+    for bad in [
+        q([f64::NAN, 0.0, 100.0], [0.0, 0.0, -1.0]),
+        q([0.0, 0.0, 1e300], [0.0, 0.0, -1.0]),
+        q([0.0, 0.0, 100.0], [0.0, f64::INFINITY, -1.0]),
+        q([0.0, 0.0, 100.0], [0.0, 0.0, f64::NAN]),
+    ] {
+        assert!(s.embree.intersect(&bad).is_none(), "{bad:?}");
+    }
+}

@@ -145,6 +145,29 @@ fn wrong_type_names_the_line() {
 }
 
 #[test]
+fn positions_beyond_float32_geometry_are_refused() {
+    // 1e300 is finite in f64 but infinite in f32: Embree would abort on such rays.
+    expect_input_error(
+        &GOOD.replace("center = [0, 0, 10]", "center = [0, 0, 1e300]"),
+        &[],
+        &["scene.toml:10", "within ±1e9 mm of the origin"],
+    );
+    expect_input_error(
+        &GOOD.replace(
+            "shape = { type = \"rectangle\", size = [14.0, 14.0] }",
+            "shape = { type = \"rectangle\", size = [1e300, 14.0] }",
+        ),
+        &[],
+        &["object `sensor` reaches", "within ±1e9 mm of the origin"],
+    );
+    expect_input_error(
+        &format!("{GOOD}\n[cameras.far]\nlook_from = [1e300, 0, 0]\nlook_at = [0, 0, 0]\nvfov = 30\n"),
+        &[],
+        &["camera `far`", "within ±1e9 mm of the origin"],
+    );
+}
+
+#[test]
 fn missing_mesh_file_unknown_material_and_bad_values() {
     let bad = GOOD.replace(
         "{ type = \"rectangle\", size = [14.0, 14.0] }",
