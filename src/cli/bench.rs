@@ -17,7 +17,7 @@ pub struct BenchArgs {
     #[arg(short = 'n', long, default_value_t = 2_000_000)]
     pub photons: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0)]
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
     pub threads: usize,
     /// Photons whose queries are replayed for the raw Embree rate.
     #[arg(long, default_value_t = 300_000)]

@@ -45,7 +45,7 @@ pub struct CompareArgs {
     #[arg(short, long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0)]
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
     pub threads: usize,
     /// Output folder.
     #[arg(short, long, default_value = "out/compare")]

@@ -61,7 +61,7 @@ pub struct FitFigureErrorArgs {
     #[arg(long, default_value_t = 3)]
     pub check_seeds: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0)]
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
     pub threads: usize,
     /// Sensor to measure (default: the scene's only sensor).
     #[arg(long)]

@@ -46,7 +46,7 @@ pub struct FocusArgs {
     #[arg(short, long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0)]
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
     pub threads: usize,
     /// Output folder.
     #[arg(short, long, default_value = "out/focus")]

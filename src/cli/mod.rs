@@ -36,6 +36,20 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
         .any(|c| c.is::<SceneError>() || c.is::<MeshError>() || c.is::<InputError>())
 }
 
+/// More worker threads than this is a typo, not a machine (and would take minutes
+/// to start).
+pub const MAX_THREADS: usize = 1024;
+
+/// Parses `--threads N`: 0 (one per core) to [`MAX_THREADS`].
+pub fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if n <= MAX_THREADS => Ok(n),
+        _ => Err(format!(
+            "expected 0 (one per core) to {MAX_THREADS} worker threads, got `{s}`"
+        )),
+    }
+}
+
 /// Parses `-D name=value`, checking the shape only (the scene checks the name).
 pub fn parse_define(s: &str) -> Result<String, String> {
     match s.split_once('=') {

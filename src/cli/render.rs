@@ -56,7 +56,7 @@ pub struct RenderArgs {
     #[arg(short, long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0)]
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
     pub threads: usize,
     /// X-ray image(s) to show on the sensors: a trace output folder or a .npy.
     #[arg(long)]

@@ -3,7 +3,7 @@
 use super::{parse_define, InputError};
 use anyhow::Context;
 use std::path::PathBuf;
-use traxer::geometry::Resolution;
+use traxer::geometry::{Resolution, MAX_TESSELLATION_QUADS};
 use traxer::mesh::{write_mesh, write_mesh_parts, TriangleMesh};
 use traxer::output::file_stem;
 use traxer::scene::{analytic_shapes, inline_shape, NamedShape};
@@ -102,6 +102,13 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
                 .unwrap_or(360),
             rings: a.rings.or(s.resolution.map(|r| r.rings)).unwrap_or(16),
         };
+        if res.segments.saturating_mul(res.rings) > MAX_TESSELLATION_QUADS {
+            return Err(InputError(format!(
+                "{}: {} segments × {} rings is more than {MAX_TESSELLATION_QUADS} quads",
+                s.name, res.segments, res.rings
+            ))
+            .into());
+        }
         let mut mesh = s.shape.tessellate(res);
         if !a.local {
             mesh = mesh.transformed(&s.transform);

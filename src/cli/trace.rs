@@ -24,7 +24,7 @@ pub struct TraceArgs {
     #[arg(short, long, default_value_t = 1)]
     pub seed: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0)]
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
     pub threads: usize,
     /// Output folder (created if missing).
     #[arg(short, long, default_value = "out")]
@@ -44,6 +44,13 @@ pub struct TraceArgs {
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     if a.photons == 0 {
         return Err(super::InputError("--photons must be at least 1".into()).into());
+    }
+    if a.first_photon.checked_add(a.photons).is_none() {
+        return Err(super::InputError(format!(
+            "--first-photon {} + --photons {} runs past the last photon index (2^64 - 1)",
+            a.first_photon, a.photons
+        ))
+        .into());
     }
     let (device, scene) = load_xray_scene(&a.scene, &a.define)?;
     if scene.sensors.is_empty() {

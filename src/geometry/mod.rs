@@ -37,6 +37,10 @@ use glam::DVec3;
 /// the Sun must start its photons near the target instead.
 pub const WORLD_LIMIT_MM: f64 = 1e9;
 
+/// The most quads (segments × rings) a tessellation may have: 1e8 triangles, several
+/// GB of mesh, far beyond any useful resolution.
+pub const MAX_TESSELLATION_QUADS: usize = 50_000_000;
+
 /// Whether every coordinate lies within ±[`WORLD_LIMIT_MM`].
 pub fn within_world(points: &[DVec3]) -> bool {
     points

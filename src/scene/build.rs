@@ -8,7 +8,7 @@ use crate::embree::{CommittedScene, Device};
 use crate::figure_error::FigureErrorLibrary;
 use crate::geometry::{
     within_world, AnalyticObject, AzimuthRange, Cuboid, Disk, Rectangle, Resolution,
-    RevolutionQuadric, Shape, Sphere, Transform, WORLD_LIMIT_MM,
+    RevolutionQuadric, Shape, Sphere, Transform, MAX_TESSELLATION_QUADS, WORLD_LIMIT_MM,
 };
 use crate::material::{Material, Side};
 use crate::mesh::{self, TriangleMesh};
@@ -401,9 +401,11 @@ impl Builder<'_> {
                     };
                     match tessellate {
                         Some((r, tspan)) => {
-                            if r.segments == 0 || r.rings == 0 || r.segments * r.rings > 50_000_000
+                            if r.segments == 0
+                                || r.rings == 0
+                                || r.segments.saturating_mul(r.rings) > MAX_TESSELLATION_QUADS
                             {
-                                return self.err(tspan, "tessellate: segments and rings must be positive (and their product at most 5e7)");
+                                return self.err(tspan, format!("tessellate: segments and rings must be positive (and their product at most {MAX_TESSELLATION_QUADS})"));
                             }
                             let mesh = shape.tessellate(r);
                             self.mesh_object(mesh, &transform, smooth_normals)

@@ -161,7 +161,9 @@ fn positions_beyond_float32_geometry_are_refused() {
         &["object `sensor` reaches", "within ±1e9 mm of the origin"],
     );
     expect_input_error(
-        &format!("{GOOD}\n[cameras.far]\nlook_from = [1e300, 0, 0]\nlook_at = [0, 0, 0]\nvfov = 30\n"),
+        &format!(
+            "{GOOD}\n[cameras.far]\nlook_from = [1e300, 0, 0]\nlook_at = [0, 0, 0]\nvfov = 30\n"
+        ),
         &[],
         &["camera `far`", "within ±1e9 mm of the origin"],
     );
@@ -250,4 +252,31 @@ fn missing_scene_bad_arguments_and_run_failures() {
     let (code, err) = trace(dir.path(), GOOD, &[]);
     assert_eq!(code, 1, "{err}");
     assert!(err.contains("cannot write the results"), "{err}");
+    // Values that used to hang, wrap around or exhaust memory.
+    expect_input_error(
+        GOOD,
+        &["-j", "100000"],
+        &["0 (one per core) to 1024 worker threads"],
+    );
+    expect_input_error(
+        GOOD,
+        &["--first-photon", "18446744073709551615"],
+        &["runs past the last photon index"],
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        .args([
+            "tessellate",
+            "--shape",
+            "type = \"sphere\", radius = 1",
+            "--segments",
+            "100000000",
+            "--rings",
+            "100000000",
+            "--out",
+        ])
+        .arg(dir.path().join("huge.obj"))
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("more than 50000000 quads"));
 }
