@@ -144,6 +144,9 @@ pub fn gltf_with_nodes(nodes: &str, scenes: &[&str], extra_primitives: &str) -> 
     )
 }
 
+/// A text replacement (from, to).
+type Edit<'a> = (&'a str, &'a str);
+
 /// Mesh files that must not import: (file name, content, words the error must
 /// contain). Non-finite coordinates, indices out of range, no triangles, garbage,
 /// a truncated binary glTF, broken JSON, compressed geometry.
@@ -163,61 +166,66 @@ pub fn broken_mesh_files() -> Vec<(&'static str, Vec<u8>, Vec<&'static str>)> {
             br#"{"asset":{"version":"2.0"},"extensionsUsed":["KHR_draco_mesh_compression"],"extensionsRequired":["KHR_draco_mesh_compression"],"meshes":[]}"#.to_vec(),
             vec!["requires the glTF extension KHR_draco_mesh_compression", "export the file without mesh compression"],
         ),
+    ];
+    // The one-triangle glTF of `gltf_with_nodes`, edited: (file, edits, words).
+    let edited: [(&str, &[Edit], Vec<&str>); 6] = [
+        // A LINES primitive only.
         (
             "lines.gltf",
-            gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
-                .replace(r#""POSITION":0}}"#, r#""POSITION":0},"mode":1}"#)
-                .into_bytes(),
+            &[(r#""POSITION":0}}"#, r#""POSITION":0},"mode":1}"#)],
             vec!["no triangles"],
         ),
+        // An accessor declaring 6 vertices in a 3-vertex buffer view (the gltf
+        // crate alone would read nothing, or what fits, without complaint).
+        (
+            "short.gltf",
+            &[(r#""count":3"#, r#""count":6"#)],
+            vec!["POSITION accessor 0 declares 6 elements"],
+        ),
+        // The same for a NORMAL accessor (else the normals would silently be
+        // computed).
+        (
+            "shortnormals.gltf",
+            &[
+                (r#""POSITION":0}"#, r#""POSITION":0,"NORMAL":1}"#),
+                (
+                    r#""max":[1,1,0]}]"#,
+                    r#""max":[1,1,0]},{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3"}]"#,
+                ),
+            ],
+            vec!["NORMAL accessor 1 declares 6 elements"],
+        ),
+        // An attribute naming an accessor that does not exist: the gltf crate's
+        // own validation panics on it (it indexes the accessor list first).
+        (
+            "noaccessor.gltf",
+            &[(r#""POSITION":0}"#, r#""POSITION":4}"#)],
+            vec!["malformed glTF"],
+        ),
+        // Indices stored as VEC3 floats (the gltf crate reaches `unreachable!()`
+        // on index types glTF does not allow).
+        (
+            "floatindices.gltf",
+            &[(r#""POSITION":0}"#, r#""POSITION":0},"indices":0"#)],
+            vec!["indices accessor 0 holds Vec3 of F32", "U8 or U16 or U32"],
+        ),
+        // An external buffer that is not there.
+        (
+            "nobuffer.gltf",
+            &[(r#""uri":"data:"#, r#""uri":"nothere.bin","x":"data:"#)],
+            vec!["buffer 0 refers to", "nothere.bin", "does not exist"],
+        ),
     ];
-    // An accessor declaring 6 vertices in a 3-vertex buffer view (the gltf crate
-    // alone would read nothing, or what fits, without complaint).
-    files.push((
-        "short.gltf",
-        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
-            .replace(r#""count":3"#, r#""count":6"#)
-            .into_bytes(),
-        vec!["POSITION accessor 0 declares 6 elements"],
-    ));
-    // The same for a NORMAL accessor (else the normals would silently be computed).
-    files.push((
-        "shortnormals.gltf",
-        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
-            .replace(r#""POSITION":0}"#, r#""POSITION":0,"NORMAL":1}"#)
-            .replace(
-                r#""max":[1,1,0]}]"#,
-                r#""max":[1,1,0]},{"bufferView":0,"componentType":5126,"count":6,"type":"VEC3"}]"#,
-            )
-            .into_bytes(),
-        vec!["NORMAL accessor 1 declares 6 elements"],
-    ));
-    // An attribute naming an accessor that does not exist: the gltf crate's own
-    // validation panics on it (it indexes the accessor list before checking).
-    files.push((
-        "noaccessor.gltf",
-        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
-            .replace(r#""POSITION":0}"#, r#""POSITION":4}"#)
-            .into_bytes(),
-        vec!["malformed glTF"],
-    ));
-    // Indices stored as VEC3 floats (the gltf crate reaches `unreachable!()` on
-    // index types glTF does not allow).
-    files.push((
-        "floatindices.gltf",
-        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
-            .replace(r#""POSITION":0}"#, r#""POSITION":0},"indices":0"#)
-            .into_bytes(),
-        vec!["indices accessor 0 holds Vec3 of F32", "U8 or U16 or U32"],
-    ));
-    // An external buffer that is not there.
-    files.push((
-        "nobuffer.gltf",
-        gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], "")
-            .replace(r#""uri":"data:"#, r#""uri":"nothere.bin","x":"data:"#)
-            .into_bytes(),
-        vec!["buffer 0 refers to", "nothere.bin", "does not exist"],
-    ));
+    for (file, edits, needles) in edited {
+        let text = edits.iter().fold(
+            gltf_with_nodes(r#"[{"mesh":0}]"#, &["[0]"], ""),
+            |text, (from, to)| {
+                assert!(text.contains(from), "{file}: nothing to edit at {from}");
+                text.replace(from, to)
+            },
+        );
+        files.push((file, text.into_bytes(), needles));
+    }
     let m = traxer::geometry::Shape::Sphere(traxer::geometry::Sphere { radius: 1.0 }).tessellate(
         traxer::geometry::Resolution {
             segments: 8,
