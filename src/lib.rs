@@ -9,6 +9,7 @@ pub mod analysis;
 pub mod bench;
 pub mod embree;
 pub mod figure_error;
+pub mod files;
 pub mod fit;
 pub mod geometry;
 pub mod material;

@@ -9,8 +9,9 @@ use anyhow::Context;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use traxer::files::atomic_write;
 use traxer::geometry::Resolution;
-use traxer::output::{atomic_write, write_json};
+use traxer::output::write_json;
 use traxer::scene::{Representation, Scene};
 
 /// Compare the analytic scene with meshes of it: HPD / 80 % / 90 %, photons on the

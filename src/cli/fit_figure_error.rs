@@ -8,10 +8,11 @@ use anyhow::Context;
 use serde_json::json;
 use std::fmt::Write as _;
 use std::path::PathBuf;
+use traxer::files::atomic_write;
 use traxer::fit::{
     fit, measure, set_figure_error, Bounds, Diameters, FitSettings, LocalAlgorithm, PARAMETERS,
 };
-use traxer::output::{atomic_write, write_json};
+use traxer::output::write_json;
 use traxer::trace::RunConfig;
 
 /// Fit the mirrors' figure errors to measured image quality.

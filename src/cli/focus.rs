@@ -9,7 +9,8 @@ use std::fmt::Write as _;
 use std::path::PathBuf;
 use traxer::analysis::focus::{fit_defocus, DefocusFit};
 use traxer::analysis::ImageQuality;
-use traxer::output::{atomic_write, line_plot, write_json, Series};
+use traxer::files::atomic_write;
+use traxer::output::{line_plot, write_json, Series};
 
 /// Find the best focus: trace the scene at several sensor positions and fit the
 /// image diameters.

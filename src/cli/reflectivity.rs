@@ -159,7 +159,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         _ => {}
     }
     if let Some(path) = &a.csv {
-        traxer::output::atomic_write(path, csv.as_bytes())
+        traxer::files::atomic_write(path, csv.as_bytes())
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
     let (title, x_label) = if versus_angle {

@@ -6,7 +6,7 @@ use super::{load_scene, parse_define, InputError};
 use anyhow::Context;
 use glam::DVec3;
 use std::path::{Path, PathBuf};
-use traxer::output::atomic_write;
+use traxer::files::atomic_write;
 use traxer::render::{render, to_srgb8, Camera, RenderSettings, SensorTexture};
 use traxer::scene::Scene;
 

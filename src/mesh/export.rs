@@ -2,7 +2,7 @@
 //! `.glb`) and Wavefront OBJ. Files are written atomically.
 
 use super::TriangleMesh;
-use crate::output::atomic_write;
+use crate::files::atomic_write;
 use base64::Engine;
 use glam::DVec3;
 use serde_json::json;

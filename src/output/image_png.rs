@@ -1,6 +1,6 @@
 //! PNG pictures of sensor images through the viridis colour map.
 
-use super::atomic_write;
+use crate::files::atomic_write;
 use std::path::Path;
 
 /// How values map to colour.

@@ -2,8 +2,8 @@
 //! laid out in a grid with a caption above each, written as one PNG. Used for
 //! comparisons such as perfect vs figure-error mirrors.
 
-use super::atomic_write;
 use super::plot::register_font;
+use crate::files::atomic_write;
 use plotters::prelude::*;
 use std::path::Path;
 

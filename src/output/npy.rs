@@ -1,6 +1,6 @@
 //! NumPy `.npy` arrays (C order, little endian), written atomically.
 
-use super::atomic_write;
+use crate::files::atomic_write;
 use npyz::WriterBuilder;
 use std::path::Path;
 

@@ -2,7 +2,7 @@
 //! curves later. The font is compiled in (data/fonts), so plots look the same on
 //! every machine; files are written atomically.
 
-use super::atomic_write;
+use crate::files::atomic_write;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;

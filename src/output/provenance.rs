@@ -1,8 +1,6 @@
 //! Provenance recorded next to every output: which program, which scene, which
 //! random numbers, which command.
 
-use sha2::{Digest, Sha256};
-
 /// Facts that make a run reproducible; serialised into every JSON sidecar.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Provenance {
@@ -28,9 +26,4 @@ pub struct Provenance {
 /// The commit the binary was built from.
 pub fn git_hash() -> &'static str {
     env!("TRAXER_GIT_HASH")
-}
-
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    let digest = Sha256::digest(bytes);
-    digest.iter().map(|b| format!("{b:02x}")).collect()
 }

@@ -6,13 +6,13 @@ use super::error::SceneError;
 use super::vars;
 use crate::embree::{CommittedScene, Device};
 use crate::figure_error::FigureErrorLibrary;
+use crate::files::sha256_hex;
 use crate::geometry::{
     within_world, AnalyticObject, AzimuthRange, Cuboid, Disk, Rectangle, Resolution,
     RevolutionQuadric, Shape, Sphere, Transform, MAX_TESSELLATION_QUADS, WORLD_LIMIT_MM,
 };
 use crate::material::{Material, Side};
 use crate::mesh::{self, TriangleMesh};
-use crate::output::sha256_hex;
 use crate::render::{Appearance, Camera, Sky};
 use crate::sensor::SensorSpec;
 use crate::source::{AnnulusSector, ParallelBeam, PointSource, Source, Spectrum};

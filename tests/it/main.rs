@@ -7,6 +7,7 @@ mod determinism;
 mod embree_parity;
 mod errors;
 mod figure_error;
+mod files;
 mod focusing;
 mod geometry;
 mod inspect;
