@@ -3,7 +3,7 @@
 use super::{parse_define, InputError};
 use anyhow::Context;
 use std::path::PathBuf;
-use traxer::geometry::{Resolution, MAX_TESSELLATION_QUADS};
+use traxer::geometry::{Resolution, Surface, MAX_TESSELLATION_QUADS};
 use traxer::mesh::{write_mesh, write_mesh_parts, TriangleMesh};
 use traxer::output::file_stem;
 use traxer::scene::{analytic_shapes, inline_shape, NamedShape};

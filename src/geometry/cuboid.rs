@@ -1,7 +1,6 @@
 //! Axis-aligned box in the local frame, centred on the origin, facing outwards.
 
-use super::nearest_root;
-use crate::mesh::TriangleMesh;
+use super::{nearest_root, Resolution, Surface, TriangleMesh};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -10,15 +9,9 @@ pub struct Cuboid {
     pub size: DVec3,
 }
 
-impl Cuboid {
+impl Surface for Cuboid {
     #[inline]
-    pub fn intersect(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
         let h = 0.5 * self.size;
         let inv = d.recip();
         let t0 = (-h - o) * inv;
@@ -39,7 +32,8 @@ impl Cuboid {
     }
 
     /// Outward normal of the face a surface point lies on.
-    pub fn normal(&self, p: DVec3) -> DVec3 {
+    #[inline]
+    fn normal(&self, p: DVec3) -> DVec3 {
         let q = p / (0.5 * self.size);
         let a = q.abs();
         if a.x >= a.y && a.x >= a.z {
@@ -51,13 +45,16 @@ impl Cuboid {
         }
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> (DVec3, DVec3) {
         (-0.5 * self.size, 0.5 * self.size)
     }
 
-    /// 12 triangles, 4 vertices per face (flat normals).
-    pub fn tessellate(&self) -> TriangleMesh {
+    /// Each face a grid of `segments` × `rings` quads (along the face's first and
+    /// second in-plane axis, cyclically after its normal axis), with its own
+    /// vertices and flat normals; 1 × 1 gives the 12-triangle box.
+    fn tessellate(&self, res: Resolution) -> TriangleMesh {
         let h = 0.5 * self.size;
+        let (nu, nv) = (res.segments.max(1), res.rings.max(1));
         let mut mesh = TriangleMesh::default();
         let mut normals = Vec::new();
         for axis in 0..3 {
@@ -66,16 +63,25 @@ impl Cuboid {
                 n[axis] = sign;
                 let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
                 let base = mesh.positions.len() as u32;
-                for (a, b) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
-                    let mut p = DVec3::ZERO;
-                    p[axis] = sign * h[axis];
-                    p[u] = a * h[u];
-                    p[v] = b * h[v];
-                    mesh.positions.push(p);
-                    normals.push(n);
+                for j in 0..=nv {
+                    for i in 0..=nu {
+                        let mut p = DVec3::ZERO;
+                        p[axis] = sign * h[axis];
+                        p[u] = (2.0 * i as f64 / nu as f64 - 1.0) * h[u];
+                        p[v] = (2.0 * j as f64 / nv as f64 - 1.0) * h[v];
+                        mesh.positions.push(p);
+                        normals.push(n);
+                    }
                 }
-                mesh.triangles.push([base, base + 1, base + 2]);
-                mesh.triangles.push([base, base + 2, base + 3]);
+                let row = nu as u32 + 1;
+                for j in 0..nv as u32 {
+                    for i in 0..nu as u32 {
+                        let v00 = base + j * row + i;
+                        let (v10, v01) = (v00 + 1, v00 + row);
+                        mesh.triangles.push([v00, v10, v01 + 1]);
+                        mesh.triangles.push([v00, v01 + 1, v01]);
+                    }
+                }
             }
         }
         mesh.normals = Some(normals);

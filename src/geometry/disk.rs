@@ -1,8 +1,8 @@
 //! Flat disk or annulus in the local z = 0 plane, centred on the origin, facing +z.
 
 use super::grid::polar_grid;
-use super::{quadric::AzimuthRange, Resolution};
-use crate::mesh::TriangleMesh;
+use super::{AzimuthRange, Resolution};
+use super::{Surface, TriangleMesh};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -12,15 +12,9 @@ pub struct Disk {
     pub azimuth: AzimuthRange,
 }
 
-impl Disk {
+impl Surface for Disk {
     #[inline]
-    pub fn intersect(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
         if starts_on_surface || d.z == 0.0 {
             return None; // a plane cannot be hit again by a ray leaving it
         }
@@ -37,11 +31,12 @@ impl Disk {
         inside.then_some(t)
     }
 
-    pub fn normal(&self) -> DVec3 {
+    #[inline]
+    fn normal(&self, _p: DVec3) -> DVec3 {
         DVec3::Z
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> (DVec3, DVec3) {
         let mut lo = DVec3::new(f64::INFINITY, f64::INFINITY, 0.0);
         let mut hi = DVec3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, 0.0);
         for (x, y) in self.azimuth.extreme_directions() {
@@ -55,7 +50,7 @@ impl Disk {
 
     /// `segments` around, `rings` radial steps. A full disk without a hole gets a
     /// centre fan; the outer edge is inscribed (vertices on the circle).
-    pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
+    fn tessellate(&self, res: Resolution) -> TriangleMesh {
         let n_r = res.rings.max(1);
         let (positions, triangles) = polar_grid(
             &self.azimuth,

@@ -1,16 +1,19 @@
-//! Analytic shapes in f64, their transforms and their tessellation.
+//! Analytic shapes in f64, their transforms, triangle meshes and tessellation.
+//! Knows nothing of Embree, files or the scene format.
 //!
 //! Data flow: `scene` turns each shape entry of a scene file into a [`Shape`] plus a
-//! [`Transform`]; `scene::build` either hands the pair to Embree as user geometry
+//! [`Transform`]; the scene build either hands the pair to Embree as user geometry
 //! ([`AnalyticObject`], intersected here in f64) or tessellates it
-//! ([`Shape::tessellate`]) into a `mesh::TriangleMesh`.
+//! ([`Surface::tessellate`]) into a [`TriangleMesh`], the same form mesh files
+//! import to.
 //!
-//! Every shape lives in its own local frame (documented per shape, mostly with the
-//! z axis as symmetry axis) and has a *front* side, the side its [`Shape::normal`]
-//! points to. Surfaces of revolution (cone, cylinder, paraboloid, hyperboloid) face
+//! Every shape implements [`Surface`] in its own file and lives in its own local
+//! frame (documented per shape, mostly with the z axis as symmetry axis); its
+//! *front* side is the side its [`Surface::normal`] points to. Surfaces of revolution (cone, cylinder, paraboloid, hyperboloid) face
 //! the axis, because X-ray telescopes reflect on the inside; disks and rectangles
 //! face local +z; boxes and spheres face outwards.
 
+mod azimuth;
 mod cuboid;
 mod disk;
 mod grid;
@@ -19,14 +22,17 @@ mod rectangle;
 mod shape;
 mod sphere;
 mod transform;
+mod triangle_mesh;
 
+pub use azimuth::AzimuthRange;
 pub use cuboid::Cuboid;
 pub use disk::Disk;
-pub use quadric::{AzimuthRange, RevolutionQuadric};
+pub use quadric::RevolutionQuadric;
 pub use rectangle::Rectangle;
-pub use shape::{AnalyticObject, Resolution, Shape};
+pub use shape::{AnalyticObject, Resolution, Shape, Surface};
 pub use sphere::Sphere;
 pub use transform::Transform;
+pub use triangle_mesh::TriangleMesh;
 
 use glam::DVec3;
 

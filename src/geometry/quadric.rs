@@ -4,55 +4,9 @@
 //! paraboloid and hyperboloid of a true Wolter-I optic.
 
 use super::grid::polar_grid;
-use super::{at, nearest_root, solve_quadratic, Resolution};
-use crate::mesh::TriangleMesh;
+use super::{at, nearest_root, solve_quadratic, AzimuthRange, Resolution};
+use super::{Surface, TriangleMesh};
 use glam::DVec3;
-
-/// An azimuth interval [start, start + span] in degrees, measured from local +x
-/// towards +y. A span of 360° or more is the full circle.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct AzimuthRange {
-    pub start_deg: f64,
-    pub span_deg: f64,
-}
-
-impl AzimuthRange {
-    pub const FULL: AzimuthRange = AzimuthRange {
-        start_deg: 0.0,
-        span_deg: 360.0,
-    };
-
-    pub fn is_full(&self) -> bool {
-        self.span_deg >= 360.0
-    }
-
-    /// Whether the direction (x, y) lies inside the range.
-    #[inline]
-    pub fn contains(&self, x: f64, y: f64) -> bool {
-        if self.is_full() {
-            return true;
-        }
-        let phi = y.atan2(x).to_degrees();
-        (phi - self.start_deg).rem_euclid(360.0) <= self.span_deg
-    }
-
-    /// Unit-circle points bounding the range: its two ends and every axis direction
-    /// inside it (for bounding boxes).
-    pub(crate) fn extreme_directions(&self) -> Vec<(f64, f64)> {
-        let mut dirs = Vec::new();
-        let end = self.start_deg + self.span_deg.min(360.0);
-        for phi in [self.start_deg, end] {
-            let r = phi.to_radians();
-            dirs.push((r.cos(), r.sin()));
-        }
-        for (x, y) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
-            if self.contains(x, y) {
-                dirs.push((x, y));
-            }
-        }
-        dirs
-    }
-}
 
 /// x² + y² = a + b·z + c·z² for z in [z_min, z_max] and azimuth in `azimuth`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -123,15 +77,11 @@ impl RevolutionQuadric {
     pub fn radius(&self, z: f64) -> f64 {
         self.radius_squared(z).max(0.0).sqrt()
     }
+}
 
+impl Surface for RevolutionQuadric {
     #[inline]
-    pub fn intersect(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
         let qa = d.x * d.x + d.y * d.y - self.c * d.z * d.z;
         let qb = 2.0 * (o.x * d.x + o.y * d.y) - self.b * d.z - 2.0 * self.c * o.z * d.z;
         let qc = o.x * o.x + o.y * o.y - self.radius_squared(o.z);
@@ -145,13 +95,13 @@ impl RevolutionQuadric {
 
     /// Unit normal at a surface point, pointing towards the axis (the front side).
     #[inline]
-    pub fn normal(&self, p: DVec3) -> DVec3 {
+    fn normal(&self, p: DVec3) -> DVec3 {
         // −∇(x² + y² − a − b z − c z²) / 2
         DVec3::new(-p.x, -p.y, 0.5 * self.b + self.c * p.z).normalize()
     }
 
     /// Local bounding box.
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> (DVec3, DVec3) {
         // r(z) is monotonic on each side of its single extremum z* = −b/2c; sample
         // the ends and z* when it lies inside.
         let mut zs = vec![self.z_min, self.z_max];
@@ -179,7 +129,7 @@ impl RevolutionQuadric {
 
     /// Grid of `res.segments` azimuthal × `res.rings` axial quads, vertices on the
     /// exact surface with exact normals.
-    pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
+    fn tessellate(&self, res: Resolution) -> TriangleMesh {
         let n_z = res.rings.max(1);
         let (positions, triangles) =
             polar_grid(&self.azimuth, res.segments.max(1), n_z, false, |j, phi| {

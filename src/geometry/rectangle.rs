@@ -2,7 +2,7 @@
 //! run along local x (width) and y (height). Image sensors are usually rectangles.
 
 use super::Resolution;
-use crate::mesh::TriangleMesh;
+use super::{Surface, TriangleMesh};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -11,15 +11,9 @@ pub struct Rectangle {
     pub height: f64,
 }
 
-impl Rectangle {
+impl Surface for Rectangle {
     #[inline]
-    pub fn intersect(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
         if starts_on_surface || d.z == 0.0 {
             return None;
         }
@@ -32,17 +26,18 @@ impl Rectangle {
         (x.abs() <= 0.5 * self.width && y.abs() <= 0.5 * self.height).then_some(t)
     }
 
-    pub fn normal(&self) -> DVec3 {
+    #[inline]
+    fn normal(&self, _p: DVec3) -> DVec3 {
         DVec3::Z
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> (DVec3, DVec3) {
         let h = DVec3::new(0.5 * self.width, 0.5 * self.height, 0.0);
         (-h, h)
     }
 
     /// `segments` × `rings` grid (x × y) of quads.
-    pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
+    fn tessellate(&self, res: Resolution) -> TriangleMesh {
         let nx = res.segments.max(1);
         let ny = res.rings.max(1);
         let mut mesh = TriangleMesh::default();

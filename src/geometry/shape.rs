@@ -1,16 +1,37 @@
-//! The closed set of analytic shapes, and an analytic shape placed in the world.
+//! The interface every analytic shape implements ([`Surface`]), the closed set of
+//! shapes that dispatches to it ([`Shape`], matched, never boxed: it sits in the
+//! photon path), and an analytic shape placed in the world ([`AnalyticObject`]).
 
-use super::{Cuboid, Disk, Rectangle, RevolutionQuadric, Sphere, Transform};
-use crate::embree::UserGeometry;
-use crate::mesh::TriangleMesh;
+use super::{Cuboid, Disk, Rectangle, RevolutionQuadric, Sphere, Transform, TriangleMesh};
 use glam::DVec3;
 
 /// Tessellation resolution: `segments` around the azimuth (or along x for a
-/// rectangle), `rings` along the axis (or radius, or y).
+/// rectangle, along a box face's first axis), `rings` along the axis (or radius,
+/// or y, or the face's second axis; pole to pole for a sphere).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Resolution {
     pub segments: usize,
     pub rings: usize,
+}
+
+/// An analytic surface in its own local frame (documented per shape), with a
+/// front side: the side [`Surface::normal`] points to.
+pub trait Surface {
+    /// Nearest hit (t in units of `d`) with 0 < t < t_max of the local ray
+    /// o + t·d. `starts_on_surface` says the ray leaves a point of this very
+    /// surface (after a reflection): the root at t ≈ 0 is then the start point
+    /// and is skipped, but a genuine second hit (a concave mirror) is not.
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64>;
+
+    /// Unit front normal at the local surface point `p`.
+    fn normal(&self, p: DVec3) -> DVec3;
+
+    /// Local axis-aligned bounds (lower, upper).
+    fn bounds(&self) -> (DVec3, DVec3);
+
+    /// Triangle mesh of the surface in its local frame at resolution `res`, with
+    /// exact vertex normals, wound counter-clockwise seen from the front.
+    fn tessellate(&self, res: Resolution) -> TriangleMesh;
 }
 
 /// An analytic shape in its local frame.
@@ -24,57 +45,36 @@ pub enum Shape {
     Sphere(Sphere),
 }
 
-impl Shape {
-    /// Nearest hit (t in units of `d`) with 0 < t < t_max, in the local frame.
+/// `$call` on the shape inside `$shape`, whichever it is.
+macro_rules! dispatch {
+    ($shape:expr, $s:ident => $call:expr) => {
+        match $shape {
+            Shape::Revolution($s) => $call,
+            Shape::Disk($s) => $call,
+            Shape::Rectangle($s) => $call,
+            Shape::Cuboid($s) => $call,
+            Shape::Sphere($s) => $call,
+        }
+    };
+}
+
+impl Surface for Shape {
     #[inline]
-    pub fn intersect(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
-        match self {
-            Shape::Revolution(s) => s.intersect(o, d, t_max, starts_on_surface),
-            Shape::Disk(s) => s.intersect(o, d, t_max, starts_on_surface),
-            Shape::Rectangle(s) => s.intersect(o, d, t_max, starts_on_surface),
-            Shape::Cuboid(s) => s.intersect(o, d, t_max, starts_on_surface),
-            Shape::Sphere(s) => s.intersect(o, d, t_max, starts_on_surface),
-        }
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
+        dispatch!(self, s => s.intersect(o, d, t_max, starts_on_surface))
     }
 
-    /// Unit front normal at a local surface point.
     #[inline]
-    pub fn normal(&self, p: DVec3) -> DVec3 {
-        match self {
-            Shape::Revolution(s) => s.normal(p),
-            Shape::Disk(s) => s.normal(),
-            Shape::Rectangle(s) => s.normal(),
-            Shape::Cuboid(s) => s.normal(p),
-            Shape::Sphere(s) => s.normal(p),
-        }
+    fn normal(&self, p: DVec3) -> DVec3 {
+        dispatch!(self, s => s.normal(p))
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
-        match self {
-            Shape::Revolution(s) => s.bounds(),
-            Shape::Disk(s) => s.bounds(),
-            Shape::Rectangle(s) => s.bounds(),
-            Shape::Cuboid(s) => s.bounds(),
-            Shape::Sphere(s) => s.bounds(),
-        }
+    fn bounds(&self) -> (DVec3, DVec3) {
+        dispatch!(self, s => s.bounds())
     }
 
-    /// Triangle mesh of the shape in its local frame, with exact vertex normals,
-    /// wound counter-clockwise seen from the front.
-    pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
-        match self {
-            Shape::Revolution(s) => s.tessellate(res),
-            Shape::Disk(s) => s.tessellate(res),
-            Shape::Rectangle(s) => s.tessellate(res),
-            Shape::Cuboid(s) => s.tessellate(),
-            Shape::Sphere(s) => s.tessellate(res),
-        }
+    fn tessellate(&self, res: Resolution) -> TriangleMesh {
+        dispatch!(self, s => s.tessellate(res))
     }
 }
 
@@ -111,34 +111,5 @@ impl AnalyticObject {
     pub fn world_bounds(&self) -> (DVec3, DVec3) {
         let (lo, hi) = self.shape.bounds();
         self.transform.box_to_world(lo, hi)
-    }
-}
-
-impl UserGeometry for AnalyticObject {
-    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
-        let (lo, hi) = self.world_bounds();
-        // Pad so that f32 rounding of the box never cuts off the exact surface.
-        let pad = 1e-6 * (lo.abs().max(hi.abs()).max_element() + 1.0);
-        let down = |x: f64| ((x - pad) as f32).next_down();
-        let up = |x: f64| ((x + pad) as f32).next_up();
-        (
-            [down(lo.x), down(lo.y), down(lo.z)],
-            [up(hi.x), up(hi.y), up(hi.z)],
-        )
-    }
-
-    fn intersect(
-        &self,
-        origin: [f64; 3],
-        dir: [f64; 3],
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
-        self.intersect_world(
-            DVec3::from(origin),
-            DVec3::from(dir),
-            t_max,
-            starts_on_surface,
-        )
     }
 }

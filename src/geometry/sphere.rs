@@ -1,7 +1,7 @@
 //! Sphere centred on the local origin, facing outwards.
 
 use super::{nearest_root, solve_quadratic, Resolution};
-use crate::mesh::TriangleMesh;
+use super::{Surface, TriangleMesh};
 use glam::DVec3;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -9,15 +9,9 @@ pub struct Sphere {
     pub radius: f64,
 }
 
-impl Sphere {
+impl Surface for Sphere {
     #[inline]
-    pub fn intersect(
-        &self,
-        o: DVec3,
-        d: DVec3,
-        t_max: f64,
-        starts_on_surface: bool,
-    ) -> Option<f64> {
+    fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
         let (t1, t2) = solve_quadratic(
             d.length_squared(),
             2.0 * o.dot(d),
@@ -27,16 +21,17 @@ impl Sphere {
         nearest_root(&roots, starts_on_surface, t_max, |_| true)
     }
 
-    pub fn normal(&self, p: DVec3) -> DVec3 {
+    #[inline]
+    fn normal(&self, p: DVec3) -> DVec3 {
         p.normalize()
     }
 
-    pub fn bounds(&self) -> (DVec3, DVec3) {
+    fn bounds(&self) -> (DVec3, DVec3) {
         (DVec3::splat(-self.radius), DVec3::splat(self.radius))
     }
 
     /// Latitude–longitude grid: `segments` around, `rings` from pole to pole.
-    pub fn tessellate(&self, res: Resolution) -> TriangleMesh {
+    fn tessellate(&self, res: Resolution) -> TriangleMesh {
         let n_phi = res.segments.max(3);
         let n_theta = res.rings.max(2);
         let mut mesh = TriangleMesh::default();

@@ -4,6 +4,7 @@
 //! numbers from the stream (seed, k), so a render is identical for any number of
 //! threads.
 
+use super::camera::Frame;
 use super::{Appearance, Camera, Sky};
 use crate::material::Material;
 use crate::random::PhotonRng;
@@ -101,7 +102,7 @@ pub fn render(
     textures: &[SensorTexture],
     s: &RenderSettings,
 ) -> Vec<DVec3> {
-    let frame = camera.frame(s.width as f64 / s.height as f64);
+    let frame = Frame::new(camera, s.width as f64 / s.height as f64);
     let mut image = vec![DVec3::ZERO; s.width * s.height];
     image
         .par_chunks_mut(s.width)

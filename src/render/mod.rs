@@ -2,16 +2,14 @@
 //! appearances and a path tracer over the very same Embree scene the X-rays use,
 //! so a user sees exactly the geometry being traced.
 //!
-//! Data flow: `scene::build` gives every object an [`Appearance`] (from its
+//! Data flow: the scene build gives every object an `Appearance` (from its
 //! `appearance` table, or a default for its X-ray material) and reads the
-//! `[cameras]`; `traxer render` calls [`render`] with a [`Camera`] and writes the
-//! gamma-corrected PNG; an X-ray sensor image can be shown on the sensor's face
-//! ([`SensorTexture`]).
+//! `[cameras]` and `[sky]`; `traxer render` calls [`render`] with a [`Camera`] and
+//! writes the gamma-corrected PNG; an X-ray sensor image can be shown on the
+//! sensor's face ([`SensorTexture`]). Rays are cast by `raycast`, as for X-rays.
 
-mod appearance;
 mod camera;
 mod integrator;
 
-pub use appearance::{Appearance, Sky};
-pub use camera::Camera;
+pub use crate::scene::{Appearance, Camera, Sky};
 pub use integrator::{render, to_srgb8, RenderSettings, SensorTexture};

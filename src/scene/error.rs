@@ -45,6 +45,30 @@ impl SceneError {
     }
 }
 
+/// The text a scene was parsed from, to turn byte spans into located errors.
+#[derive(Clone, Copy)]
+pub(crate) struct SceneText<'a> {
+    pub path: &'a Path,
+    pub text: &'a str,
+}
+
+impl SceneText<'_> {
+    /// An error at `span`; the empty span at 0 (things the file does not
+    /// contain, such as built-in materials) names no line.
+    pub fn error(&self, span: std::ops::Range<usize>, message: impl Into<String>) -> SceneError {
+        if span.is_empty() && span.start == 0 {
+            SceneError::new(self.path, None, message)
+        } else {
+            SceneError::at(self.path, self.text, span.start, message)
+        }
+    }
+
+    /// An error about the whole file (no line).
+    pub fn whole(&self, message: impl Into<String>) -> SceneError {
+        SceneError::new(self.path, None, message)
+    }
+}
+
 /// For serde's "invalid type: string \"ten\", expected u32" (or "invalid value:
 /// ...", or "unknown field `side`") reported over a whole table, the byte offset
 /// and dotted key of the one value inside `span` that the message describes.

@@ -5,11 +5,12 @@
 //! and the glass edges at both ends of each mirror (absorbing annulus segments), so
 //! photons that hit the back or the edges of the glass are lost as in reality.
 //!
-//! Data flow: `scene::build` calls [`LlnlTelescope::objects`] for every
-//! `[[assemblies]]` entry of type `llnl_telescope` and builds the objects like any
-//! others.
+//! Data flow: `scene::assemblies` calls [`LlnlTelescope::parts`] for every
+//! `[[assemblies]]` entry of type `llnl_telescope`; the scene build then builds
+//! the parts like any other objects.
 
-use super::desc::{ConeDesc, DiskDesc, ShapeDesc, TransformStep};
+use super::placement::TransformStep;
+use super::shapes::{ConeDesc, DiskDesc, ShapeDesc};
 use serde::Deserialize;
 
 const SHIPPED: &str = include_str!(concat!(

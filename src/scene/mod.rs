@@ -1,17 +1,171 @@
-//! Scenes: the TOML file format ([`desc`]), variables ([`vars`]), and the build step
-//! that validates a description and instantiates it with Embree ([`Scene::load`]).
+//! Scenes: the TOML file format, variables, and the build step that validates a
+//! description and instantiates it with Embree ([`Scene::load`]).
 //!
-//! Data flow: scene.toml ─substitute vars─▶ text ─serde─▶ `SceneDesc`
-//! ─build─▶ `Scene` (immutable, shared by all tracing threads).
+//! Data flow: scene.toml ─[`load`]: substitute vars, serde─▶ `SceneDesc`
+//! ─`build`─▶ [`Scene`] (complete, immutable, shared by all tracing threads).
+//! One file per build concern: `materials`, `assemblies` (the LLNL telescope,
+//! `llnl`), `objects` (meshes, tessellation, world bounds), `shapes` and
+//! `placement` (each shape and transform step checks its own parameters),
+//! `appearance` and `camera` (render setup), `embree_binding` (how objects reach
+//! Embree); sources check themselves in `crate::source`.
 
+mod appearance;
+mod assemblies;
 mod build;
+mod camera;
 pub mod desc;
+mod embree_binding;
 mod error;
 pub mod llnl;
+pub mod load;
+mod materials;
+mod objects;
+mod placement;
+mod shapes;
 mod vars;
 
-pub use build::{
-    analytic_shapes, inline_shape, MeshObject, NamedShape, Object, ObjectGeometry, Representation,
-    Scene,
-};
+pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
+pub use assemblies::{AssemblyDesc, LlnlTelescopeDesc};
+pub use build::{analytic_shapes, inline_shape, NamedShape};
+pub use camera::{Camera, CameraDesc};
 pub use error::SceneError;
+pub use materials::{AbsorberDesc, MaterialDesc, MirrorDesc, SideDesc};
+pub use placement::{RotateDesc, ScaleDesc, TransformStep};
+pub use shapes::ShapeDesc;
+
+use crate::embree::{CommittedScene, Device};
+use crate::geometry::{AnalyticObject, Resolution, Transform, TriangleMesh};
+use crate::material::Material;
+use crate::sensor::SensorSpec;
+use crate::source::Source;
+use crate::xray::ReflectivityTable;
+use glam::DVec3;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// A built scene, ready to trace.
+pub struct Scene {
+    pub path: PathBuf,
+    /// SHA-256 of the scene file's bytes.
+    pub text_sha256: String,
+    /// The `-D name=value` overrides it was loaded with.
+    pub overrides: Vec<String>,
+    /// Final values of its variables.
+    pub vars: BTreeMap<String, toml::Value>,
+    pub objects: Vec<Object>,
+    pub sensors: Vec<SensorSpec>,
+    pub sources: Vec<Source>,
+    pub max_interactions: u32,
+    /// Reflectivity tables of the coated mirrors' coatings (indexed by
+    /// `Material::Mirror::reflectivity`), over the sources' energy range.
+    pub reflectivity: Vec<ReflectivityTable>,
+    pub embree: CommittedScene<AnalyticObject>,
+    /// Named cameras for visible-light renders.
+    pub cameras: BTreeMap<String, Camera>,
+    /// The sky of visible-light renders.
+    pub sky: Sky,
+    /// Things worth telling the user (skipped mesh primitives, ...).
+    pub warnings: Vec<String>,
+    pub triangle_count: usize,
+}
+
+/// One object of a built scene; its index is its Embree geometry id.
+pub struct Object {
+    pub name: String,
+    pub material: Material,
+    /// Local frame → world (for sensors' pixel grids and for reporting).
+    pub transform: Transform,
+    pub geometry: ObjectGeometry,
+    /// How it looks in visible-light renders.
+    pub appearance: Appearance,
+}
+
+// Few objects per scene: keeping the analytic shape inline costs nothing.
+#[allow(clippy::large_enum_variant)]
+pub enum ObjectGeometry {
+    Analytic(AnalyticObject),
+    Mesh(MeshObject),
+}
+
+/// A mesh in world space. Besides the vertices it keeps, per triangle, what the
+/// photon loop reads after an Embree hit, packed so that one hit touches one or
+/// two cache lines instead of an index and three scattered vertices.
+pub struct MeshObject {
+    pub positions: Vec<DVec3>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle: unit front normal (counter-clockwise side) and its offset
+    /// n·p0, in f64: the plane on which Embree's f32 hit is refined. Zero for a
+    /// degenerate (zero-area) triangle.
+    pub planes: Vec<[f64; 4]>,
+    /// Per triangle, the vertex normals at its three corners, present only when
+    /// the object reflects on interpolated normals (f32: 1e-7 rad is far below
+    /// any figure error).
+    pub corner_normals: Option<Vec<[[f32; 3]; 3]>>,
+}
+
+impl MeshObject {
+    pub fn new(world: TriangleMesh, smooth: bool) -> MeshObject {
+        let planes = world
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|k| world.positions[k as usize]);
+                match (b - a).cross(c - a).try_normalize() {
+                    Some(n) => [n.x, n.y, n.z, n.dot(a)],
+                    None => [0.0; 4],
+                }
+            })
+            .collect();
+        let corner_normals = match (&world.normals, smooth) {
+            (Some(ns), true) => Some(
+                world
+                    .triangles
+                    .iter()
+                    .map(|t| t.map(|k| ns[k as usize].as_vec3().to_array()))
+                    .collect(),
+            ),
+            _ => None,
+        };
+        MeshObject {
+            positions: world.positions,
+            triangles: world.triangles,
+            planes,
+            corner_normals,
+        }
+    }
+}
+
+/// How the analytic objects of a scene are given to Embree.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Representation {
+    /// As the scene file says (each object's own `tessellate`).
+    AsWritten,
+    /// Every analytic object exact, any `tessellate` ignored.
+    Analytic,
+    /// Every analytic object (assemblies included) tessellated at this resolution,
+    /// mirrors with smooth normals. Meshes from files stay as they are.
+    Tessellated(Resolution),
+}
+
+impl Scene {
+    /// Reads, substitutes, parses, validates and builds a scene file.
+    pub fn load(device: &Device, path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
+        Scene::load_as(device, path, overrides, Representation::AsWritten)
+    }
+
+    /// [`Scene::load`] with the analytic objects represented as `representation`
+    /// says (`traxer compare` traces one scene in several representations).
+    pub fn load_as(
+        device: &Device,
+        path: &Path,
+        overrides: &[String],
+        representation: Representation,
+    ) -> Result<Scene, SceneError> {
+        build::build(device, path, load::read(path, overrides)?, representation)
+    }
+
+    /// Index of the object with this name.
+    pub fn object_index(&self, name: &str) -> Option<usize> {
+        self.objects.iter().position(|o| o.name == name)
+    }
+}

@@ -1,10 +1,14 @@
 //! Image sensors: a pixel grid in an object's local x–y plane that absorbs photons
 //! and accumulates their weights ("flux") and their number ("counts").
 //!
-//! Data flow: `scene::build` creates a [`SensorSpec`] for each object whose material
-//! is a sensor; `trace` maps hits to pixels with [`SensorSpec::pixel`] and merges
+//! Data flow: the scene build checks each object's sensor material ([`SensorDesc`])
+//! and creates a [`SensorSpec`] for it; `trace` maps hits to pixels with [`SensorSpec::pixel`] and merges
 //! per-chunk records into a [`SensorImage`] in a fixed order; `output` writes it.
 //! With energy binning the image has an energy axis: [band][iy][ix].
+
+mod desc;
+
+pub use desc::SensorDesc;
 
 use glam::DVec3;
 

@@ -4,6 +4,7 @@
 use super::frame;
 use crate::random::PhotonRng;
 use glam::DVec3;
+use serde::Deserialize;
 
 #[derive(Clone, Debug)]
 pub struct AnnulusSector {
@@ -57,5 +58,33 @@ impl AnnulusSector {
         let r = (r_in * r_in + rng.uniform() * (r_out * r_out - r_in * r_in)).sqrt();
         let phi = self.phi_start + self.phi_span * rng.uniform();
         self.center + (self.e1 * phi.cos() + self.e2 * phi.sin()) * r
+    }
+}
+
+/// An aperture or target disk, annulus or sector in a scene file.
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ApertureDesc {
+    pub center: [f64; 3],
+    pub radius: f64,
+    #[serde(default)]
+    pub inner_radius: f64,
+    /// Optional sector `[from, to]` in degrees (from e1 towards e2; for photons
+    /// travelling along −z: from +x towards +y). Default: the full circle.
+    #[serde(default)]
+    pub azimuth: Option<[f64; 2]>,
+}
+
+impl ApertureDesc {
+    /// Whether the numbers describe a disk, annulus or sector.
+    pub(super) fn is_valid(&self) -> bool {
+        let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
+        self.azimuth
+            .is_none_or(|[f, t]| f.is_finite() && t.is_finite() && f < t && t - f <= 360.0)
+            && finite(&self.center)
+            && finite(&[self.radius, self.inner_radius])
+            && self.radius > 0.0
+            && self.inner_radius >= 0.0
+            && self.inner_radius < self.radius
     }
 }

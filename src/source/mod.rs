@@ -1,21 +1,72 @@
 //! Photon sources: where photons start, in which direction, with which energy and
 //! weight.
 //!
-//! Data flow: `scene::build` turns each `[[sources]]` entry into a [`Source`];
-//! `trace` calls [`Source::emit`] with photon i's own random stream.
+//! Data flow: the scene file's `[[sources]]` entries are parsed into
+//! [`SourceDesc`]s; each variant checks its own parameters next to its definition
+//! and becomes a [`Source`]; `trace` calls [`Source::emit`] with photon i's own
+//! random stream.
 
 mod annulus;
 mod parallel;
 mod point;
 mod spectrum;
 
-pub use annulus::AnnulusSector;
-pub use parallel::ParallelBeam;
-pub use point::PointSource;
-pub use spectrum::Spectrum;
+pub use annulus::{AnnulusSector, ApertureDesc};
+pub use parallel::{ParallelBeam, ParallelDesc};
+pub use point::{PointDesc, PointSource};
+pub use spectrum::{EnergyDesc, Spectrum};
 
+use crate::geometry::{within_world, WORLD_LIMIT_MM};
 use crate::random::PhotonRng;
 use glam::DVec3;
+use serde::Deserialize;
+
+/// Photon sources. With several sources, photon i comes from source i mod n.
+///
+/// ```toml
+/// [[sources]]
+/// type = "parallel"                 # plane wave filling an aperture disk
+/// direction = [0.0, 0.0, -1.0]      # nominal direction of travel (default −z)
+/// off_axis = 0.0                    # degrees between the beam and `direction`
+/// off_axis_azimuth = 0.0            # degrees, about `direction`, from the x–z plane
+/// aperture = { center = [0, 0, 300], radius = 110.0, inner_radius = 0.0 }
+/// energy = { line = 1.49 }          # keV; or { band = [1.48, 1.50] } (uniform)
+///
+/// [[sources]]
+/// type = "point"                    # disk of `radius` emitting isotropically
+/// position = [0, 0, 130297.0]
+/// radius = 0.42                     # 0 for a true point
+/// target = { center = [0, 0, 300], radius = 110.0, inner_radius = 55.0, azimuth = [-16, 16] }
+///                                   # disk, annulus or sector the photons are aimed at
+/// energy = { band = [1.48, 1.50] }
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum SourceDesc {
+    Parallel(ParallelDesc),
+    Point(PointDesc),
+}
+
+impl SourceDesc {
+    /// The source, or what is wrong with its parameters.
+    pub fn build(&self) -> Result<Source, String> {
+        Ok(match self {
+            SourceDesc::Parallel(p) => Source::Parallel(p.build()?),
+            SourceDesc::Point(p) => Source::Point(p.build()?),
+        })
+    }
+}
+
+/// Why sources must start near the origin: Embree works in float32.
+fn far_message() -> String {
+    format!("source positions, centres and radii must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry: start photons near the target)")
+}
+
+/// Whether a point or a radius reaches beyond `geometry::WORLD_LIMIT_MM`.
+fn far_from_origin(points: &[[f64; 3]], radii: &[f64]) -> bool {
+    let points: Vec<DVec3> = points.iter().map(|&p| DVec3::from(p)).collect();
+    !within_world(&points) || radii.iter().any(|&r| r > WORLD_LIMIT_MM)
+}
 
 /// A photon as it leaves a source.
 #[derive(Clone, Copy, Debug)]

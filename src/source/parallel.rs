@@ -1,9 +1,10 @@
 //! A plane wave filling an aperture disk, annulus or annulus sector: an X-ray
 //! source at infinity, optionally off axis.
 
-use super::{frame, AnnulusSector, Photon, Spectrum};
+use super::{far_from_origin, frame, AnnulusSector, ApertureDesc, EnergyDesc, Photon, Spectrum};
 use crate::random::PhotonRng;
 use glam::DVec3;
+use serde::Deserialize;
 
 #[derive(Clone, Debug)]
 pub struct ParallelBeam {
@@ -51,5 +52,56 @@ impl ParallelBeam {
             energy: self.spectrum.sample(rng),
             weight: 1.0,
         }
+    }
+}
+
+/// `type = "parallel"` in a scene file's `[[sources]]`.
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct ParallelDesc {
+    #[serde(default = "minus_z")]
+    pub direction: [f64; 3],
+    #[serde(default)]
+    pub off_axis: f64,
+    #[serde(default)]
+    pub off_axis_azimuth: f64,
+    pub aperture: ApertureDesc,
+    pub energy: EnergyDesc,
+}
+
+fn minus_z() -> [f64; 3] {
+    [0.0, 0.0, -1.0]
+}
+
+impl ParallelDesc {
+    /// The beam, or what is wrong with its parameters.
+    pub fn build(&self) -> Result<ParallelBeam, String> {
+        let p = self;
+        if far_from_origin(&[p.aperture.center], &[p.aperture.radius]) {
+            return Err(super::far_message());
+        }
+        if !p.aperture.is_valid() {
+            return Err("parallel source: aperture needs finite center, 0 ≤ inner_radius < radius and azimuth = [from, to] with from < to ≤ from + 360".into());
+        }
+        let Some(axis) = DVec3::from(p.direction).try_normalize() else {
+            return Err("parallel source: direction must be a non-zero vector".into());
+        };
+        if !(p.off_axis.is_finite() && p.off_axis_azimuth.is_finite()) || p.off_axis.abs() >= 90.0 {
+            return Err("parallel source: off_axis must be below 90 degrees".into());
+        }
+        let aperture = AnnulusSector::new(
+            DVec3::from(p.aperture.center),
+            axis,
+            p.aperture.inner_radius,
+            p.aperture.radius,
+            p.aperture.azimuth,
+        );
+        Ok(ParallelBeam::new(
+            aperture,
+            axis,
+            p.off_axis,
+            p.off_axis_azimuth,
+            p.energy.spectrum()?,
+        ))
     }
 }

@@ -11,9 +11,10 @@
 //! never spans the 100 m to the source, and nothing between source and target is
 //! traced.
 
-use super::{AnnulusSector, Photon, Spectrum};
+use super::{far_from_origin, AnnulusSector, ApertureDesc, EnergyDesc, Photon, Spectrum};
 use crate::random::PhotonRng;
 use glam::DVec3;
+use serde::Deserialize;
 
 #[derive(Clone, Debug)]
 pub struct PointSource {
@@ -74,5 +75,48 @@ impl PointSource {
             energy: self.spectrum.sample(rng),
             weight: self.target.area() * cos_t / (4.0 * std::f64::consts::PI * d2),
         }
+    }
+}
+
+/// `type = "point"` in a scene file's `[[sources]]`.
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct PointDesc {
+    pub position: [f64; 3],
+    #[serde(default)]
+    pub radius: f64,
+    pub target: ApertureDesc,
+    pub energy: EnergyDesc,
+}
+
+impl PointDesc {
+    /// The source, or what is wrong with its parameters.
+    pub fn build(&self) -> Result<PointSource, String> {
+        let p = self;
+        if far_from_origin(&[p.position, p.target.center], &[p.target.radius]) {
+            return Err(super::far_message());
+        }
+        if !p.target.is_valid() {
+            return Err("point source: target needs finite center, 0 ≤ inner_radius < radius and azimuth = [from, to] with from < to ≤ from + 360".into());
+        }
+        if !p.position.iter().all(|x| x.is_finite()) || !p.radius.is_finite() || p.radius < 0.0 {
+            return Err("point source: position must be finite and radius ≥ 0".into());
+        }
+        let dist = (DVec3::from(p.position) - DVec3::from(p.target.center)).length();
+        if dist <= p.radius.max(p.target.radius) {
+            return Err(
+                "point source: the source must be farther from the target centre than both radii"
+                    .into(),
+            );
+        }
+        Ok(PointSource::new(
+            DVec3::from(p.position),
+            p.radius,
+            DVec3::from(p.target.center),
+            p.target.inner_radius,
+            p.target.radius,
+            p.target.azimuth,
+            p.energy.spectrum()?,
+        ))
     }
 }

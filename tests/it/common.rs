@@ -2,6 +2,7 @@
 
 use std::path::{Path, PathBuf};
 use traxer::embree::Device;
+use traxer::geometry::Surface;
 use traxer::scene::Scene;
 
 pub fn device() -> Device {

@@ -3,7 +3,7 @@
 
 use glam::DVec3;
 use traxer::geometry::{
-    AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape, Sphere,
+    AzimuthRange, Cuboid, Disk, Rectangle, Resolution, RevolutionQuadric, Shape, Sphere, Surface,
 };
 
 /// Deterministic pseudo-random numbers for test inputs.

@@ -3,7 +3,7 @@
 
 use crate::common::gltf_with_nodes;
 use glam::DVec3;
-use traxer::geometry::{AzimuthRange, Resolution, RevolutionQuadric, Shape};
+use traxer::geometry::{AzimuthRange, Resolution, RevolutionQuadric, Shape, Surface};
 use traxer::mesh::{load, write_mesh};
 
 fn close(a: DVec3, b: DVec3, tol: f64) -> bool {

@@ -1,0 +1,171 @@
+//! How objects look in visible light and the sky that lights them: the
+//! `appearance` of objects and the `[sky]` table, checked and built. Only renders
+//! read these; the X-ray tracer ignores them.
+
+use crate::material::Material;
+use glam::DVec3;
+use serde::Deserialize;
+
+/// The visible-light appearance of an object.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Appearance {
+    /// Lambertian reflector with this albedo (linear RGB, 0–1).
+    Diffuse { color: DVec3 },
+    /// Mirror-like metal: specular reflection blurred by `roughness` (0 = polished).
+    Metal { color: DVec3, roughness: f64 },
+    /// Clear dielectric with this index of refraction (Fresnel by Schlick).
+    Glass { ior: f64 },
+    /// A light source: emits this radiance, reflects nothing.
+    Emitting { color: DVec3 },
+}
+
+impl Appearance {
+    /// What an object looks like when the scene does not say: mirrors metallic,
+    /// absorbers grey, sensors dark.
+    pub fn default_for(material: &Material) -> Appearance {
+        match material {
+            Material::Mirror { .. } => Appearance::Metal {
+                color: DVec3::new(0.85, 0.85, 0.88),
+                roughness: 0.05,
+            },
+            Material::Absorber => Appearance::Diffuse {
+                color: DVec3::splat(0.5),
+            },
+            Material::Sensor { .. } => Appearance::Diffuse {
+                color: DVec3::splat(0.05),
+            },
+        }
+    }
+}
+
+/// Visible-light appearance of an object.
+///
+/// ```toml
+/// appearance = { type = "diffuse", color = [0.8, 0.3, 0.3] }
+/// appearance = { type = "metal", color = [0.9, 0.9, 0.9], roughness = 0.05 }
+/// appearance = { type = "glass", ior = 1.5 }
+/// appearance = { type = "emitting", color = [4.0, 4.0, 4.0] }
+/// ```
+#[derive(Debug, Deserialize, Clone)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum AppearanceDesc {
+    Diffuse {
+        color: [f64; 3],
+    },
+    Metal {
+        color: [f64; 3],
+        #[serde(default)]
+        roughness: f64,
+    },
+    Glass {
+        ior: f64,
+    },
+    Emitting {
+        color: [f64; 3],
+    },
+}
+
+impl AppearanceDesc {
+    /// The appearance, or what is wrong with it ("appearance color must ...").
+    pub fn build(&self) -> Result<Appearance, String> {
+        let colour = |c: [f64; 3], what: &str| {
+            if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
+                Ok(DVec3::from(c))
+            } else {
+                Err(format!(
+                    "appearance {what} must be three numbers ≥ 0 (linear RGB)"
+                ))
+            }
+        };
+        Ok(match self {
+            AppearanceDesc::Diffuse { color } => Appearance::Diffuse {
+                color: colour(*color, "color")?,
+            },
+            AppearanceDesc::Metal { color, roughness } => {
+                if !(0.0..=1.0).contains(roughness) {
+                    return Err(format!("roughness = {roughness}: expected 0 to 1"));
+                }
+                Appearance::Metal {
+                    color: colour(*color, "color")?,
+                    roughness: *roughness,
+                }
+            }
+            AppearanceDesc::Glass { ior } => {
+                if !(ior.is_finite() && *ior >= 1.0) {
+                    return Err(format!("ior = {ior}: expected an index of refraction ≥ 1"));
+                }
+                Appearance::Glass { ior: *ior }
+            }
+            AppearanceDesc::Emitting { color } => Appearance::Emitting {
+                color: colour(*color, "color")?,
+            },
+        })
+    }
+}
+
+/// Light from directions where nothing is hit: a blend from `horizon` to `zenith`
+/// with the direction's component along `up` (equal colours: a uniform sky).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sky {
+    pub zenith: DVec3,
+    pub horizon: DVec3,
+    pub up: DVec3,
+}
+
+impl Default for Sky {
+    /// The classic white-to-blue sky, +y up.
+    fn default() -> Sky {
+        Sky {
+            zenith: DVec3::new(0.5, 0.7, 1.0),
+            horizon: DVec3::ONE,
+            up: DVec3::Y,
+        }
+    }
+}
+
+impl Sky {
+    #[inline]
+    pub fn radiance(&self, dir: DVec3) -> DVec3 {
+        let t = 0.5 * (dir.dot(self.up) + 1.0);
+        self.horizon.lerp(self.zenith, t)
+    }
+}
+
+/// The sky of visible-light renders: `zenith` colour along `up`, `horizon`
+/// colour below, blended linearly (the same colour twice: a uniform sky).
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SkyDesc {
+    #[serde(default = "sky_zenith")]
+    pub zenith: [f64; 3],
+    #[serde(default = "sky_horizon")]
+    pub horizon: [f64; 3],
+    #[serde(default = "super::camera::y_up")]
+    pub up: [f64; 3],
+}
+
+fn sky_zenith() -> [f64; 3] {
+    [0.5, 0.7, 1.0]
+}
+
+fn sky_horizon() -> [f64; 3] {
+    [1.0, 1.0, 1.0]
+}
+
+impl SkyDesc {
+    pub fn build(&self) -> Result<Sky, &'static str> {
+        let colours_ok = [self.zenith, self.horizon]
+            .iter()
+            .flatten()
+            .all(|v| v.is_finite() && *v >= 0.0);
+        let up = DVec3::from(self.up);
+        if !colours_ok || !up.is_finite() || up.length() == 0.0 {
+            return Err("sky: zenith and horizon are colours (≥ 0), up a non-zero direction");
+        }
+        Ok(Sky {
+            zenith: DVec3::from(self.zenith),
+            horizon: DVec3::from(self.horizon),
+            up: up.normalize(),
+        })
+    }
+}

@@ -1,0 +1,237 @@
+//! The `[materials]` of a scene file and their resolution into `Material`s: the
+//! two built-in names, the coatings (built once each, in order of first use, and
+//! later turned into reflectivity tables), figure-error presets, and the sensors
+//! that sensor materials create (one per object that uses one).
+
+use crate::figure_error::{FigureErrorLibrary, FigureErrorSpec};
+use crate::material::{Material, Side};
+use crate::sensor::{SensorDesc, SensorSpec};
+use crate::xray::{Coating, CoatingLibrary};
+use serde::Deserialize;
+use std::collections::{BTreeMap, BTreeSet};
+use std::ops::Range;
+
+/// What happens to a photon that hits an object.
+///
+/// ```toml
+/// [materials.shell]
+/// type = "mirror"      # specular reflection
+/// side = "front"       # "front", "back" or "both" (default): the other side absorbs
+/// coating = "llnl_recipe_3"   # optional: weight × R(E, θ); without it R = 1
+///
+/// [materials.baffle]
+/// type = "absorber"
+///
+/// [materials.detector]
+/// type = "sensor"      # records and absorbs every photon
+/// size = [14.0, 14.0]  # mm, along the object's local x and y, centred on its origin
+/// pixels = [1000, 1000]
+/// energy_bins = [0.5, 10.0, 19]   # optional: keV min, max, number of bands
+/// focal_length = 1500.0  # optional, mm: HPD etc. also in arcseconds
+/// ```
+#[derive(Debug, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case")]
+pub enum MaterialDesc {
+    Mirror(MirrorDesc),
+    Absorber(AbsorberDesc),
+    Sensor(SensorDesc),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MirrorDesc {
+    #[serde(default)]
+    pub side: SideDesc,
+    /// Name of a coating (data/coatings.toml or this file's `[coatings]`); without
+    /// one the mirror is perfect (R = 1).
+    #[serde(default)]
+    pub coating: Option<String>,
+    /// Figure errors: a preset name (data/figure_errors.toml or this file's
+    /// `[figure_errors]`, "none") or the parameters inline; default none.
+    #[serde(default)]
+    pub figure_error: Option<FigureErrorSpec>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AbsorberDesc {}
+
+/// Which side of a surface reflects. The front is the side the shape's normal
+/// points to: towards the axis for cones, cylinders, paraboloids and hyperboloids;
+/// local +z for disks and rectangles; outwards for boxes and spheres; for meshes
+/// the side from which the triangles are counter-clockwise.
+#[derive(Debug, Deserialize, Default, Clone, Copy, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SideDesc {
+    Front,
+    Back,
+    #[default]
+    Both,
+}
+
+impl From<SideDesc> for Side {
+    fn from(s: SideDesc) -> Side {
+        match s {
+            SideDesc::Front => Side::Front,
+            SideDesc::Back => Side::Back,
+            SideDesc::Both => Side::Both,
+        }
+    }
+}
+
+/// A named material with where it was written.
+struct Entry {
+    desc: MaterialDesc,
+    /// Its table in the file (the assembly that made it; 0..0 if built in).
+    span: Range<usize>,
+    /// Declared by the user: an error if no object uses it.
+    declared: bool,
+}
+
+/// A problem with a material: the message, where, and whether that place is a
+/// line of the file (built-in materials have none).
+pub struct MaterialError {
+    pub span: Range<usize>,
+    pub message: String,
+}
+
+/// The scene's materials while objects are built: resolves names, builds each
+/// coating once and creates the sensors.
+pub struct Materials {
+    entries: BTreeMap<String, Entry>,
+    used: BTreeSet<String>,
+    coating_library: CoatingLibrary,
+    figure_errors: FigureErrorLibrary,
+    /// Coatings of coated mirrors in order of first use
+    /// (`Material::Mirror::reflectivity` indexes this).
+    pub coatings: Vec<Coating>,
+    /// Sensors in object order (`Material::Sensor::sensor` indexes this).
+    pub sensors: Vec<SensorSpec>,
+}
+
+impl Materials {
+    /// The file's materials and libraries, plus the built-in `mirror` (perfect,
+    /// both sides) and `absorber`.
+    pub fn new(
+        declared: BTreeMap<String, toml::Spanned<MaterialDesc>>,
+        coating_library: CoatingLibrary,
+        figure_errors: FigureErrorLibrary,
+    ) -> Materials {
+        let mut entries = BTreeMap::new();
+        let builtin = |desc| Entry {
+            desc,
+            span: 0..0,
+            declared: false,
+        };
+        entries.insert(
+            "mirror".into(),
+            builtin(MaterialDesc::Mirror(MirrorDesc {
+                side: SideDesc::Both,
+                coating: None,
+                figure_error: None,
+            })),
+        );
+        entries.insert(
+            "absorber".into(),
+            builtin(MaterialDesc::Absorber(AbsorberDesc {})),
+        );
+        for (name, m) in declared {
+            let span = m.span();
+            entries.insert(
+                name,
+                Entry {
+                    desc: m.into_inner(),
+                    span,
+                    declared: true,
+                },
+            );
+        }
+        Materials {
+            entries,
+            used: BTreeSet::new(),
+            coating_library,
+            figure_errors,
+            coatings: Vec::new(),
+            sensors: Vec::new(),
+        }
+    }
+
+    /// Adds a material an assembly needs (written at `span`), unless one of that
+    /// name exists.
+    pub fn add_generated(&mut self, name: &str, desc: MaterialDesc, span: Range<usize>) {
+        self.entries.entry(name.to_string()).or_insert(Entry {
+            desc,
+            span,
+            declared: false,
+        });
+    }
+
+    /// The names known so far (for "unknown material" messages).
+    pub fn names(&self) -> Vec<&String> {
+        self.entries.keys().collect()
+    }
+
+    /// The material `name` for object number `object` called `object_name`;
+    /// `None` if no material has that name.
+    pub fn resolve(
+        &mut self,
+        name: &str,
+        object: usize,
+        object_name: &str,
+    ) -> Option<Result<Material, MaterialError>> {
+        let entry = self.entries.get(name)?;
+        self.used.insert(name.to_string());
+        let fail = |message: String| MaterialError {
+            span: entry.span.clone(),
+            message: format!("material `{name}`: {message}"),
+        };
+        Some(match &entry.desc {
+            MaterialDesc::Absorber(_) => Ok(Material::Absorber),
+            MaterialDesc::Sensor(s) => match s.spec(object_name, object) {
+                Ok(spec) => {
+                    self.sensors.push(spec);
+                    Ok(Material::Sensor {
+                        sensor: self.sensors.len() - 1,
+                    })
+                }
+                Err(m) => Err(fail(m.to_string())),
+            },
+            MaterialDesc::Mirror(m) => {
+                let figure_error = match &m.figure_error {
+                    None => None,
+                    Some(spec) => match self.figure_errors.resolve(spec) {
+                        Ok(f) => f,
+                        Err(e) => return Some(Err(fail(format!("figure_error: {e}")))),
+                    },
+                };
+                let reflectivity = match &m.coating {
+                    None => None,
+                    Some(c) if self.coating_library.is_perfect(c) => None,
+                    Some(c) => match self.coatings.iter().position(|k| &k.name == c) {
+                        Some(i) => Some(i),
+                        None => match self.coating_library.coating(c) {
+                            Ok(built) => {
+                                self.coatings.push(built);
+                                Some(self.coatings.len() - 1)
+                            }
+                            Err(e) => return Some(Err(fail(e.to_string()))),
+                        },
+                    },
+                };
+                Ok(Material::Mirror {
+                    side: m.side.into(),
+                    reflectivity,
+                    figure_error,
+                })
+            }
+        })
+    }
+
+    /// The first declared material no object used, with where it is declared.
+    pub fn unused(&self) -> Option<(&str, Range<usize>)> {
+        self.entries
+            .iter()
+            .find(|(name, e)| e.declared && !self.used.contains(*name))
+            .map(|(name, e)| (name.as_str(), e.span.clone()))
+    }
+}

@@ -1,0 +1,58 @@
+//! The sensor table of a scene file (`type = "sensor"` under `[materials]`) and
+//! the check of its parameters, next to the [`SensorSpec`] it becomes.
+
+use super::SensorSpec;
+use serde::Deserialize;
+
+/// The most pixels (times energy bands) one sensor may have: 2^26 f64 + u64
+/// values are 1 GB.
+const MAX_PIXELS: u64 = 1 << 26;
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorDesc {
+    pub size: [f64; 2],
+    pub pixels: [u32; 2],
+    /// Optional energy binning `[min, max, count]` (keV): the image gets an energy
+    /// axis, one image per band.
+    #[serde(default)]
+    pub energy_bins: Option<(f64, f64, u32)>,
+    /// Focal length (mm) of the optics in front of the sensor: image-quality
+    /// diameters are then also given in arcseconds, 2·atan(r/f).
+    #[serde(default)]
+    pub focal_length: Option<f64>,
+}
+
+impl SensorDesc {
+    /// The sensor of object number `object` named `name`, or what is wrong.
+    pub fn spec(&self, name: &str, object: usize) -> Result<SensorSpec, &'static str> {
+        if !(self.size.iter().all(|v| v.is_finite() && *v > 0.0)) {
+            return Err("size must be two positive lengths (mm)");
+        }
+        let pixels = self.pixels[0] as u64 * self.pixels[1] as u64;
+        if self.pixels.contains(&0) || pixels > MAX_PIXELS {
+            return Err("pixels must be positive, at most 2^26 (67 million) in all");
+        }
+        if self
+            .focal_length
+            .is_some_and(|f| !(f.is_finite() && f > 0.0))
+        {
+            return Err("focal_length must be a positive length (mm)");
+        }
+        if let Some((lo, hi, n)) = self.energy_bins {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi && n >= 1)
+                || pixels * n as u64 > MAX_PIXELS
+            {
+                return Err("energy_bins = [min, max, count] needs min < max (keV), count ≥ 1, and at most 2^26 pixels × bands");
+            }
+        }
+        Ok(SensorSpec {
+            name: name.to_string(),
+            object,
+            size: self.size,
+            pixels: self.pixels,
+            energy_bins: self.energy_bins,
+            focal_length: self.focal_length,
+        })
+    }
+}
