@@ -30,13 +30,7 @@ fn main() -> anyhow::Result<()> {
         for (variant, preset) in [("perfect", "none"), ("figure_error", "llnl_panter")] {
             let defines = vec![format!("figure_error={preset}")];
             let scene = traxer::scene::Scene::load(&device, &scene_path, &defines)?;
-            let cfg = RunConfig {
-                photons,
-                seed: 1,
-                threads: 0,
-                progress: false,
-                first_photon: 0,
-            };
+            let cfg = RunConfig::new(photons, 1);
             let result = traxer::trace::run(&scene, &cfg)?;
             let dir = out.join(format!("{line}_{variant}"));
             std::fs::create_dir_all(&dir)?;

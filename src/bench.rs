@@ -5,8 +5,9 @@
 //! Data flow: used by `traxer bench` and `cargo bench`; reads a built `Scene`.
 
 use crate::embree::Query;
+use crate::raycast::QueryHook;
 use crate::scene::Scene;
-use crate::trace::{self, QueryHook, RunConfig};
+use crate::trace::{self, RunConfig};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -45,11 +46,8 @@ pub fn run(
     // Warm-up (page faults, lazy Embree initialisation).
     trace::trace_range(scene, 7, 0, 20_000.min(photons));
     let cfg = RunConfig {
-        photons,
-        seed: 1,
         threads,
-        progress: false,
-        first_photon: 0,
+        ..RunConfig::new(photons, 1)
     };
     let r = trace::run(scene, &cfg)?;
 

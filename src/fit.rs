@@ -10,10 +10,10 @@
 //! the bounds and targets, and writes the history and the preset.
 
 use crate::analysis::{analyse, ImageGeometry, ImageQuality};
-use crate::figure_error::FigureError;
 use crate::material::Material;
 use crate::scene::Scene;
 use crate::trace::{self, RunConfig};
+use crate::xray::figure_error::FigureError;
 
 /// The parameters in the order of [`FigureError`]'s fields.
 pub const PARAMETERS: [&str; 4] = [

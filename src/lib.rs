@@ -8,14 +8,15 @@
 pub mod analysis;
 pub mod bench;
 pub mod embree;
-pub mod figure_error;
 pub mod files;
 pub mod fit;
 pub mod geometry;
 pub mod material;
 pub mod mesh;
 pub mod output;
+pub mod progress;
 pub mod random;
+pub mod raycast;
 pub mod render;
 pub mod scene;
 pub mod sensor;

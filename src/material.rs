@@ -35,7 +35,7 @@ pub enum Material {
         side: Side,
         reflectivity: Option<usize>,
         /// `None` for a perfect figure (exactly specular).
-        figure_error: Option<crate::figure_error::FigureError>,
+        figure_error: Option<crate::xray::figure_error::FigureError>,
     },
     /// Stops the photon.
     Absorber,

@@ -2,11 +2,23 @@
 //! function (EEF), and the diameters holding 50 % (HPD), 80 % and 90 % of the flux,
 //! in mm and in arcseconds (2·atan(r/f)); x and y projections.
 //!
-//! Data flow: `output` calls [`analyse`] on every sensor image after a trace;
+//! Data flow: `output` calls [`analyse`] on every sensor image after a trace (and
+//! plots the EEF);
 //! `traxer eef` calls it on any `.npy` image; `traxer focus` on a sweep of
 //! sensor positions, whose diameters [`focus::fit_defocus`] fits.
 
 pub mod focus;
+
+/// The angle (arcseconds) under which a radius of `r_mm` on the sensor is seen
+/// from the optics at focal length `focal_length_mm`: atan(r/f).
+pub fn arcsec_of_radius(r_mm: f64, focal_length_mm: f64) -> f64 {
+    (r_mm / focal_length_mm).atan().to_degrees() * 3600.0
+}
+
+/// The angular diameter (arcseconds) of a circle of diameter `d_mm`: 2·atan(d/2f).
+pub fn arcsec_of_diameter(d_mm: f64, focal_length_mm: f64) -> f64 {
+    2.0 * arcsec_of_radius(0.5 * d_mm, focal_length_mm)
+}
 
 /// Results for one image.
 #[derive(Clone, Debug, serde::Serialize)]
@@ -122,8 +134,7 @@ pub fn analyse(
         eef.fraction.push(acc / total);
     }
     let d = |f: f64| 2.0 * eef.radius_at(f);
-    let arcsec =
-        |diam: f64| focal_length_mm.map(|fl| 2.0 * (0.5 * diam / fl).atan().to_degrees() * 3600.0);
+    let arcsec = |diam: f64| focal_length_mm.map(|fl| arcsec_of_diameter(diam, fl));
     let (hpd, d80, d90) = (d(0.5), d(0.8), d(0.9));
     Some((
         ImageQuality {
@@ -139,58 +150,6 @@ pub fn analyse(
         },
         eef,
     ))
-}
-
-/// Writes the EEF plot (fraction versus radius, in arcsec when the focal length is
-/// known, else mm) with the 50/80/90 % radii marked.
-pub fn write_eef_plot(
-    path: &std::path::Path,
-    title: &str,
-    q: &ImageQuality,
-    eef: &Eef,
-) -> std::io::Result<()> {
-    use crate::output::{line_plot, Series};
-    let to_x = |r_mm: f64| match q.focal_length_mm {
-        Some(f) => (r_mm / f).atan().to_degrees() * 3600.0,
-        None => r_mm,
-    };
-    let x_label = if q.focal_length_mm.is_some() {
-        "radius [arcsec]"
-    } else {
-        "radius [mm]"
-    };
-    // Thin the curve to ≤ 2000 points for plotting.
-    let step = (eef.radius_mm.len() / 2000).max(1);
-    let mut curve: Vec<(f64, f64)> = eef
-        .radius_mm
-        .iter()
-        .zip(&eef.fraction)
-        .step_by(step)
-        .map(|(&r, &f)| (to_x(r), f))
-        .collect();
-    curve.insert(0, (0.0, 0.0));
-    let mut series = vec![Series::line("encircled energy", curve)];
-    for (name, diam) in [
-        ("50 % (HPD)", q.hpd_mm),
-        ("80 %", q.d80_mm),
-        ("90 %", q.d90_mm),
-    ] {
-        let r = to_x(0.5 * diam);
-        let frac = name[..2].parse::<f64>().unwrap_or(0.0) / 100.0;
-        let label = match q.focal_length_mm {
-            Some(_) => format!("{name}: diameter {:.1}″", 2.0 * r),
-            None => format!("{name}: diameter {:.3} mm", 2.0 * r),
-        };
-        series.push(Series::line(label, vec![(r, 0.0), (r, frac), (0.0, frac)]));
-    }
-    line_plot(
-        path,
-        title,
-        x_label,
-        "fraction of flux",
-        &series,
-        (900, 600),
-    )
 }
 
 /// Sums of the image along y (a function of x) and along x (a function of y).

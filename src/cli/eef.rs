@@ -3,7 +3,8 @@
 use super::InputError;
 use anyhow::Context;
 use std::path::{Path, PathBuf};
-use traxer::analysis::{analyse, write_eef_plot, ImageGeometry};
+use traxer::analysis::{analyse, ImageGeometry};
+use traxer::output::write_eef_plot;
 
 /// Encircled-energy analysis of an image from a trace or from elsewhere.
 ///

@@ -16,7 +16,6 @@ pub fn run_config(photons: u64, seed: u64, threads: usize) -> Result<RunConfig, 
         photons,
         seed,
         threads,
-        progress: false,
         first_photon: 0,
     })
 }

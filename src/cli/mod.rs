@@ -17,6 +17,7 @@ pub mod focus;
 pub mod info;
 pub mod inspect;
 pub mod measure;
+pub mod progress;
 pub mod reflectivity;
 pub mod render;
 pub mod tessellate;

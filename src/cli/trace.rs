@@ -2,7 +2,6 @@
 
 use super::{load_xray_scene, parse_define};
 use anyhow::Context;
-use std::io::IsTerminal;
 use std::path::PathBuf;
 use traxer::output::{git_hash, write_run, Provenance};
 use traxer::trace::{self, RunConfig};
@@ -60,10 +59,12 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         photons: a.photons,
         seed: a.seed,
         threads: a.threads,
-        progress: !a.quiet && std::io::stderr().is_terminal(),
         first_photon: a.first_photon,
     };
-    let result = trace::run(&scene, &cfg).context("cannot start the worker threads")?;
+    let bar = super::progress::bar(a.photons, "photons", a.quiet);
+    let result = trace::run_with_progress(&scene, &cfg, &|n| bar.inc(n))
+        .context("cannot start the worker threads")?;
+    bar.finish_and_clear();
     let provenance = Provenance {
         traxer_version: env!("CARGO_PKG_VERSION").into(),
         git_hash: git_hash().into(),

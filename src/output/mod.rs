@@ -4,6 +4,7 @@
 //! Data flow: `trace` produces merged sensor images and statistics; the CLI passes
 //! them here to be written into the `--out` folder.
 
+mod eef_plot;
 mod image_png;
 mod montage;
 mod npy;
@@ -11,6 +12,7 @@ mod plot;
 mod provenance;
 mod run_files;
 
+pub use eef_plot::write_eef_plot;
 pub use image_png::{write_png, Scale};
 pub use montage::{write_montage, Tile};
 pub use npy::{write_npy_f64, write_npy_u64};

@@ -1,8 +1,9 @@
 //! The files of a trace run: per sensor `NAME.npy` (flux), `NAME_counts.npy`,
 //! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
 
+use super::write_eef_plot;
 use super::{write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
-use crate::analysis::{analyse, projections, write_eef_plot, ImageGeometry};
+use crate::analysis::{analyse, projections, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
 use crate::source::Source;

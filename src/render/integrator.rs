@@ -8,8 +8,8 @@ use super::camera::Frame;
 use super::{Appearance, Camera, Sky};
 use crate::material::Material;
 use crate::random::PhotonRng;
+use crate::raycast::{intersect, reflect, SurfaceHit};
 use crate::scene::Scene;
-use crate::trace::{intersect, reflect, SurfaceHit};
 use glam::DVec3;
 use rayon::prelude::*;
 

@@ -8,7 +8,7 @@ use super::llnl::{LlnlTelescope, PartMaterial};
 use super::materials::{MaterialDesc, MirrorDesc, SideDesc};
 use super::placement::{RotateDesc, TransformStep};
 use super::shapes::{MeshDesc, ShapeDesc};
-use crate::figure_error::FigureErrorSpec;
+use crate::xray::figure_error::FigureErrorSpec;
 use serde::Deserialize;
 use std::ops::Range;
 use std::path::Path;

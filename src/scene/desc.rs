@@ -61,7 +61,7 @@ pub struct SceneDesc {
     pub coatings: BTreeMap<String, crate::xray::coating::CoatingEntry>,
     /// Figure-error presets, added to those of data/figure_errors.toml.
     #[serde(default)]
-    pub figure_errors: BTreeMap<String, crate::figure_error::FigureErrorEntry>,
+    pub figure_errors: BTreeMap<String, crate::xray::figure_error::FigureErrorEntry>,
     /// Named cameras for visible-light renders (`traxer render --camera NAME`).
     #[serde(default)]
     pub cameras: BTreeMap<String, Spanned<CameraDesc>>,

@@ -3,9 +3,9 @@
 //! later turned into reflectivity tables), figure-error presets, and the sensors
 //! that sensor materials create (one per object that uses one).
 
-use crate::figure_error::{FigureErrorLibrary, FigureErrorSpec};
 use crate::material::{Material, Side};
 use crate::sensor::{SensorDesc, SensorSpec};
+use crate::xray::figure_error::{FigureErrorLibrary, FigureErrorSpec};
 use crate::xray::{Coating, CoatingLibrary};
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};

@@ -8,19 +8,19 @@
 mod photon;
 mod stats;
 
-pub use photon::{
-    intersect, intersect_query, query_leaving, reflect, trace_photon, QueryHook, Record, SurfaceHit,
-};
+pub use photon::{trace_photon, Record};
 pub use stats::Statistics;
 
+use crate::progress::Progress;
 use crate::random::PhotonRng;
+use crate::raycast::QueryHook;
 use crate::scene::Scene;
 use crate::sensor::SensorImage;
 use rayon::prelude::*;
 use std::time::Instant;
 
 /// Photons per chunk: large enough to amortise scheduling, small enough to balance
-/// two cores and keep the progress bar moving.
+/// two cores and keep progress reports coming.
 pub const CHUNK: u64 = 4096;
 /// Chunks traced between two ordered merges (bounds the memory held in records).
 const CHUNKS_PER_BATCH: u64 = 256;
@@ -32,11 +32,21 @@ pub struct RunConfig {
     pub seed: u64,
     /// Worker threads; 0 = one per core.
     pub threads: usize,
-    /// Show a progress bar on stderr (hidden automatically if not a terminal).
-    pub progress: bool,
     /// Trace photon indices [first_photon, first_photon + photons): a shard of a
     /// larger run gives exactly its part of that run.
     pub first_photon: u64,
+}
+
+impl RunConfig {
+    /// `photons` photons of the run with `seed`, from photon 0, on every core.
+    pub fn new(photons: u64, seed: u64) -> RunConfig {
+        RunConfig {
+            photons,
+            seed,
+            threads: 0,
+            first_photon: 0,
+        }
+    }
 }
 
 /// Images and statistics of a finished run.
@@ -49,23 +59,19 @@ pub struct RunResult {
 
 /// Traces `cfg.photons` photons through the scene.
 pub fn run(scene: &Scene, cfg: &RunConfig) -> Result<RunResult, rayon::ThreadPoolBuildError> {
+    run_with_progress(scene, cfg, &())
+}
+
+/// [`run`], telling `progress` of every chunk of photons finished.
+pub fn run_with_progress(
+    scene: &Scene,
+    cfg: &RunConfig,
+    progress: &dyn Progress,
+) -> Result<RunResult, rayon::ThreadPoolBuildError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.threads)
         .build()?;
     let threads = pool.current_num_threads();
-    let bar = if cfg.progress {
-        let b = indicatif::ProgressBar::new(cfg.photons);
-        b.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {human_pos}/{human_len} photons ({per_sec}, eta {eta})",
-            )
-            .expect("static template")
-            .progress_chars("=> "),
-        );
-        b
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
     let start = Instant::now();
     let mut images: Vec<SensorImage> = scene.sensors.iter().map(SensorImage::new).collect();
     let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
@@ -85,7 +91,7 @@ pub fn run(scene: &Scene, cfg: &RunConfig) -> Result<RunResult, rayon::ThreadPoo
                         cfg.first_photon + lo,
                         cfg.first_photon + hi,
                     );
-                    bar.inc(hi - lo);
+                    progress.advance(hi - lo);
                     r
                 })
                 .collect()
@@ -98,7 +104,6 @@ pub fn run(scene: &Scene, cfg: &RunConfig) -> Result<RunResult, rayon::ThreadPoo
         }
         next = end;
     }
-    bar.finish_and_clear();
     Ok(RunResult {
         images,
         stats,

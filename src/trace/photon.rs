@@ -1,29 +1,12 @@
 //! The life of one photon: emit, intersect, interact, repeat.
 
 use super::stats::Statistics;
-use crate::embree::{Query, INVALID_ID};
-use crate::figure_error::Perturbed;
 use crate::material::Material;
 use crate::random::PhotonRng;
-use crate::scene::{ObjectGeometry, Scene};
+use crate::raycast::{intersect_query, query_leaving, reflect, QueryHook, SurfaceHit};
+use crate::scene::Scene;
 use crate::source::Photon;
-use glam::DVec3;
-
-/// Where and how a ray met a surface, all in f64 world coordinates.
-#[derive(Clone, Copy, Debug)]
-pub struct SurfaceHit {
-    pub object: usize,
-    pub point: DVec3,
-    /// Unit normal of the surface as built (the facet for meshes), on the front side.
-    pub geometric_normal: DVec3,
-    /// Unit normal used for reflection: interpolated for smooth meshes, else the
-    /// geometric one.
-    pub shading_normal: DVec3,
-    /// Whether the surface is a triangle (its hit point came from f32 and the next
-    /// ray must start off the surface) or analytic (exact; the next query just
-    /// tells the shape the ray starts on it).
-    pub on_mesh: bool,
-}
+use crate::xray::figure_error::Perturbed;
 
 /// A photon recorded by a sensor.
 #[derive(Clone, Copy, Debug)]
@@ -32,131 +15,6 @@ pub struct Record {
     pub pixel: u32,
     pub weight: f64,
     pub energy: f64,
-}
-
-/// Hook called with every Embree query (benchmarks record rays with it; the
-/// ordinary run uses `()`, which compiles to nothing).
-pub trait QueryHook {
-    fn query(&mut self, q: &Query);
-}
-
-impl QueryHook for () {
-    #[inline(always)]
-    fn query(&mut self, _: &Query) {}
-}
-
-/// Offset (mm) that moves a point reliably off an f32 triangle it lies on: a few
-/// f32 ulps of the largest coordinate, so it scales with the scene (pbrt's
-/// OffsetRayOrigin idea; ~2e-4 mm at 100 mm).
-#[inline]
-fn surface_offset(p: DVec3) -> f64 {
-    (p.abs().max_element() + 1.0) * (16.0 * f32::EPSILON as f64)
-}
-
-/// The query for a ray from `origin` along `dir` that leaves the surface `start`
-/// (if any): off a triangle by a small offset to the side the ray goes to; from an
-/// analytic surface exactly, telling the shape to ignore its own root at t ≈ 0.
-#[inline]
-pub fn query_leaving(origin: DVec3, dir: DVec3, start: Option<&SurfaceHit>) -> Query {
-    let (origin, start_geometry) = match start {
-        Some(h) if h.on_mesh => {
-            let side = if dir.dot(h.geometric_normal) >= 0.0 {
-                1.0
-            } else {
-                -1.0
-            };
-            (
-                h.point + h.geometric_normal * (side * surface_offset(h.point)),
-                INVALID_ID,
-            )
-        }
-        Some(h) => (origin, h.object as u32),
-        None => (origin, INVALID_ID),
-    };
-    Query {
-        origin: origin.to_array(),
-        dir: dir.to_array(),
-        t_max: f64::INFINITY,
-        start_geometry,
-    }
-}
-
-/// Nearest surface along a ray; `start` is the surface the ray leaves, if any.
-#[inline]
-pub fn intersect(
-    scene: &Scene,
-    origin: DVec3,
-    dir: DVec3,
-    start: Option<&SurfaceHit>,
-) -> Option<SurfaceHit> {
-    intersect_query(scene, &query_leaving(origin, dir, start), &mut ())
-}
-
-#[inline]
-pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> Option<SurfaceHit> {
-    hook.query(q);
-    let hit = scene.embree.intersect(q)?;
-    let object = hit.geometry as usize;
-    let origin = DVec3::from(q.origin);
-    let dir = DVec3::from(q.dir);
-    match &scene.objects[object].geometry {
-        ObjectGeometry::Analytic(a) => {
-            let point = origin + dir * hit.t;
-            let n = a.normal_world(point);
-            Some(SurfaceHit {
-                object,
-                point,
-                geometric_normal: n,
-                shading_normal: n,
-                on_mesh: false,
-            })
-        }
-        ObjectGeometry::Mesh(m) => {
-            let prim = hit.primitive as usize;
-            let [nx, ny, nz, offset] = m.planes[prim];
-            let n = DVec3::new(nx, ny, nz);
-            // Refine Embree's f32 distance on the f64 plane of the triangle.
-            let denom = dir.dot(n);
-            let (t, geometric_normal) = if denom != 0.0 {
-                ((offset - n.dot(origin)) / denom, n)
-            } else {
-                // Degenerate triangle, or a ray in its plane: keep Embree's t and
-                // face the ray.
-                (hit.t, -dir.normalize())
-            };
-            let point = origin + dir * t;
-            let shading_normal = match &m.corner_normals {
-                Some(corners) => {
-                    let [n0, n1, n2] =
-                        corners[prim].map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64));
-                    let (u, v) = (hit.u as f64, hit.v as f64);
-                    let s = (n0 * (1.0 - u - v) + n1 * u + n2 * v)
-                        .try_normalize()
-                        .unwrap_or(geometric_normal);
-                    // Keep the interpolated normal on the facet's front side.
-                    if s.dot(geometric_normal) < 0.0 {
-                        -s
-                    } else {
-                        s
-                    }
-                }
-                None => geometric_normal,
-            };
-            Some(SurfaceHit {
-                object,
-                point,
-                geometric_normal,
-                shading_normal,
-                on_mesh: true,
-            })
-        }
-    }
-}
-
-/// Mirror reflection of `d` about unit normal `n`.
-#[inline]
-pub fn reflect(d: DVec3, n: DVec3) -> DVec3 {
-    d - n * (2.0 * d.dot(n))
 }
 
 /// Traces one photon to its end, updating `stats` and reporting a sensor record.

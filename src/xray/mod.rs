@@ -1,19 +1,23 @@
 //! X-ray mirror physics: optical constants from the Henke tables, Fresnel
 //! coefficients and the Parratt recursion, coatings (single layers, stacks,
-//! depth-graded multilayers such as the LLNL Pt/C recipes).
+//! depth-graded multilayers such as the LLNL Pt/C recipes), reflectivity tables,
+//! and the mirrors' figure errors.
 //!
-//! Data flow: `scene::build` builds a [`Coating`] for each coated mirror from
-//! data/coatings.toml and the scene's own entries; the photon loop multiplies a
-//! photon's weight by R(E, θ) at each reflection; `traxer reflectivity` prints and
-//! plots R.
+//! Data flow: the scene build builds a [`Coating`] for each coated mirror from
+//! data/coatings.toml and the scene's own entries, and resolves figure-error
+//! presets from data/figure_errors.toml; the photon loop multiplies a photon's
+//! weight by R(E, θ) at each reflection and tilts the reflected ray by the figure
+//! error; `traxer reflectivity` prints and plots R.
 
 pub mod coating;
 pub mod compound;
 pub mod elements;
+pub mod figure_error;
 pub mod optical;
 pub mod parratt;
 pub mod table;
 
 pub use coating::{Coating, CoatingLibrary};
+pub use figure_error::{FigureError, FigureErrorLibrary};
 pub use optical::OpticalMaterial;
 pub use table::ReflectivityTable;

@@ -7,11 +7,9 @@ use traxer::trace::{self, RunConfig};
 
 fn cfg(photons: u64, threads: usize, first: u64) -> RunConfig {
     RunConfig {
-        photons,
-        seed: 42,
         threads,
-        progress: false,
         first_photon: first,
+        ..RunConfig::new(photons, 42)
     }
 }
 

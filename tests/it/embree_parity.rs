@@ -4,8 +4,8 @@
 use crate::common::{scene, scene_in, write};
 use crate::geometry::Lcg;
 use glam::DVec3;
+use traxer::raycast::{intersect, reflect};
 use traxer::scene::ObjectGeometry;
-use traxer::trace::{intersect, reflect};
 
 /// Möller–Trumbore in f64: (t, barycentric u, v) of a hit with t > 0.
 fn ray_triangle(o: DVec3, d: DVec3, a: DVec3, b: DVec3, c: DVec3) -> Option<(f64, f64, f64)> {

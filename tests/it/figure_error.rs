@@ -3,9 +3,9 @@
 //! error is exactly the perfect mirror.
 
 use glam::DVec3;
-use traxer::figure_error::{FigureError, Perturbed};
 use traxer::random::PhotonRng;
 use traxer::trace::{self, RunConfig};
+use traxer::xray::figure_error::{FigureError, Perturbed};
 
 /// PANTER's Al Kα diameters (SPEC §3) as `fit-figure-error` arguments.
 const PANTER_AL_TARGETS: [&str; 6] = [
@@ -120,17 +120,7 @@ fn flat_mirror_spot(graze_deg: f64, figure: &str) -> ([f64; 4], u64, u64) {
         "",
         "",
     ));
-    let r = trace::run(
-        &s,
-        &RunConfig {
-            photons: 200_000,
-            seed: 3,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap();
+    let r = trace::run(&s, &RunConfig::new(200_000, 3)).unwrap();
     let img = &r.images[0].flux;
     let (n, pitch) = (600usize, 0.1);
     let (mut w, mut sx, mut sy, mut sxx, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
@@ -207,13 +197,7 @@ fn zero_figure_error_reproduces_the_perfect_mirror_exactly() {
     let dev = crate::common::device();
     let run = |fe: &str| {
         let s = traxer::scene::Scene::load(&dev, &scene, &[format!("figure_error={fe}")]).unwrap();
-        let cfg = RunConfig {
-            photons: 30_000,
-            seed: 5,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        };
+        let cfg = RunConfig::new(30_000, 5);
         trace::run(&s, &cfg).unwrap()
     };
     let perfect = run("\"none\"");
@@ -289,13 +273,7 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
         wide_fraction: 0.15,
         out_of_plane: 0.0,
     };
-    let run = RunConfig {
-        photons: 60_000,
-        seed: 11,
-        threads: 0,
-        progress: false,
-        first_photon: 0,
-    };
+    let run = RunConfig::new(60_000, 11);
     set_figure_error(&mut scene, Some(truth));
     let target = measure(&scene, 0, &run).unwrap().unwrap();
     let settings = FitSettings {
@@ -401,13 +379,7 @@ fn fitted_preset_reproduces_the_panter_al_ka_measurement() {
         &[],
     )
     .unwrap();
-    let run = RunConfig {
-        photons: 400_000,
-        seed: 99,
-        threads: 0,
-        progress: false,
-        first_photon: 0,
-    };
+    let run = RunConfig::new(400_000, 99);
     let d = measure(&scene, 0, &run).unwrap().unwrap();
     for (got, want) in [(d.hpd, 206.0), (d.d80, 397.0), (d.d90, 549.0)] {
         assert!((got / want - 1.0).abs() < 0.02, "{d:?}");

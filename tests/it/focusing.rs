@@ -5,8 +5,9 @@
 use crate::common::{centroid_rms, scene};
 use glam::DVec3;
 use traxer::random::PhotonRng;
+use traxer::raycast::{intersect, reflect};
 use traxer::scene::Scene;
-use traxer::trace::{self, intersect, reflect, RunConfig};
+use traxer::trace::{self, RunConfig};
 
 /// Emits `n` photons of the scene's first source, reflects each once, and returns
 /// the points where the reflected rays cross the plane z = z_plane.
@@ -143,17 +144,7 @@ fn flat_mirror_deflects_by_twice_the_grazing_angle() {
             // Full trace: the mirror normal is (0, −cos θ, sin θ), so the reflected
             // direction is (0, −sin 2θ, −cos 2θ) and the spot on the screen 200 mm
             // below the mirror centre is at y = −200·tan(2θ).
-            let r = trace::run(
-                &s,
-                &RunConfig {
-                    photons: 20_000,
-                    seed: 1,
-                    threads: 0,
-                    progress: false,
-                    first_photon: 0,
-                },
-            )
-            .unwrap();
+            let r = trace::run(&s, &RunConfig::new(20_000, 1)).unwrap();
             assert_eq!(r.stats.reached_sensor, 20_000, "tess {tess}, θ {graze}");
             let (_, cy, _) = centroid_rms(&r.images[0].flux, 1200);
             let y_mm = cy * 60.0 / 1200.0 - 30.0;
@@ -229,17 +220,7 @@ transform = [ { translate = [0, 0, -1500] } ]
     }
     let s = scene(&text);
     let n = 200_000;
-    let r = trace::run(
-        &s,
-        &RunConfig {
-            photons: n,
-            seed: 5,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap();
+    let r = trace::run(&s, &RunConfig::new(n, 5)).unwrap();
     // Photons entering between a shell's front radius and its radius at the
     // intersection plane are reflected twice and reach the focus: the expected
     // fraction is Σ (R_front² − r0²) / (82² − 48²), with R_front² = 4q(L − z_p + q).
@@ -270,17 +251,7 @@ transform = [ { translate = [0, 0, -1500] } ]
     // And moving the sensor by 5 mm defocuses it into a ring of radius
     // ≈ 5 mm · tan(4θ) = 5 · r0/f for each shell: 0.167 … 0.267 mm.
     let s = scene(&text.replace("translate = [0, 0, -1500]", "translate = [0, 0, -1495]"));
-    let r = trace::run(
-        &s,
-        &RunConfig {
-            photons: 200_000,
-            seed: 5,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap();
+    let r = trace::run(&s, &RunConfig::new(200_000, 5)).unwrap();
     let img = &r.images[0].flux;
     let mut rmin = f64::INFINITY;
     let mut rmax: f64 = 0.0;
@@ -311,17 +282,7 @@ fn point_source_at_finite_distance_focuses_where_the_lens_equation_says() {
             &[format!("sensor_z={z}")],
         )
         .unwrap();
-        let r = trace::run(
-            &s,
-            &RunConfig {
-                photons: 300_000,
-                seed: 2,
-                threads: 0,
-                progress: false,
-                first_photon: 0,
-            },
-        )
-        .unwrap();
+        let r = trace::run(&s, &RunConfig::new(300_000, 2)).unwrap();
         assert!(r.stats.reached_sensor > 20_000);
         centroid_rms(&r.images[0].flux, 512).2 * 14.0 / 512.0
     };

@@ -3,8 +3,8 @@
 //! middle of each shell.
 
 use glam::DVec3;
+use traxer::raycast::{intersect, reflect};
 use traxer::scene::llnl::LlnlTelescope;
-use traxer::trace::{intersect, reflect};
 
 #[test]
 fn cone_angles_radii_and_focal_length_follow_from_the_data() {

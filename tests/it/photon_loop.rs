@@ -6,17 +6,7 @@ use std::process::Command;
 use traxer::trace::{self, RunConfig};
 
 fn run(s: &traxer::scene::Scene, n: u64) -> traxer::trace::RunResult {
-    trace::run(
-        s,
-        &RunConfig {
-            photons: n,
-            seed: 1,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap()
+    trace::run(s, &RunConfig::new(n, 1)).unwrap()
 }
 
 #[test]

@@ -36,17 +36,7 @@ fn every_shipped_scene_loads_and_traces() {
             );
             continue;
         }
-        let r = trace::run(
-            &s,
-            &RunConfig {
-                photons: 50_000,
-                seed: 1,
-                threads: 0,
-                progress: false,
-                first_photon: 0,
-            },
-        )
-        .unwrap();
+        let r = trace::run(&s, &RunConfig::new(50_000, 1)).unwrap();
         assert_eq!(
             r.stats.fates(),
             50_000,
@@ -73,17 +63,7 @@ fn meshed_wolter_telescope_matches_the_analytic_one() {
             &["focus_shift=3".into()],
         )
         .unwrap();
-        trace::run(
-            &s,
-            &RunConfig {
-                photons: 300_000,
-                seed: 3,
-                threads: 0,
-                progress: false,
-                first_photon: 0,
-            },
-        )
-        .unwrap()
+        trace::run(&s, &RunConfig::new(300_000, 3)).unwrap()
     };
     let a = run("wolter1_parallel.toml");
     let m = run("wolter1_meshed.toml");

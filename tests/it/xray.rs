@@ -248,17 +248,7 @@ fn coated_mirror_multiplies_each_photon_by_its_reflectivity() {
             &format!("{{ line = {e} }}"),
             "",
         ));
-        let r = trace::run(
-            &s,
-            &RunConfig {
-                photons: 2000,
-                seed: 1,
-                threads: 0,
-                progress: false,
-                first_photon: 0,
-            },
-        )
-        .unwrap();
+        let r = trace::run(&s, &RunConfig::new(2000, 1)).unwrap();
         assert_eq!(r.stats.reached_sensor, 2000);
         let per_photon = r.images[0].total_flux() / 2000.0;
         let direct = lib
@@ -289,17 +279,7 @@ fn sensors_bin_in_energy() {
         "energy_bins = [1.0, 9.0, 8]",
     ));
     let n = 40_000u64;
-    let r = trace::run(
-        &s,
-        &RunConfig {
-            photons: n,
-            seed: 4,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap();
+    let r = trace::run(&s, &RunConfig::new(n, 4)).unwrap();
     let img = &r.images[0];
     let px = 60 * 60;
     assert_eq!(img.flux.len(), 8 * px);
@@ -336,17 +316,7 @@ fn sensors_bin_in_energy() {
         "{ line = 9.5 }",
         "energy_bins = [1.0, 9.0, 8]",
     ));
-    let r = trace::run(
-        &s,
-        &RunConfig {
-            photons: 100,
-            seed: 4,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap();
+    let r = trace::run(&s, &RunConfig::new(100, 4)).unwrap();
     assert_eq!(
         (r.stats.reached_sensor, r.stats.sensor_outside_energy_range),
         (0, 100)
@@ -467,17 +437,7 @@ substrate_roughness_nm = 0.4
         coated_flat_mirror_scene("iridium", 0.5, "{ line = 8.0 }", "")
     );
     let s = crate::common::scene(&text);
-    let r = trace::run(
-        &s,
-        &RunConfig {
-            photons: 500,
-            seed: 1,
-            threads: 0,
-            progress: false,
-            first_photon: 0,
-        },
-    )
-    .unwrap();
+    let r = trace::run(&s, &RunConfig::new(500, 1)).unwrap();
     let lib: CoatingLibrary =
         toml::from_str(extra.replace("optical_materials", "materials").as_str()).unwrap();
     let direct = CoatingLibrary::shipped()

@@ -1,0 +1,58 @@
+//! The encircled-energy plot of an image: flux fraction against radius (in
+//! arcseconds when the focal length is known, else mm), with the 50/80/90 %
+//! radii marked.
+
+use super::{line_plot, Series};
+use crate::analysis::{arcsec_of_radius, Eef, ImageQuality};
+use std::path::Path;
+
+/// Writes the EEF plot (fraction versus radius, in arcsec when the focal length is
+/// known, else mm) with the 50/80/90 % radii marked.
+pub fn write_eef_plot(
+    path: &Path,
+    title: &str,
+    q: &ImageQuality,
+    eef: &Eef,
+) -> std::io::Result<()> {
+    let to_x = |r_mm: f64| match q.focal_length_mm {
+        Some(f) => arcsec_of_radius(r_mm, f),
+        None => r_mm,
+    };
+    let x_label = if q.focal_length_mm.is_some() {
+        "radius [arcsec]"
+    } else {
+        "radius [mm]"
+    };
+    // Thin the curve to ≤ 2000 points for plotting.
+    let step = (eef.radius_mm.len() / 2000).max(1);
+    let mut curve: Vec<(f64, f64)> = eef
+        .radius_mm
+        .iter()
+        .zip(&eef.fraction)
+        .step_by(step)
+        .map(|(&r, &f)| (to_x(r), f))
+        .collect();
+    curve.insert(0, (0.0, 0.0));
+    let mut series = vec![Series::line("encircled energy", curve)];
+    for (name, diam) in [
+        ("50 % (HPD)", q.hpd_mm),
+        ("80 %", q.d80_mm),
+        ("90 %", q.d90_mm),
+    ] {
+        let r = to_x(0.5 * diam);
+        let frac = name[..2].parse::<f64>().unwrap_or(0.0) / 100.0;
+        let label = match q.focal_length_mm {
+            Some(_) => format!("{name}: diameter {:.1}″", 2.0 * r),
+            None => format!("{name}: diameter {:.3} mm", 2.0 * r),
+        };
+        series.push(Series::line(label, vec![(r, 0.0), (r, frac), (0.0, frac)]));
+    }
+    line_plot(
+        path,
+        title,
+        x_label,
+        "fraction of flux",
+        &series,
+        (900, 600),
+    )
+}
