@@ -9,6 +9,7 @@
 use std::path::Path;
 use traxer::embree::Device;
 use traxer::scene::Scene;
+use traxer::trace::RunConfig;
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -49,7 +50,8 @@ fn main() {
         let defines: Vec<String> = defines.split(' ').map(String::from).collect();
         let scene =
             Scene::load(&device, &root.join("scenes").join(name), &defines).expect("shipped scene");
-        let r = traxer::bench::run(&scene, photons, 0, 300_000).expect("thread pool");
+        let r = traxer::bench::run(&scene, &RunConfig::new(photons, 1), 300_000, &())
+            .expect("thread pool");
         println!(
             "{:<66} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
             format!("{name}, {}", defines.join(" ")),

@@ -34,23 +34,9 @@ fn main() -> anyhow::Result<()> {
             let result = traxer::trace::run(&scene, &cfg)?;
             let dir = out.join(format!("{line}_{variant}"));
             std::fs::create_dir_all(&dir)?;
-            let provenance = Provenance {
-                traxer_version: env!("CARGO_PKG_VERSION").into(),
-                git_hash: traxer::output::git_hash().into(),
-                embree_version: device.info().version,
-                scene_path: scene_path.display().to_string(),
-                scene_sha256: scene.text_sha256.clone(),
-                overrides: defines.clone(),
-                seed: cfg.seed,
-                photons,
-                threads: result.threads,
-                first_photon: 0,
-                command_line: std::env::args().collect(),
-                finished_unix_s: std::time::SystemTime::now()
-                    .duration_since(std::time::UNIX_EPOCH)
-                    .map(|d| d.as_secs())
-                    .unwrap_or(0),
-            };
+            let provenance = Provenance::new(Some(device.info().version))
+                .scene(&scene)
+                .run(&cfg, result.threads);
             write_run(&dir, &scene, &result, &provenance)?;
             let spec = &scene.sensors[0];
             let (q, eef) = analyse(

@@ -5,6 +5,7 @@
 //! Data flow: used by `traxer bench` and `cargo bench`; reads a built `Scene`.
 
 use crate::embree::Query;
+use crate::progress::Progress;
 use crate::raycast::QueryHook;
 use crate::scene::Scene;
 use crate::trace::{self, RunConfig};
@@ -35,24 +36,24 @@ impl QueryHook for Recorder {
     }
 }
 
-/// Traces `photons` photons with `threads` threads (0 = all cores), then replays
-/// the queries of the first `raw_photons` of them through plain `rtcIntersect1`.
+/// Traces the run `cfg` asks for, then replays the queries of its first
+/// `raw_photons` photons through plain `rtcIntersect1` on as many threads.
+/// `progress` hears of the timed run's photons.
 pub fn run(
     scene: &Scene,
-    photons: u64,
-    threads: usize,
+    cfg: &RunConfig,
     raw_photons: u64,
+    progress: &dyn Progress,
 ) -> Result<BenchReport, rayon::ThreadPoolBuildError> {
+    let (photons, threads) = (cfg.photons, cfg.threads);
     // Warm-up (page faults, lazy Embree initialisation).
     trace::trace_range(scene, 7, 0, 20_000.min(photons));
-    let cfg = RunConfig {
-        threads,
-        ..RunConfig::new(photons, 1)
-    };
-    let r = trace::run(scene, &cfg)?;
+    let r = trace::run_with_progress(scene, cfg, progress)?;
 
     let mut rec = Recorder(Vec::new());
-    trace::trace_range_with(scene, 1, 0, raw_photons.min(photons), &mut rec);
+    let first = cfg.first_photon;
+    let replayed = raw_photons.min(photons);
+    trace::trace_range_with(scene, cfg.seed, first, first + replayed, &mut rec);
     let rays = rec.0;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

@@ -2,6 +2,8 @@
 //! subcommands in `cli/`, and maps failures to exit codes: 0 success, 1 the run
 //! failed, 2 bad input (scene, mesh, arguments).
 
+#![forbid(unsafe_code)]
+
 mod cli;
 
 use clap::{Parser, Subcommand};

@@ -34,20 +34,34 @@ impl DefocusFit {
     }
 }
 
+/// Why no defocus curve could be fitted.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum DefocusFitError {
+    #[error("need at least 4 positions with an image to fit the focus, have {0}")]
+    TooFewPoints(usize),
+    #[error("the positions must not all be equal")]
+    EqualPositions,
+    #[error("the positions do not determine a curve (need 3 distinct ones)")]
+    Undetermined,
+    #[error("the diameter does not grow on both sides of the sweep: widen the range")]
+    DoesNotOpen,
+    #[error(
+        "the fitted focus {z0:.3} lies outside the sweep [{zmin}, {zmax}]: move or widen the range"
+    )]
+    Outside { z0: f64, zmin: f64, zmax: f64 },
+}
+
 /// Fits `points` = (z, diameter). Needs at least 4 points with positive
 /// diameters, and a curve that opens upwards with its minimum inside the range
 /// of z (otherwise the sweep did not bracket the focus: an error says so).
-pub fn fit_defocus(points: &[(f64, f64)]) -> Result<DefocusFit, String> {
+pub fn fit_defocus(points: &[(f64, f64)]) -> Result<DefocusFit, DefocusFitError> {
     let pts: Vec<(f64, f64)> = points
         .iter()
         .copied()
         .filter(|&(z, d)| z.is_finite() && d.is_finite() && d > 0.0)
         .collect();
     if pts.len() < 4 {
-        return Err(format!(
-            "need at least 4 positions with an image to fit the focus, have {}",
-            pts.len()
-        ));
+        return Err(DefocusFitError::TooFewPoints(pts.len()));
     }
     let (zmin, zmax) = pts.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |a, p| {
         (a.0.min(p.0), a.1.max(p.0))
@@ -56,7 +70,7 @@ pub fn fit_defocus(points: &[(f64, f64)]) -> Result<DefocusFit, String> {
     let zc = 0.5 * (zmin + zmax);
     let zs = 0.5 * (zmax - zmin);
     if zs <= 0.0 {
-        return Err("the positions must not all be equal".into());
+        return Err(DefocusFitError::EqualPositions);
     }
     let mut ata = DMat3::ZERO;
     let mut atb = DVec3::ZERO;
@@ -68,21 +82,17 @@ pub fn fit_defocus(points: &[(f64, f64)]) -> Result<DefocusFit, String> {
         atb += row * (w * d * d);
     }
     if ata.determinant().abs() < 1e-12 * ata.abs().to_cols_array().iter().sum::<f64>() {
-        return Err("the positions do not determine a curve (need 3 distinct ones)".into());
+        return Err(DefocusFitError::Undetermined);
     }
     let inv = ata.inverse();
     let c = inv * atb;
     if c.z <= 0.0 {
-        return Err(
-            "the diameter does not grow on both sides of the sweep: widen the range".into(),
-        );
+        return Err(DefocusFitError::DoesNotOpen);
     }
     let u0 = -c.y / (2.0 * c.z);
     let z0 = zc + zs * u0;
     if !(zmin..=zmax).contains(&z0) {
-        return Err(format!(
-            "the fitted focus {z0:.3} lies outside the sweep [{zmin}, {zmax}]: move or widen the range"
-        ));
+        return Err(DefocusFitError::Outside { z0, zmin, zmax });
     }
     let d0sq = c.x - c.y * c.y / (4.0 * c.z);
     // Residuals, relative to the diameter (the quantity the weights equalise).
@@ -133,12 +143,15 @@ mod tests {
         let pts: Vec<(f64, f64)> = (0..6)
             .map(|i| (i as f64, (1.0 + (i as f64 - 20.0).powi(2)).sqrt()))
             .collect();
-        let e = fit_defocus(&pts).unwrap_err();
+        let e = fit_defocus(&pts).unwrap_err().to_string();
         assert!(e.contains("outside the sweep"), "{e}");
         let down: Vec<(f64, f64)> = (0..6)
             .map(|i| (i as f64, 5.0 - 0.1 * (i * i) as f64))
             .collect();
-        assert!(fit_defocus(&down).unwrap_err().contains("widen"));
+        assert!(fit_defocus(&down)
+            .unwrap_err()
+            .to_string()
+            .contains("widen"));
         assert!(fit_defocus(&pts[..3]).is_err());
     }
 }

@@ -1,8 +1,8 @@
 //! `traxer bench`: photons per second, and raw Embree rays per second on the same
 //! rays.
 
-use super::{load_xray_scene, parse_define};
-use std::path::PathBuf;
+use super::args::{QuietArg, RunArgs, SceneArgs};
+use super::{load_xray_scene, progress};
 
 /// Measure tracing speed on a scene and compare it with raw Embree queries.
 ///
@@ -10,38 +10,35 @@ use std::path::PathBuf;
 /// photon, the raw rtcIntersect1 rate on the very rays of the run, and the share of
 /// the run spent inside Embree.
 #[derive(clap::Args)]
+#[command(mut_arg("photons", |a| a.help("Photons for the timed run").default_value("2000000")))]
 pub struct BenchArgs {
-    /// Scene file to trace.
-    pub scene: PathBuf,
-    /// Photons for the timed run.
-    #[arg(short = 'n', long, default_value_t = 2_000_000)]
-    pub photons: u64,
-    /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
-    pub threads: usize,
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    #[command(flatten)]
+    pub run: RunArgs,
     /// Photons whose queries are replayed for the raw Embree rate.
     #[arg(long, default_value_t = 300_000)]
     pub raw_photons: u64,
-    /// Override a scene variable: -D name=value.
-    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub define: Vec<String>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub quiet: QuietArg,
 }
 
 pub fn run(a: BenchArgs) -> anyhow::Result<()> {
-    if a.photons == 0 {
-        return Err(super::InputError("--photons must be at least 1".into()).into());
-    }
-    let (_device, scene) = load_xray_scene(&a.scene, &a.define)?;
-    let r = traxer::bench::run(&scene, a.photons, a.threads, a.raw_photons)?;
+    let cfg = a.run.config()?;
+    let (_device, scene) = load_xray_scene(&a.scene)?;
+    let bar = progress::bar(cfg.photons, "photons", a.quiet.quiet);
+    let r = traxer::bench::run(&scene, &cfg, a.raw_photons, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    let r = r?;
     if a.json {
         say!("{}", serde_json::to_string_pretty(&r)?);
     } else {
         say!(
             "scene {} ({} triangles), {} threads",
-            a.scene.display(),
+            a.scene.scene.display(),
             r.triangles,
             r.threads
         );

@@ -2,9 +2,10 @@
 
 use super::InputError;
 use anyhow::Context;
+use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::analysis::{analyse, ImageGeometry};
-use traxer::output::write_eef_plot;
+use traxer::output::{read_image, write_eef_plot, write_sidecar, Provenance};
 
 /// Encircled-energy analysis of an image from a trace or from elsewhere.
 ///
@@ -12,7 +13,7 @@ use traxer::output::write_eef_plot;
 /// any numeric type. The pixel pitch comes from --pixel-pitch or, for traxer's own
 /// images, from the JSON sidecar next to it (NAME.json). Prints the centroid and
 /// the 50/80/90 % diameters (mm, and arcsec with --focal-length) and writes the EEF
-/// plot.
+/// plot with a sidecar (PLOT.json: provenance and the numbers).
 #[derive(clap::Args)]
 pub struct EefArgs {
     /// The image (.npy).
@@ -31,69 +32,9 @@ pub struct EefArgs {
     pub json: bool,
 }
 
-/// Reads any numeric .npy as f64 with its shape.
-pub fn read_npy(path: &Path) -> Result<(Vec<u64>, Vec<f64>), InputError> {
-    let bad = |m: String| InputError(format!("{}: {m}", path.display()));
-    let bytes = std::fs::read(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
-    let npy = npyz::NpyFile::new(&bytes[..]).map_err(|e| bad(format!("not a .npy file: {e}")))?;
-    let shape = npy.shape().to_vec();
-    let type_str = match npy.dtype() {
-        npyz::DType::Plain(t) => t.to_string(),
-        other => {
-            return Err(bad(format!(
-                "unsupported dtype {other:?} (need a plain numeric array)"
-            )))
-        }
-    };
-    let data: Vec<f64> = match &type_str[1..] {
-        "f8" => npy.into_vec::<f64>(),
-        "f4" => npy
-            .into_vec::<f32>()
-            .map(|v| v.into_iter().map(f64::from).collect()),
-        "u8" => npy
-            .into_vec::<u64>()
-            .map(|v| v.into_iter().map(|x| x as f64).collect()),
-        "i8" => npy
-            .into_vec::<i64>()
-            .map(|v| v.into_iter().map(|x| x as f64).collect()),
-        "u4" => npy
-            .into_vec::<u32>()
-            .map(|v| v.into_iter().map(f64::from).collect()),
-        "i4" => npy
-            .into_vec::<i32>()
-            .map(|v| v.into_iter().map(f64::from).collect()),
-        other => {
-            return Err(bad(format!(
-                "unsupported element type {other} (use float or integer)"
-            )))
-        }
-    }
-    .map_err(|e| bad(format!("cannot read the data: {e}")))?;
-    Ok((shape, data))
-}
-
 pub fn run(a: EefArgs) -> anyhow::Result<()> {
-    let (shape, data) = read_npy(&a.image)?;
-    let (ny, nx, image) = match shape.as_slice() {
-        [ny, nx] => (*ny as usize, *nx as usize, data),
-        [nb, ny, nx] => {
-            let n = (*ny * *nx) as usize;
-            let mut sum = vec![0.0; n];
-            for band in data.chunks_exact(n).take(*nb as usize) {
-                for (s, v) in sum.iter_mut().zip(band) {
-                    *s += v;
-                }
-            }
-            (*ny as usize, *nx as usize, sum)
-        }
-        other => {
-            return Err(InputError(format!(
-                "{}: expected a 2-D or 3-D image, got shape {other:?}",
-                a.image.display()
-            ))
-            .into())
-        }
-    };
+    let img = read_image(&a.image)?;
+    let (ny, nx, image) = (img.ny, img.nx, img.summed);
     if image.iter().any(|v| !v.is_finite() || *v < 0.0) {
         return Err(InputError(format!(
             "{}: pixel values must be finite and ≥ 0",
@@ -141,6 +82,13 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         &eef,
     )
     .with_context(|| format!("cannot write {}", plot.display()))?;
+    let details = json!({
+        "image": a.image.display().to_string(),
+        "pixel_pitch_mm": pitch,
+        "image_quality": q,
+    });
+    write_sidecar(&plot, &Provenance::new(None), details)
+        .with_context(|| format!("cannot write the sidecar of {}", plot.display()))?;
     if a.json {
         say!("{}", serde_json::to_string_pretty(&q)?);
     } else {

@@ -1,5 +1,8 @@
-//! Subcommands of the `traxer` binary. Physics comes from the scene file; these
-//! modules only handle I/O-side settings (photons, seed, threads, output folder).
+//! Subcommands of the `traxer` binary, thin: each parses its arguments (the
+//! shared groups in [`args`]), calls the library (scene, trace, studies, render),
+//! hands the results to `output`, and prints. Physics comes from the scene file;
+//! these modules only handle I/O-side settings (photons, seed, threads, output
+//! folder). Progress bars are drawn here ([`progress`]), never in the library.
 
 /// `println!` that treats a closed pipe (`traxer ... | head`) as the end of the
 /// program rather than an error: the process exits quietly with code 0.
@@ -9,6 +12,7 @@ macro_rules! say {
     };
 }
 
+pub mod args;
 pub mod bench;
 pub mod compare;
 pub mod eef;
@@ -16,15 +20,18 @@ pub mod fit_figure_error;
 pub mod focus;
 pub mod info;
 pub mod inspect;
-pub mod measure;
 pub mod progress;
 pub mod reflectivity;
 pub mod render;
 pub mod tessellate;
 pub mod trace;
 
+use args::SceneArgs;
+use traxer::embree::Device;
 use traxer::mesh::MeshError;
-use traxer::scene::SceneError;
+use traxer::output::NpyError;
+use traxer::scene::{Scene, SceneError};
+use traxer::studies::StudyError;
 
 /// A usage problem the user can fix (exit code 2).
 #[derive(Debug, thiserror::Error)]
@@ -33,59 +40,43 @@ pub struct InputError(pub String);
 
 /// Whether an error is the user's input (exit code 2) rather than a failed run.
 pub fn is_input_error(e: &anyhow::Error) -> bool {
-    e.chain()
-        .any(|c| c.is::<SceneError>() || c.is::<MeshError>() || c.is::<InputError>())
+    e.chain().any(|c| {
+        c.is::<SceneError>()
+            || c.is::<MeshError>()
+            || c.is::<InputError>()
+            || c.is::<NpyError>()
+            || c.downcast_ref::<StudyError>()
+                .is_some_and(StudyError::is_bad_input)
+    })
 }
 
-/// More worker threads than this is a typo, not a machine (and would take minutes
-/// to start).
-pub const MAX_THREADS: usize = 1024;
+/// Prints a scene's warnings once each, however often it is loaded.
+#[derive(Default)]
+pub struct Warnings(std::collections::BTreeSet<String>);
 
-/// Parses `--threads N`: 0 (one per core) to [`MAX_THREADS`].
-pub fn parse_threads(s: &str) -> Result<usize, String> {
-    match s.parse::<usize>() {
-        Ok(n) if n <= MAX_THREADS => Ok(n),
-        _ => Err(format!(
-            "expected 0 (one per core) to {MAX_THREADS} worker threads, got `{s}`"
-        )),
-    }
-}
-
-/// Parses `-D name=value`, checking the shape only (the scene checks the name).
-pub fn parse_define(s: &str) -> Result<String, String> {
-    match s.split_once('=') {
-        Some((k, _)) if !k.trim().is_empty() => Ok(s.to_string()),
-        _ => Err(format!("expected name=value, got `{s}`")),
+impl Warnings {
+    pub fn show(&mut self, scene: &Scene) {
+        for w in &scene.warnings {
+            if self.0.insert(w.clone()) {
+                eprintln!("warning: {w}");
+            }
+        }
     }
 }
 
 /// Loads a scene with a fresh Embree device (returned too: it reports the
 /// version), printing the scene's warnings.
-pub fn load_scene(
-    path: &std::path::Path,
-    defines: &[String],
-) -> anyhow::Result<(traxer::embree::Device, traxer::scene::Scene)> {
-    let device = traxer::embree::Device::new()?;
-    let scene = traxer::scene::Scene::load(&device, path, defines)?;
-    for w in &scene.warnings {
-        eprintln!("warning: {w}");
-    }
+pub fn load_scene(a: &SceneArgs) -> anyhow::Result<(Device, Scene)> {
+    let device = Device::new()?;
+    let scene = Scene::load(&device, &a.scene, &a.define)?;
+    Warnings::default().show(&scene);
     Ok((device, scene))
 }
 
 /// Loads a scene for X-ray tracing: as [`load_scene`], and it must have sources.
-pub fn load_xray_scene(
-    path: &std::path::Path,
-    defines: &[String],
-) -> anyhow::Result<(traxer::embree::Device, traxer::scene::Scene)> {
-    let (device, scene) = load_scene(path, defines)?;
-    if scene.sources.is_empty() {
-        return Err(InputError(format!(
-            "{}: the scene has no [[sources]]: nothing to trace (a scene without sources can only be rendered)",
-            path.display()
-        ))
-        .into());
-    }
+pub fn load_xray_scene(a: &SceneArgs) -> anyhow::Result<(Device, Scene)> {
+    let (device, scene) = load_scene(a)?;
+    traxer::studies::require_sources(&scene)?;
     Ok((device, scene))
 }
 

@@ -3,8 +3,10 @@
 
 use super::InputError;
 use anyhow::Context;
+use serde_json::json;
 use std::path::{Path, PathBuf};
-use traxer::output::{line_plot, Series};
+use traxer::files::atomic_write;
+use traxer::output::{csv_text, line_plot, write_sidecar, Provenance, Series};
 use traxer::xray::{Coating, CoatingLibrary};
 
 /// Print the reflectivity of a mirror coating as CSV and plot it.
@@ -13,7 +15,8 @@ use traxer::xray::{Coating, CoatingLibrary};
 /// and the other the plotted axis. Values are comma-separated lists or ranges
 /// start:stop:step. Example:
 ///   traxer reflectivity --coating llnl_recipe_3 --energy 1.49,4.51,6.41 --angle 0:3:0.005
-/// CSV columns: energy_keV, angle_deg, R (unpolarised), R_s, R_p.
+/// CSV columns: energy_keV, angle_deg, R (unpolarised), R_s, R_p. The plot gets a
+/// sidecar PLOT.json with the provenance and the coating.
 #[derive(clap::Args)]
 pub struct ReflectivityArgs {
     /// A coating of data/coatings.toml (e.g. llnl_recipe_3, gold), or FILE or
@@ -76,7 +79,7 @@ fn load_coating(spec: &str) -> Result<Coating, InputError> {
         )));
     }
     if shipped.coatings.contains_key(spec) {
-        return shipped.coating(spec).map_err(InputError);
+        return shipped.coating(spec).map_err(|e| InputError(e.to_string()));
     }
     let (file, name) = match spec.rsplit_once(':') {
         Some((f, n)) if Path::new(f).is_file() => (f, Some(n)),
@@ -128,7 +131,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         )
         .into());
     }
-    let mut csv = String::from("energy_keV,angle_deg,R,R_s,R_p\n");
+    let mut rows = Vec::new();
     let mut series = Vec::new();
     let (curves, axis) = if versus_angle {
         (&energies, &angles)
@@ -142,7 +145,11 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
             let r = coating
                 .reflectance(e, th.to_radians())
                 .map_err(|err| InputError(err.to_string()))?;
-            csv.push_str(&format!("{e},{th},{},{},{}\n", r.unpolarised(), r.s, r.p));
+            rows.push(
+                [e, th, r.unpolarised(), r.s, r.p]
+                    .map(|v| v.to_string())
+                    .to_vec(),
+            );
             points.push((x, r.unpolarised()));
         }
         let label = if versus_angle {
@@ -152,6 +159,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         };
         series.push(Series::line(label, points));
     }
+    let csv = csv_text(&["energy_keV", "angle_deg", "R", "R_s", "R_p"], rows);
     // A closed pipe (`| head`) is not an error worth a message.
     use std::io::Write;
     match std::io::stdout().lock().write_all(csv.as_bytes()) {
@@ -159,7 +167,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         _ => {}
     }
     if let Some(path) = &a.csv {
-        traxer::files::atomic_write(path, csv.as_bytes())
+        atomic_write(path, csv.as_bytes())
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
     let (title, x_label) = if versus_angle {
@@ -182,6 +190,15 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         (900, 600),
     )
     .with_context(|| format!("cannot write {}", a.plot.display()))?;
+    let details = json!({
+        "coating": coating.name,
+        "coating_argument": a.coating,
+        "energy_keV": a.energy,
+        "angle_deg": a.angle,
+        "csv": a.csv.as_ref().map(|p| p.display().to_string()),
+    });
+    write_sidecar(&a.plot, &Provenance::new(None), details)
+        .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;
     eprintln!("wrote {}", a.plot.display());
     Ok(())
 }

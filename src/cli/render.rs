@@ -1,14 +1,16 @@
 //! `traxer render`: a visible-light picture of a scene (see `traxer::render`),
 //! optionally with X-ray sensor images glowing on their sensors.
 
-use super::eef::read_npy;
-use super::{load_scene, parse_define, InputError};
+use super::args::{QuietArg, SamplingArgs, SceneArgs};
+use super::{load_scene, progress, InputError};
 use anyhow::Context;
 use glam::DVec3;
+use serde_json::json;
 use std::path::{Path, PathBuf};
-use traxer::files::atomic_write;
-use traxer::render::{render, to_srgb8, Camera, RenderSettings, SensorTexture};
+use traxer::output::{read_image, write_rgb_png, write_sidecar, Provenance, Scale};
+use traxer::render::{render_with_progress, to_srgb8, Camera, RenderSettings, SensorTexture};
 use traxer::scene::Scene;
+use traxer::studies::pick_sensor;
 
 /// Render a scene in visible light (path tracing) to a PNG.
 ///
@@ -18,12 +20,13 @@ use traxer::scene::Scene;
 /// says (default: mirrors metallic, absorbers grey, sensors dark), lit by the
 /// scene's [sky]. --sensor-image shows X-ray images on the sensors' faces: a trace's
 /// output folder (NAME.npy for each sensor NAME) or one .npy for --sensor.
+/// Writes the PNG and, next to it, OUT.json with the provenance and settings.
 /// Example:
 ///   traxer render scenes/spheres.toml --width 600 --height 400 --spp 64 --out spheres.png
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    /// Scene file (TOML).
-    pub scene: PathBuf,
+    #[command(flatten)]
+    pub scene: SceneArgs,
     /// Output PNG.
     #[arg(short, long)]
     pub out: PathBuf,
@@ -52,12 +55,8 @@ pub struct RenderArgs {
     /// Maximum bounces per path.
     #[arg(long, default_value_t = 12)]
     pub max_depth: u32,
-    /// Random seed (the same seed gives the same picture for any --threads).
-    #[arg(short, long, default_value_t = 1)]
-    pub seed: u64,
-    /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0, value_parser = super::parse_threads)]
-    pub threads: usize,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
     /// X-ray image(s) to show on the sensors: a trace output folder or a .npy.
     #[arg(long)]
     pub sensor_image: Option<PathBuf>,
@@ -70,9 +69,8 @@ pub struct RenderArgs {
     /// Radiance of the brightest sensor pixel (1 = as bright as a white sky).
     #[arg(long, default_value_t = 1.5)]
     pub brightness: f64,
-    /// Override a scene variable: -D name=value (repeatable).
-    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub define: Vec<String>,
+    #[command(flatten)]
+    pub quiet: QuietArg,
 }
 
 fn parse_vec3(s: &str) -> Result<DVec3, String> {
@@ -138,41 +136,33 @@ fn textures(a: &RenderArgs, scene: &Scene, path: &Path) -> Result<Vec<SensorText
             )));
         }
     } else {
-        let k = super::measure::pick_sensor(scene, a.sensor.as_deref())?;
+        let k = pick_sensor(scene, a.sensor.as_deref()).map_err(|e| InputError(e.to_string()))?;
         picks.push((k, path.to_path_buf()));
     }
+    let scale = match a.log_decades {
+        Some(decades) => Scale::Log { decades },
+        None => Scale::Linear,
+    };
     picks
         .into_iter()
         .map(|(k, f)| {
             let spec = &scene.sensors[k];
-            let (shape, data) = read_npy(&f)?;
+            let img = read_image(&f).map_err(|e| InputError(e.to_string()))?;
             let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
-            // (ny, nx), or (bands, ny, nx): summed over the bands.
-            let plane = ny * nx;
-            let ok = match shape[..] {
-                [y, x] => y as usize == ny && x as usize == nx,
-                [_, y, x] => y as usize == ny && x as usize == nx,
-                _ => false,
-            };
-            if !ok || data.is_empty() || data.len() % plane != 0 {
+            if (img.ny, img.nx) != (ny, nx) || img.summed.is_empty() {
                 return Err(InputError(format!(
-                    "{}: shape {shape:?} does not match sensor `{}` ({ny} × {nx} pixels)",
+                    "{}: shape {:?} does not match sensor `{}` ({ny} × {nx} pixels)",
                     f.display(),
+                    img.shape,
                     spec.name
                 )));
-            }
-            let mut summed = vec![0.0; plane];
-            for chunk in data.chunks(plane) {
-                for (s, v) in summed.iter_mut().zip(chunk) {
-                    *s += v;
-                }
             }
             Ok(SensorTexture::viridis(
                 spec.object,
                 spec.size,
                 [nx, ny],
-                &summed,
-                a.log_decades,
+                &img.summed,
+                scale,
                 a.brightness,
             ))
         })
@@ -192,7 +182,7 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     if !(a.brightness.is_finite() && a.brightness >= 0.0) {
         return Err(InputError("--brightness must be a number ≥ 0".into()).into());
     }
-    let (_device, scene) = load_scene(&a.scene, &a.define)?;
+    let (device, scene) = load_scene(&a.scene)?;
     let cam = camera(&a, &scene)?;
     let textures = match &a.sensor_image {
         Some(p) => textures(&a, &scene, p)?,
@@ -203,36 +193,58 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         height: a.height,
         spp: a.spp,
         max_depth: a.max_depth,
-        seed: a.seed,
+        seed: a.sampling.seed,
     };
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(a.threads)
+        .num_threads(a.sampling.threads)
         .build()
         .context("cannot start the worker threads")?;
+    let bar = progress::bar(a.height as u64, "rows", a.quiet.quiet);
     let start = std::time::Instant::now();
-    let image = pool.install(|| render(&scene, &cam, &scene.sky, &textures, &settings));
+    let image = pool.install(|| {
+        render_with_progress(&scene, &cam, &scene.sky, &textures, &settings, &|n| {
+            bar.inc(n)
+        })
+    });
     let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
     let mut png = image::RgbImage::new(a.width as u32, a.height as u32);
     for (p, c) in png.pixels_mut().zip(&image) {
         *p = image::Rgb(to_srgb8(*c));
     }
-    let mut bytes = Vec::new();
-    png.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )
-    .context("cannot encode the PNG")?;
-    atomic_write(&a.out, &bytes).with_context(|| format!("cannot write {}", a.out.display()))?;
-    let rays = (a.width * a.height) as f64 * a.spp as f64;
-    say!(
-        "rendered {}×{} at {} spp in {:.2} s ({:.2} M camera rays/s, {} threads) → {}",
-        a.width,
-        a.height,
-        a.spp,
-        seconds,
-        rays / seconds / 1e6,
-        pool.current_num_threads(),
-        a.out.display()
-    );
+    write_rgb_png(&a.out, &png).with_context(|| format!("cannot write {}", a.out.display()))?;
+    let threads = pool.current_num_threads();
+    let provenance = Provenance::new(Some(device.info().version))
+        .scene(&scene)
+        .seeded(a.sampling.seed, threads);
+    let details = json!({
+        "camera": {
+            "look_from": cam.look_from.to_array(),
+            "look_at": cam.look_at.to_array(),
+            "up": cam.up.to_array(),
+            "vfov": cam.vfov,
+        },
+        "width": a.width,
+        "height": a.height,
+        "samples_per_pixel": a.spp,
+        "max_depth": a.max_depth,
+        "sensor_image": a.sensor_image.as_ref().map(|p| p.display().to_string()),
+        "seconds": seconds,
+    });
+    write_sidecar(&a.out, &provenance, details)
+        .with_context(|| format!("cannot write the sidecar of {}", a.out.display()))?;
+    if !a.quiet.quiet {
+        let rays = (a.width * a.height) as f64 * a.spp as f64;
+        say!(
+            "rendered {}×{} at {} spp in {:.2} s ({:.2} M camera rays/s, {} threads) → {}",
+            a.width,
+            a.height,
+            a.spp,
+            seconds,
+            rays / seconds / 1e6,
+            threads,
+            a.out.display()
+        );
+    }
     Ok(())
 }

@@ -1,6 +1,7 @@
 //! `traxer tessellate`: analytic shapes → triangle meshes (glTF and/or OBJ).
 
-use super::{parse_define, InputError};
+use super::args::parse_define;
+use super::InputError;
 use anyhow::Context;
 use std::path::PathBuf;
 use traxer::geometry::{Resolution, Surface, MAX_TESSELLATION_QUADS};
@@ -37,9 +38,9 @@ pub struct TessellateArgs {
     /// Output file or folder.
     #[arg(short, long)]
     pub out: PathBuf,
-    /// Formats written into a folder: gltf, glb, obj (comma separated).
-    #[arg(long, value_delimiter = ',', default_value = "gltf,obj")]
-    pub format: Vec<String>,
+    /// Formats written into a folder (comma separated).
+    #[arg(long, value_enum, value_delimiter = ',', default_value = "gltf,obj")]
+    pub format: Vec<MeshFormat>,
     /// Keep the shapes in their local frames (ignore the objects' transforms).
     #[arg(long)]
     pub local: bool,
@@ -48,12 +49,26 @@ pub struct TessellateArgs {
     pub define: Vec<String>,
 }
 
-pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
-    for f in &a.format {
-        if !["gltf", "glb", "obj"].contains(&f.as_str()) {
-            return Err(InputError(format!("--format {f}: expected gltf, glb or obj")).into());
+/// Mesh file formats `tessellate` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum MeshFormat {
+    Gltf,
+    Glb,
+    Obj,
+}
+
+impl MeshFormat {
+    /// The file extension.
+    fn extension(self) -> &'static str {
+        match self {
+            MeshFormat::Gltf => "gltf",
+            MeshFormat::Glb => "glb",
+            MeshFormat::Obj => "obj",
         }
     }
+}
+
+pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
     if a.segments == Some(0) || a.rings == Some(0) {
         return Err(InputError("--segments and --rings must be at least 1".into()).into());
     }
@@ -141,7 +156,9 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
     } else {
         for (s, mesh) in shapes.iter().zip(&meshes) {
             for f in &a.format {
-                let t = a.out.join(format!("{}.{f}", file_stem(&s.name)));
+                let t = a
+                    .out
+                    .join(format!("{}.{}", file_stem(&s.name), f.extension()));
                 write_mesh(&t, mesh, &s.name)
                     .with_context(|| format!("cannot write {}", t.display()))?;
                 say!("  → {}", t.display());

@@ -1,21 +1,35 @@
-//! Everything traxer writes to disk: `.npy` arrays, PNG colour maps, plots and
-//! JSON sidecars with provenance (each file written atomically by `crate::files`).
+//! Everything traxer writes to disk: `.npy` arrays, PNG colour maps, plots, CSV
+//! tables and JSON with one provenance record (each file written atomically by
+//! `crate::files`).
 //!
-//! Data flow: `trace` produces merged sensor images and statistics; the CLI passes
-//! them here to be written into the `--out` folder.
+//! Data flow: `trace` produces merged sensor images and statistics, the studies
+//! their scans, comparisons and fits; the CLI passes them here to be written into
+//! the `--out` folder: a trace's files ([`write_run`]), [`write_focus`],
+//! [`write_compare`], [`write_fit`]; renders and plots get a sidecar
+//! ([`write_sidecar`]).
 
+pub mod colormap;
+mod compare;
+mod csv_table;
 mod eef_plot;
-mod image_png;
+mod fit;
+mod focus;
 mod montage;
 mod npy;
 mod plot;
+mod png;
 mod provenance;
 mod run_files;
 
+pub use colormap::Scale;
+pub use compare::{compare_markdown, write_compare};
+pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
-pub use image_png::{write_png, Scale};
+pub use fit::{write_fit, FitReport};
+pub use focus::{plotted_diameter, write_focus};
 pub use montage::{write_montage, Tile};
-pub use npy::{write_npy_f64, write_npy_u64};
+pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyImage};
 pub use plot::{line_plot, Series};
-pub use provenance::{git_hash, Provenance};
+pub use png::{write_png, write_rgb_png};
+pub use provenance::{git_hash, sidecar_path, write_sidecar, Provenance};
 pub use run_files::{file_stem, write_json, write_run};

@@ -3,7 +3,7 @@
 //! comparisons such as perfect vs figure-error mirrors.
 
 use super::plot::register_font;
-use crate::files::atomic_write;
+use super::write_rgb_png;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -72,12 +72,5 @@ pub fn write_montage(
         }
         canvas = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
     }
-    let mut bytes = Vec::new();
-    canvas
-        .write_to(
-            &mut std::io::Cursor::new(&mut bytes),
-            image::ImageFormat::Png,
-        )
-        .map_err(std::io::Error::other)?;
-    atomic_write(path, &bytes)
+    write_rgb_png(path, &canvas)
 }

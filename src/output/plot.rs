@@ -2,7 +2,7 @@
 //! curves later. The font is compiled in (data/fonts), so plots look the same on
 //! every machine; files are written atomically.
 
-use crate::files::atomic_write;
+use super::write_rgb_png;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
@@ -144,11 +144,5 @@ pub fn line_plot(
         draw().map_err(|e| std::io::Error::other(format!("plot {}: {e}", path.display())))?;
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
-    let mut bytes = Vec::new();
-    img.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )
-    .map_err(std::io::Error::other)?;
-    atomic_write(path, &bytes)
+    write_rgb_png(path, &img)
 }

@@ -2,7 +2,7 @@
 //! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
 
 use super::write_eef_plot;
-use super::{write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
+use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
 use crate::analysis::{analyse, projections, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
@@ -57,21 +57,7 @@ pub fn write_run(
                 eef,
             )?;
         }
-        let (px, py) = projections(&summed, &geometry);
-        let mut csv = String::from("index,x_mm,flux_vs_x,y_mm,flux_vs_y\n");
-        for i in 0..nx.max(ny) {
-            let col = |v: &[f64], n: usize, o: f64, p: f64| {
-                if i < n {
-                    (format!("{}", o + (i as f64 + 0.5) * p), format!("{}", v[i]))
-                } else {
-                    (String::new(), String::new())
-                }
-            };
-            let (xm, fx) = col(&px, nx, geometry.origin_mm[0], geometry.pitch[0]);
-            let (ym, fy) = col(&py, ny, geometry.origin_mm[1], geometry.pitch[1]);
-            csv.push_str(&format!("{i},{xm},{fx},{ym},{fy}\n"));
-        }
-        atomic_write(&paths[6], csv.as_bytes())?;
+        write_projections(&paths[6], &summed, &geometry)?;
         let sensor = json!({
             "name": spec.name,
             "object": spec.object,
@@ -122,6 +108,27 @@ pub fn write_run(
     write_json(&p, &summary)?;
     written.push(p);
     Ok(written)
+}
+
+/// The image's x and y projections as CSV (the shorter axis' columns end empty).
+fn write_projections(path: &Path, image: &[f64], g: &ImageGeometry) -> std::io::Result<()> {
+    let (px, py) = projections(image, g);
+    let column = |i: usize, v: &[f64], origin: f64, pitch: f64| match v.get(i) {
+        Some(f) => [
+            (origin + (i as f64 + 0.5) * pitch).to_string(),
+            f.to_string(),
+        ],
+        None => [String::new(), String::new()],
+    };
+    write_csv(
+        path,
+        &["index", "x_mm", "flux_vs_x", "y_mm", "flux_vs_y"],
+        (0..g.nx.max(g.ny)).map(|i| {
+            let [xm, fx] = column(i, &px, g.origin_mm[0], g.pitch[0]);
+            let [ym, fy] = column(i, &py, g.origin_mm[1], g.pitch[1]);
+            vec![i.to_string(), xm, fx, ym, fy]
+        }),
+    )
 }
 
 /// Pretty JSON, written atomically.

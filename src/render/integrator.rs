@@ -7,6 +7,8 @@
 use super::camera::Frame;
 use super::{Appearance, Camera, Sky};
 use crate::material::Material;
+use crate::output::colormap::{self, Scale};
+use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::raycast::{intersect, reflect, SurfaceHit};
 use crate::scene::Scene;
@@ -38,34 +40,22 @@ pub struct SensorTexture {
 
 impl SensorTexture {
     /// The image through viridis (`values` row-major, like the `.npy` files),
-    /// scaled so that the brightest pixel emits `brightness`.
+    /// as the sensor PNGs show it, scaled so that the brightest pixel emits
+    /// `brightness`.
     pub fn viridis(
         object: usize,
         size: [f64; 2],
         pixels: [usize; 2],
         values: &[f64],
-        log_decades: Option<u32>,
+        scale: Scale,
         brightness: f64,
     ) -> SensorTexture {
-        let max = values.iter().cloned().fold(0.0, f64::max);
+        let max = colormap::max_value(values);
         let radiance = values
             .iter()
             .map(|&v| {
-                let t = if max <= 0.0 || v <= 0.0 {
-                    0.0
-                } else if let Some(d) = log_decades {
-                    let d = d.max(1) as f64;
-                    ((v / max).log10() + d) / d
-                } else {
-                    v / max
-                };
-                let c = colorous::VIRIDIS.eval_continuous(t.clamp(0.0, 1.0));
                 // The colour map is sRGB; light adds in linear RGB.
-                DVec3::new(
-                    srgb_to_linear(c.r),
-                    srgb_to_linear(c.g),
-                    srgb_to_linear(c.b),
-                ) * brightness
+                DVec3::from_array(colormap::viridis(v, max, scale).map(srgb_to_linear)) * brightness
             })
             .collect();
         SensorTexture {
@@ -102,6 +92,18 @@ pub fn render(
     textures: &[SensorTexture],
     s: &RenderSettings,
 ) -> Vec<DVec3> {
+    render_with_progress(scene, camera, sky, textures, s, &())
+}
+
+/// [`render`], telling `progress` of every row finished.
+pub fn render_with_progress(
+    scene: &Scene,
+    camera: &Camera,
+    sky: &Sky,
+    textures: &[SensorTexture],
+    s: &RenderSettings,
+    progress: &dyn Progress,
+) -> Vec<DVec3> {
     let frame = Frame::new(camera, s.width as f64 / s.height as f64);
     let mut image = vec![DVec3::ZERO; s.width * s.height];
     image
@@ -119,6 +121,7 @@ pub fn render(
                 }
                 *px = sum / s.spp.max(1) as f64;
             }
+            progress.advance(1);
         });
     image
 }

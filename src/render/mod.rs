@@ -12,4 +12,4 @@ mod camera;
 mod integrator;
 
 pub use crate::scene::{Appearance, Camera, Sky};
-pub use integrator::{render, to_srgb8, RenderSettings, SensorTexture};
+pub use integrator::{render, render_with_progress, to_srgb8, RenderSettings, SensorTexture};

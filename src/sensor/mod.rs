@@ -87,6 +87,18 @@ impl SensorSpec {
     }
 }
 
+/// An image stack [band][pixel] (`plane` pixels per band) summed over the bands,
+/// band by band in order (so the sum is the same wherever it is computed).
+pub fn sum_bands(stack: &[f64], plane: usize) -> Vec<f64> {
+    let mut out = vec![0.0; plane];
+    for band in stack.chunks_exact(plane.max(1)) {
+        for (o, v) in out.iter_mut().zip(band) {
+            *o += v;
+        }
+    }
+    out
+}
+
 /// Accumulated image of one sensor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SensorImage {
@@ -108,14 +120,7 @@ impl SensorImage {
 
     /// The image summed over energy bands.
     pub fn flux_summed(&self, spec: &SensorSpec) -> Vec<f64> {
-        let n = spec.pixel_count();
-        let mut out = vec![0.0; n];
-        for band in self.flux.chunks_exact(n) {
-            for (o, v) in out.iter_mut().zip(band) {
-                *o += v;
-            }
-        }
-        out
+        sum_bands(&self.flux, spec.pixel_count())
     }
 
     #[inline]

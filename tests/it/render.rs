@@ -193,7 +193,14 @@ material = "detector"
 shape = { type = "rectangle", size = [10.0, 10.0] }
 "#,
     );
-    let tex = SensorTexture::viridis(0, [10.0, 10.0], [2, 2], &[4.0, 0.0, 4.0, 0.0], None, 2.0);
+    let tex = SensorTexture::viridis(
+        0,
+        [10.0, 10.0],
+        [2, 2],
+        &[4.0, 0.0, 4.0, 0.0],
+        traxer::output::Scale::Linear,
+        2.0,
+    );
     let cam = Camera {
         look_from: DVec3::new(0.0, 0.0, 10.0),
         look_at: DVec3::ZERO,

@@ -7,12 +7,14 @@
 //! Sbplx polish from the best point.
 //!
 //! Data flow: `traxer fit-figure-error` builds the scene once, calls [`fit`] with
-//! the bounds and targets, and writes the history and the preset.
+//! the bounds and targets, checks the Monte Carlo spread with [`seed_spread`], and
+//! `output` writes the history and the preset.
 
-use crate::analysis::{analyse, ImageGeometry, ImageQuality};
+use super::{measure_arcsec, trace_and_measure, Diameters, StudyError};
 use crate::material::Material;
+use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::trace::{self, RunConfig};
+use crate::trace::RunConfig;
 use crate::xray::figure_error::FigureError;
 
 /// The parameters in the order of [`FigureError`]'s fields.
@@ -42,23 +44,6 @@ impl Default for Bounds {
     }
 }
 
-/// Measured (or wanted) diameters in arcseconds.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct Diameters {
-    pub hpd: f64,
-    pub d80: f64,
-    pub d90: f64,
-}
-
-impl Diameters {
-    /// Sum of squared relative differences to `target`.
-    pub fn error_to(&self, target: &Diameters) -> f64 {
-        (self.hpd / target.hpd - 1.0).powi(2)
-            + (self.d80 / target.d80 - 1.0).powi(2)
-            + (self.d90 / target.d90 - 1.0).powi(2)
-    }
-}
-
 /// One objective evaluation.
 #[derive(Clone, Debug, serde::Serialize)]
 pub struct Evaluation {
@@ -80,29 +65,6 @@ pub fn set_figure_error(scene: &mut Scene, fe: Option<FigureError>) {
     }
 }
 
-/// Traces the scene as it is and measures sensor `sensor` in arcseconds.
-pub fn measure(
-    scene: &Scene,
-    sensor: usize,
-    cfg: &RunConfig,
-) -> Result<Option<Diameters>, rayon::ThreadPoolBuildError> {
-    let result = trace::run(scene, cfg)?;
-    let spec = &scene.sensors[sensor];
-    let q: Option<ImageQuality> = analyse(
-        &result.images[sensor].flux_summed(spec),
-        &ImageGeometry::of_sensor(spec),
-        spec.focal_length,
-    )
-    .map(|(q, _)| q);
-    Ok(q.and_then(|q| {
-        Some(Diameters {
-            hpd: q.hpd_arcsec?,
-            d80: q.d80_arcsec?,
-            d90: q.d90_arcsec?,
-        })
-    }))
-}
-
 /// Budget and settings of a fit.
 #[derive(Clone, Debug)]
 pub struct FitSettings {
@@ -118,7 +80,7 @@ pub struct FitSettings {
 }
 
 /// Derivative-free local optimisers of NLopt for the polish.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum LocalAlgorithm {
     Bobyqa,
     Sbplx,
@@ -140,17 +102,21 @@ impl LocalAlgorithm {
 pub struct FitResult {
     pub best: Evaluation,
     pub history: Vec<Evaluation>,
+    /// Worker threads the traces used.
+    pub threads: usize,
 }
 
 struct State<'a, P: FnMut(&Evaluation, &Evaluation)> {
     scene: &'a mut Scene,
     settings: &'a FitSettings,
+    trace_progress: &'a dyn Progress,
     free: Vec<usize>,
     history: Vec<Evaluation>,
     best: Option<Evaluation>,
     stage: &'static str,
     progress: P,
-    failure: Option<rayon::ThreadPoolBuildError>,
+    failure: Option<StudyError>,
+    threads: usize,
 }
 
 impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
@@ -170,8 +136,17 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
     fn evaluate(&mut self, x: &[f64]) -> f64 {
         let fe = self.parameters(x);
         set_figure_error(self.scene, Some(fe));
-        let diameters = match measure(self.scene, self.settings.sensor, &self.settings.run) {
-            Ok(d) => d,
+        let measured = trace_and_measure(
+            self.scene,
+            self.settings.sensor,
+            &self.settings.run,
+            self.trace_progress,
+        );
+        let diameters = match measured {
+            Ok(m) => {
+                self.threads = m.threads;
+                m.quality.as_ref().and_then(Diameters::of)
+            }
             Err(e) => {
                 self.failure = Some(e);
                 None
@@ -196,19 +171,20 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
 }
 
 /// Runs the fit on `scene` (whose mirrors' figure errors it overwrites; they hold
-/// the best parameters afterwards). `progress` sees each evaluation and the best
-/// so far.
+/// the best parameters afterwards). `on_evaluation` sees each evaluation and the
+/// best so far; `trace_progress` the photons of every evaluation's trace.
 pub fn fit(
     scene: &mut Scene,
     settings: &FitSettings,
-    progress: impl FnMut(&Evaluation, &Evaluation),
-) -> Result<FitResult, String> {
+    trace_progress: &dyn Progress,
+    on_evaluation: impl FnMut(&Evaluation, &Evaluation),
+) -> Result<FitResult, StudyError> {
     let b = &settings.bounds;
     for ((name, lo), hi) in PARAMETERS.iter().zip(b.lower).zip(b.upper) {
         if !(lo.is_finite() && hi.is_finite() && lo <= hi) {
-            return Err(format!(
+            return Err(StudyError::Input(format!(
                 "bounds of {name}: expected lower ≤ upper, got {lo}:{hi}"
-            ));
+            )));
         }
     }
     let free: Vec<usize> = (0..4).filter(|&i| b.upper[i] > b.lower[i]).collect();
@@ -219,8 +195,10 @@ pub fn fit(
         history: Vec::new(),
         best: None,
         stage: "global",
-        progress,
+        progress: on_evaluation,
+        trace_progress,
         failure: None,
+        threads: 0,
     };
     if free.is_empty() {
         state.evaluate(&[]);
@@ -272,7 +250,9 @@ pub fn fit(
                     _ => Ok(nlopt::SuccessState::Success),
                 });
             if setup.is_err() {
-                return Err(format!("NLopt refused the {stage} settings"));
+                return Err(StudyError::Optimiser(format!(
+                    "NLopt refused the {stage} settings"
+                )));
             }
             // Stopping at the evaluation budget is the normal end; the best
             // point is tracked by the state either way.
@@ -284,13 +264,14 @@ pub fn fit(
         }
     }
     if let Some(e) = state.failure.take() {
-        return Err(format!("cannot run the traces: {e}"));
+        return Err(e);
     }
     let best = state.best.clone().expect("at least one evaluation");
     set_figure_error(state.scene, Some(best.parameters));
     Ok(FitResult {
         best,
         history: state.history,
+        threads: state.threads,
     })
 }
 
@@ -301,4 +282,55 @@ fn field(f: &FigureError, i: usize) -> f64 {
         f.wide_fraction,
         f.out_of_plane,
     ][i]
+}
+
+/// Mean and sample standard deviation of each diameter over several seeds.
+#[derive(Clone, Copy, Debug, serde::Serialize)]
+pub struct Spread {
+    /// Seeds measured (with an image).
+    pub seeds: usize,
+    pub hpd: (f64, f64),
+    pub d80: (f64, f64),
+    pub d90: (f64, f64),
+}
+
+/// The Monte Carlo spread of the best parameters: `best` (the fit's own seed)
+/// and `extra_seeds` more runs with seeds seed + 1, seed + 2, ...
+pub fn seed_spread(
+    scene: &mut Scene,
+    settings: &FitSettings,
+    best: &Evaluation,
+    extra_seeds: u64,
+    progress: &dyn Progress,
+) -> Result<Spread, StudyError> {
+    set_figure_error(scene, Some(best.parameters));
+    let mut spread = Vec::new();
+    for k in 1..=extra_seeds {
+        let cfg = RunConfig {
+            seed: settings.run.seed.wrapping_add(k),
+            ..settings.run.clone()
+        };
+        if let Some(d) = measure_arcsec(scene, settings.sensor, &cfg, progress)? {
+            spread.push(d);
+        }
+    }
+    let stats = |f: fn(&Diameters) -> f64| -> (f64, f64) {
+        let all: Vec<f64> = std::iter::once(best.diameters.as_ref().map_or(f64::NAN, f))
+            .chain(spread.iter().map(f))
+            .collect();
+        let n = all.len() as f64;
+        let mean = all.iter().sum::<f64>() / n;
+        let sd = if all.len() > 1 {
+            (all.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0)).sqrt()
+        } else {
+            f64::NAN
+        };
+        (mean, sd)
+    };
+    Ok(Spread {
+        seeds: spread.len() + 1,
+        hpd: stats(|d| d.hpd),
+        d80: stats(|d| d.d80),
+        d90: stats(|d| d.d90),
+    })
 }

@@ -1,0 +1,94 @@
+//! Command-line arguments shared by the subcommands, declared once and flattened
+//! into each (`#[command(flatten)]`): the scene and its variables, the run
+//! settings, the output folder and quietness. Their checks happen here, once, in
+//! the conversion to the library's settings ([`RunArgs::config`]); commands with
+//! other defaults change them with `mut_arg`.
+
+use super::InputError;
+use std::path::PathBuf;
+use traxer::trace::RunConfig;
+
+/// More worker threads than this is a typo, not a machine (and would take minutes
+/// to start).
+pub const MAX_THREADS: usize = 1024;
+
+/// Parses `--threads N`: 0 (one per core) to [`MAX_THREADS`].
+pub fn parse_threads(s: &str) -> Result<usize, String> {
+    match s.parse::<usize>() {
+        Ok(n) if n <= MAX_THREADS => Ok(n),
+        _ => Err(format!(
+            "expected 0 (one per core) to {MAX_THREADS} worker threads, got `{s}`"
+        )),
+    }
+}
+
+/// Parses `-D name=value`, checking the shape only (the scene checks the name).
+pub fn parse_define(s: &str) -> Result<String, String> {
+    match s.split_once('=') {
+        Some((k, _)) if !k.trim().is_empty() => Ok(s.to_string()),
+        _ => Err(format!("expected name=value, got `{s}`")),
+    }
+}
+
+/// The scene file and its variables.
+#[derive(clap::Args, Clone, Debug)]
+pub struct SceneArgs {
+    /// Scene file (TOML); see docs/scene-format.md.
+    pub scene: PathBuf,
+    /// Override a scene variable declared in [vars]: -D name=value (repeatable).
+    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
+    pub define: Vec<String>,
+}
+
+/// Random numbers and parallelism.
+#[derive(clap::Args, Clone, Debug)]
+pub struct SamplingArgs {
+    /// Random seed; photon (or pixel) i uses the stream derived from (seed, i), so
+    /// results are the same for any --threads.
+    #[arg(short, long, default_value_t = 1)]
+    pub seed: u64,
+    /// Worker threads (0 = one per core).
+    #[arg(short = 'j', long, default_value_t = 0, value_parser = parse_threads)]
+    pub threads: usize,
+}
+
+/// How many photons, with which random numbers, on how many threads.
+#[derive(clap::Args, Clone, Debug)]
+pub struct RunArgs {
+    /// Number of photons to emit.
+    #[arg(short = 'n', long, default_value_t = 1_000_000)]
+    pub photons: u64,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+}
+
+impl RunArgs {
+    /// The library's run configuration, checked.
+    pub fn config(&self) -> Result<RunConfig, InputError> {
+        if self.photons == 0 {
+            return Err(InputError("--photons must be at least 1".into()));
+        }
+        Ok(RunConfig {
+            threads: self.sampling.threads,
+            ..RunConfig::new(self.photons, self.sampling.seed)
+        })
+    }
+}
+
+/// Where results go and how much is said.
+#[derive(clap::Args, Clone, Debug)]
+pub struct OutputArgs {
+    /// Output folder (created if missing).
+    #[arg(short, long, default_value = "out")]
+    pub out: PathBuf,
+    #[command(flatten)]
+    pub quiet: QuietArg,
+}
+
+/// `--quiet`.
+#[derive(clap::Args, Clone, Copy, Debug)]
+pub struct QuietArg {
+    /// No progress bar, and on stdout only the result (nothing for trace and render).
+    #[arg(short, long)]
+    pub quiet: bool,
+}

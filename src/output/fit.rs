@@ -1,0 +1,141 @@
+//! The files of a figure-error fit: history.csv (every evaluation), fit.json (the
+//! best parameters, the seed check and the provenance) and figure_error.toml (the
+//! result as a preset for data/figure_errors.toml or a scene's [figure_errors]).
+
+use super::{write_csv, write_json, Provenance};
+use crate::files::atomic_write;
+use crate::studies::fit::{FitResult, FitSettings, Spread, PARAMETERS};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// A finished fit with what it was asked.
+pub struct FitReport<'a> {
+    pub result: &'a FitResult,
+    pub settings: &'a FitSettings,
+    pub spread: &'a Spread,
+    /// Extra seeds of the spread check (seed + 1 …).
+    pub extra_seeds: u64,
+    /// Name of the preset in figure_error.toml.
+    pub preset_name: &'a str,
+    pub fit_seconds: f64,
+}
+
+impl FitReport<'_> {
+    /// How the preset was obtained, for its `source` key: the command, targets,
+    /// budget, bounds, version and the result with its spread.
+    pub fn source(&self, provenance: &Provenance) -> String {
+        let (s, best, sp) = (self.settings, &self.result.best, self.spread);
+        let t = &s.target;
+        let d =
+            |f: fn(&crate::studies::Diameters) -> f64| best.diameters.as_ref().map_or(f64::NAN, f);
+        format!(
+            "traxer fit-figure-error {} {}(targets HPD {}″, 80 % {}″, 90 % {}″; DIRECT-L {} + {:?} {} evaluations of {} photons, seed {}; bounds {}; traxer {} ({})). Best: HPD {:.1}″, 80 % {:.1}″, 90 % {:.1}″; over {} seeds {:.1} ± {:.1}″, {:.1} ± {:.1}″, {:.1} ± {:.1}″",
+            provenance.scene_path.as_deref().unwrap_or(""),
+            provenance.overrides.iter().map(|d| format!("-D {d} ")).collect::<String>(),
+            t.hpd,
+            t.d80,
+            t.d90,
+            s.global_evaluations,
+            s.local_algorithm,
+            s.local_evaluations,
+            s.run.photons,
+            s.run.seed,
+            (0..4)
+                .map(|i| format!("{}={}:{}", PARAMETERS[i], s.bounds.lower[i], s.bounds.upper[i]))
+                .collect::<Vec<_>>()
+                .join(" "),
+            provenance.traxer_version,
+            provenance.git_hash,
+            d(|d| d.hpd),
+            d(|d| d.d80),
+            d(|d| d.d90),
+            sp.seeds,
+            sp.hpd.0,
+            sp.hpd.1,
+            sp.d80.0,
+            sp.d80.1,
+            sp.d90.0,
+            sp.d90.1,
+        )
+    }
+}
+
+/// Writes history.csv, figure_error.toml and fit.json into `dir`.
+pub fn write_fit(
+    dir: &Path,
+    report: &FitReport,
+    provenance: &Provenance,
+) -> std::io::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(dir)
+        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+    let history = dir.join("history.csv");
+    let header = [
+        "evaluation",
+        "stage",
+        "in_plane_narrow",
+        "in_plane_wide",
+        "wide_fraction",
+        "out_of_plane",
+        "hpd_arcsec",
+        "d80_arcsec",
+        "d90_arcsec",
+        "error",
+    ];
+    write_csv(
+        &history,
+        &header,
+        report.result.history.iter().map(|e| {
+            let p = &e.parameters;
+            let d = e.diameters.map_or([f64::NAN; 3], |d| [d.hpd, d.d80, d.d90]);
+            vec![
+                e.index.to_string(),
+                e.stage.to_string(),
+                p.in_plane_narrow.to_string(),
+                p.in_plane_wide.to_string(),
+                p.wide_fraction.to_string(),
+                p.out_of_plane.to_string(),
+                d[0].to_string(),
+                d[1].to_string(),
+                d[2].to_string(),
+                e.error.to_string(),
+            ]
+        }),
+    )?;
+    let source = report.source(provenance);
+    let p = &report.result.best.parameters;
+    let preset = format!(
+        "# Written by traxer fit-figure-error; copy into data/figure_errors.toml or a\n# scene's [figure_errors] table.\n\n[figure_errors.{}]\nin_plane_narrow = {:.4}\nin_plane_wide = {:.4}\nwide_fraction = {:.5}\nout_of_plane = {:.4}\nsource = {}\n",
+        report.preset_name,
+        p.in_plane_narrow,
+        p.in_plane_wide,
+        p.wide_fraction,
+        p.out_of_plane,
+        toml::Value::String(source.clone())
+    );
+    let toml_path = dir.join("figure_error.toml");
+    atomic_write(&toml_path, preset.as_bytes())?;
+    let (s, sp) = (report.settings, report.spread);
+    let json_path = dir.join("fit.json");
+    write_json(
+        &json_path,
+        &json!({
+            "provenance": provenance,
+            "scene": provenance.scene_path,
+            "overrides": provenance.overrides,
+            "target_arcsec": s.target,
+            "best": report.result.best,
+            "evaluations": report.result.history.len(),
+            "photons_per_evaluation": s.run.photons,
+            "seed": s.run.seed,
+            "fit_seconds": report.fit_seconds,
+            "seed_check": {
+                "seeds": (0..=report.extra_seeds).map(|k| s.run.seed.wrapping_add(k)).collect::<Vec<_>>(),
+                "hpd_mean_sd": [sp.hpd.0, sp.hpd.1],
+                "d80_mean_sd": [sp.d80.0, sp.d80.1],
+                "d90_mean_sd": [sp.d90.0, sp.d90.1],
+            },
+            "source": source,
+        }),
+    )?;
+    Ok(vec![history, toml_path, json_path])
+}

@@ -1,0 +1,49 @@
+//! Studies: scene parameters → trace → measure, repeated — focus scans
+//! ([`focus`]), analytic-versus-mesh comparisons ([`compare`]) and the
+//! figure-error fit ([`fit`]). Each traces through `trace`, measures with
+//! `analysis`, reports progress through a callback and returns plain results;
+//! `output` writes them and the binary prints them.
+
+pub mod compare;
+pub mod fit;
+pub mod focus;
+mod measure;
+
+pub use measure::{measure_arcsec, pick_sensor, trace_and_measure, Diameters, Measured};
+
+use crate::scene::{Scene, SceneError};
+
+/// Why a study could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A problem with what the user asked (a sensor, a range, a setting).
+    #[error("{0}")]
+    Input(String),
+    /// The fit's optimiser refused its settings.
+    #[error("{0}")]
+    Optimiser(String),
+    #[error("cannot start the worker threads: {0}")]
+    Threads(#[from] rayon::ThreadPoolBuildError),
+    #[error(transparent)]
+    Embree(#[from] crate::embree::EmbreeError),
+}
+
+impl StudyError {
+    /// Whether the user's input is at fault (rather than the machine).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(self, StudyError::Scene(_) | StudyError::Input(_))
+    }
+}
+
+/// Studies trace X-rays: a scene without sources (made for renders) is refused.
+pub fn require_sources(scene: &Scene) -> Result<(), StudyError> {
+    if scene.sources.is_empty() {
+        return Err(StudyError::Input(format!(
+            "{}: the scene has no [[sources]]: nothing to trace (a scene without sources can only be rendered)",
+            scene.path.display()
+        )));
+    }
+    Ok(())
+}
