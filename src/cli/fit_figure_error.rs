@@ -6,7 +6,9 @@ use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
 use traxer::output::{write_fit, FitReport, Provenance};
-use traxer::studies::fit::{fit, seed_spread, Bounds, FitSettings, LocalAlgorithm, PARAMETERS};
+use traxer::studies::fit::{
+    fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, PARAMETERS,
+};
 use traxer::studies::{pick_sensor, Diameters};
 
 /// Fit the mirrors' figure errors to measured image quality.
@@ -164,26 +166,9 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let bar = progress::bar(budget, "photons", quiet);
     let started = std::time::Instant::now();
     let result = fit(&mut scene, &settings, &|n| bar.inc(n), |e, best| {
-        if quiet {
-            return;
+        if !quiet {
+            bar.suspend(|| eprintln!("{}", evaluation_line(e, best, &started)));
         }
-        let p = &e.parameters;
-        let d = e.diameters.map_or("no image".into(), |d| {
-            format!("{:.1}″ {:.1}″ {:.1}″", d.hpd, d.d80, d.d90)
-        });
-        bar.suspend(|| eprintln!(
-            "eval {:>4} ({}, {:.0} s): narrow {:.2}″ wide {:.2}″ fraction {:.4} out {:.2}″ → {d}, error {:.3e} | best {:.3e} (eval {})",
-            e.index,
-            e.stage,
-            started.elapsed().as_secs_f64(),
-            p.in_plane_narrow,
-            p.in_plane_wide,
-            p.wide_fraction,
-            p.out_of_plane,
-            e.error,
-            best.error,
-            best.index
-        ));
     });
     let fit_seconds = started.elapsed().as_secs_f64();
     let result = result?;
@@ -207,11 +192,39 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let out = &a.output.out;
     write_fit(out, &report, &provenance)
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    print_result(&report, out);
+    Ok(())
+}
+
+/// One line per evaluation: its parameters and diameters, and the best so far.
+fn evaluation_line(e: &Evaluation, best: &Evaluation, started: &std::time::Instant) -> String {
+    let p = &e.parameters;
+    let d = e.diameters.map_or("no image".into(), |d| {
+        format!("{:.1}″ {:.1}″ {:.1}″", d.hpd, d.d80, d.d90)
+    });
+    format!(
+        "eval {:>4} ({}, {:.0} s): narrow {:.2}″ wide {:.2}″ fraction {:.4} out {:.2}″ → {d}, error {:.3e} | best {:.3e} (eval {})",
+        e.index,
+        e.stage,
+        started.elapsed().as_secs_f64(),
+        p.in_plane_narrow,
+        p.in_plane_wide,
+        p.wide_fraction,
+        p.out_of_plane,
+        e.error,
+        best.error,
+        best.index
+    )
+}
+
+/// The result on stdout.
+fn print_result(report: &FitReport, out: &std::path::Path) {
+    let (result, spread, target) = (report.result, report.spread, &report.settings.target);
     let p = &result.best.parameters;
     say!(
         "best after {} evaluations ({:.0} s): in_plane_narrow {:.2}″, in_plane_wide {:.2}″, wide_fraction {:.4}, out_of_plane {:.2}″",
         result.history.len(),
-        fit_seconds,
+        report.fit_seconds,
         p.in_plane_narrow,
         p.in_plane_wide,
         p.wide_fraction,
@@ -226,5 +239,4 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         "wrote history.csv, fit.json, figure_error.toml to {}",
         out.display()
     );
-    Ok(())
 }

@@ -25,86 +25,16 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
 
 fn load_unguarded(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
-    // Read without validation first: the gltf crate's validation rejects any
-    // required extension with a bare "Unsupported extension", and the user needs
-    // to know which one, where it is used and what to do.
-    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
-    let gltf::Gltf { document, blob } =
-        gltf::Gltf::from_reader_without_validation(std::io::BufReader::new(file))
-            .map_err(|e| bad(describe(&e)))?;
-    if let Some(ext) = document.extensions_required().next() {
-        let doc = &document;
-        let why = if COMPRESSION_EXTENSIONS.contains(&ext) {
-            "compressed geometry is not supported; export the file without mesh compression"
-        } else {
-            "traxer does not support this extension"
-        };
-        let users = primitives_using(doc, ext);
-        let users = if users.is_empty() {
-            String::new()
-        } else {
-            format!(" (used by {users})")
-        };
-        return Err(bad(format!(
-            "requires the glTF extension {ext}{users}: {why}"
-        )));
-    }
-    let document =
-        gltf::Document::from_json(document.into_json()).map_err(|e| bad(describe(&e)))?;
+    let (document, blob) = read_document(path)?;
     let doc = &document;
-    let base = path.parent();
-    let buffers = gltf::import_buffers(doc, base, blob).map_err(|e| {
-        // The gltf crate's I/O error does not say which file: find it.
-        let missing = doc.buffers().find_map(|b| match b.source() {
-            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
-                let file = base.unwrap_or(Path::new(".")).join(uri);
-                (!file.exists()).then(|| {
-                    format!(
-                        "buffer {} refers to {}, which does not exist",
-                        b.index(),
-                        file.display()
-                    )
-                })
-            }
-            _ => None,
-        });
-        bad(missing.unwrap_or_else(|| format!("cannot load its buffers: {}", describe(&e))))
-    })?;
-
+    let buffers = load_buffers(path, doc, blob)?;
     let mut parts = Vec::new();
     let mut report = ImportReport {
         normals_from_file: true,
         extensions_used: doc.extensions_used().map(String::from).collect(),
         ..Default::default()
     };
-    let roots: Vec<gltf::Node> = match doc.default_scene().or_else(|| doc.scenes().next()) {
-        Some(scene) => {
-            let count = doc.scenes().count();
-            if count > 1 {
-                let name = scene.name().map(|n| format!(" '{n}'")).unwrap_or_default();
-                report.notes.push(format!(
-                    "the file has {count} scenes: only scene {}{name} ({}) is read",
-                    scene.index(),
-                    if doc.default_scene().is_some() {
-                        "the default"
-                    } else {
-                        "the first; no default is set"
-                    }
-                ));
-            }
-            scene.nodes().collect()
-        }
-        None => {
-            // No scene: every node that is nobody's child is a root.
-            let children: std::collections::HashSet<usize> = doc
-                .nodes()
-                .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
-                .collect();
-            doc.nodes()
-                .filter(|n| !children.contains(&n.index()))
-                .collect()
-        }
-    };
+    let roots = root_nodes(doc, &mut report);
     // (node, parent's world matrix, depth, names of the ancestors)
     let mut stack: Vec<(gltf::Node, DMat4, usize, Vec<String>)> = roots
         .into_iter()
@@ -141,36 +71,7 @@ fn load_unguarded(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErro
                 primitives: Vec::new(),
             };
             part.aliases.extend(ancestors.iter().cloned());
-            for prim in m.primitives() {
-                let label = primitive_label(&m, &prim);
-                for key in prim.extensions().into_iter().flat_map(|e| e.keys()) {
-                    let what = if COMPRESSION_EXTENSIONS.contains(&key.as_str()) {
-                        ": its uncompressed accessors are read"
-                    } else {
-                        ""
-                    };
-                    report.notes.push(format!(
-                        "{label} carries {key} data, which traxer ignores{what}"
-                    ));
-                }
-                // Reading accessors walks offsets from the file: a malformed one
-                // can make the gltf crate panic.
-                let read = super::guard::quietly(|| read_primitive(&prim, &buffers, &world))
-                    .map_err(|why| bad(format!("{label}: malformed accessor data ({why})")))?;
-                match read {
-                    Ok((mesh, had_normals)) => {
-                        report.normals_from_file &= had_normals;
-                        part.push_primitive(label, mesh, had_normals);
-                    }
-                    Err(Unusable::Skip(reason)) => report.skipped.push(Skipped {
-                        what: label,
-                        reason,
-                    }),
-                    Err(Unusable::Broken(message)) => {
-                        return Err(bad(format!("{label}: {message}")))
-                    }
-                }
-            }
+            read_mesh(path, &m, &world, &buffers, &mut part, &mut report)?;
             if !part.mesh.triangles.is_empty() {
                 parts.push(part);
             }
@@ -185,6 +86,143 @@ fn load_unguarded(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErro
         }
     }
     Ok((parts, report))
+}
+
+/// The file's document, checked: required extensions are refused by name (read
+/// without validation first: the gltf crate's validation rejects any required
+/// extension with a bare "Unsupported extension", and the user needs to know
+/// which one, where it is used and what to do), then validated.
+fn read_document(path: &Path) -> Result<(gltf::Document, Option<Vec<u8>>), MeshError> {
+    let bad = |m: String| MeshError::invalid(path, m);
+    let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_reader_without_validation(std::io::BufReader::new(file))
+            .map_err(|e| bad(describe(&e)))?;
+    if let Some(ext) = document.extensions_required().next() {
+        let why = if COMPRESSION_EXTENSIONS.contains(&ext) {
+            "compressed geometry is not supported; export the file without mesh compression"
+        } else {
+            "traxer does not support this extension"
+        };
+        let users = primitives_using(&document, ext);
+        let users = if users.is_empty() {
+            String::new()
+        } else {
+            format!(" (used by {users})")
+        };
+        return Err(bad(format!(
+            "requires the glTF extension {ext}{users}: {why}"
+        )));
+    }
+    let document =
+        gltf::Document::from_json(document.into_json()).map_err(|e| bad(describe(&e)))?;
+    Ok((document, blob))
+}
+
+/// The binary buffers (the GLB blob, data URIs, external files); a missing
+/// external file is named.
+fn load_buffers(
+    path: &Path,
+    doc: &gltf::Document,
+    blob: Option<Vec<u8>>,
+) -> Result<Vec<gltf::buffer::Data>, MeshError> {
+    let base = path.parent();
+    gltf::import_buffers(doc, base, blob).map_err(|e| {
+        // The gltf crate's I/O error does not say which file: find it.
+        let missing = doc.buffers().find_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
+                let file = base.unwrap_or(Path::new(".")).join(uri);
+                (!file.exists()).then(|| {
+                    format!(
+                        "buffer {} refers to {}, which does not exist",
+                        b.index(),
+                        file.display()
+                    )
+                })
+            }
+            _ => None,
+        });
+        MeshError::invalid(
+            path,
+            missing.unwrap_or_else(|| format!("cannot load its buffers: {}", describe(&e))),
+        )
+    })
+}
+
+/// The root nodes of the scene that is read (the default one, else the first;
+/// a note says so when there are several), or of the node forest if the file has
+/// no scene.
+fn root_nodes<'a>(doc: &'a gltf::Document, report: &mut ImportReport) -> Vec<gltf::Node<'a>> {
+    match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(scene) => {
+            let count = doc.scenes().count();
+            if count > 1 {
+                let name = scene.name().map(|n| format!(" '{n}'")).unwrap_or_default();
+                report.notes.push(format!(
+                    "the file has {count} scenes: only scene {}{name} ({}) is read",
+                    scene.index(),
+                    if doc.default_scene().is_some() {
+                        "the default"
+                    } else {
+                        "the first; no default is set"
+                    }
+                ));
+            }
+            scene.nodes().collect()
+        }
+        None => {
+            // No scene: every node that is nobody's child is a root.
+            let children: std::collections::HashSet<usize> = doc
+                .nodes()
+                .flat_map(|n| n.children().map(|c| c.index()).collect::<Vec<_>>())
+                .collect();
+            doc.nodes()
+                .filter(|n| !children.contains(&n.index()))
+                .collect()
+        }
+    }
+}
+
+/// Reads every primitive of mesh `m` (placed by `world`) into `part`; pieces
+/// without triangles are skipped with a reason, broken ones are errors.
+fn read_mesh(
+    path: &Path,
+    m: &gltf::Mesh,
+    world: &DMat4,
+    buffers: &[gltf::buffer::Data],
+    part: &mut MeshPart,
+    report: &mut ImportReport,
+) -> Result<(), MeshError> {
+    let bad = |m: String| MeshError::invalid(path, m);
+    for prim in m.primitives() {
+        let label = primitive_label(m, &prim);
+        for key in prim.extensions().into_iter().flat_map(|e| e.keys()) {
+            let what = if COMPRESSION_EXTENSIONS.contains(&key.as_str()) {
+                ": its uncompressed accessors are read"
+            } else {
+                ""
+            };
+            report.notes.push(format!(
+                "{label} carries {key} data, which traxer ignores{what}"
+            ));
+        }
+        // Reading accessors walks offsets from the file: a malformed one can make
+        // the gltf crate panic.
+        let read = super::guard::quietly(|| read_primitive(&prim, buffers, world))
+            .map_err(|why| bad(format!("{label}: malformed accessor data ({why})")))?;
+        match read {
+            Ok((mesh, had_normals)) => {
+                report.normals_from_file &= had_normals;
+                part.push_primitive(label, mesh, had_normals);
+            }
+            Err(Unusable::Skip(reason)) => report.skipped.push(Skipped {
+                what: label,
+                reason,
+            }),
+            Err(Unusable::Broken(message)) => return Err(bad(format!("{label}: {message}"))),
+        }
+    }
+    Ok(())
 }
 
 /// "primitive 2 of mesh 'rails'" (or "of mesh #3" when the mesh has no name).
@@ -235,26 +273,7 @@ fn read_primitive(
     let position_accessor = prim
         .get(&gltf::Semantic::Positions)
         .ok_or_else(|| Unusable::Skip("no POSITION attribute".into()))?;
-    // The types glTF allows (without extensions, which are refused when required);
-    // the gltf crate would misread or panic on others.
-    use gltf::accessor::{DataType, Dimensions};
-    expect_type(
-        "POSITION",
-        &position_accessor,
-        Dimensions::Vec3,
-        &[DataType::F32],
-    )?;
-    if let Some(a) = prim.get(&gltf::Semantic::Normals) {
-        expect_type("NORMAL", &a, Dimensions::Vec3, &[DataType::F32])?;
-    }
-    if let Some(a) = prim.indices() {
-        expect_type(
-            "indices",
-            &a,
-            Dimensions::Scalar,
-            &[DataType::U8, DataType::U16, DataType::U32],
-        )?;
-    }
+    check_accessor_types(prim, &position_accessor)?;
     let positions: Vec<DVec3> = reader
         .read_positions()
         .ok_or_else(|| unreadable("POSITION", &position_accessor))?
@@ -272,24 +291,7 @@ fn read_primitive(
         (None, Some(accessor)) => return Err(unreadable("indices", &accessor)),
         _ => (0..positions.len() as u32).collect(),
     };
-    let mut triangles: Vec<[u32; 3]> = match mode {
-        Mode::Triangles => indices
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect(),
-        Mode::TriangleStrip => (2..indices.len())
-            .map(|i| {
-                if i % 2 == 0 {
-                    [indices[i - 2], indices[i - 1], indices[i]]
-                } else {
-                    [indices[i - 1], indices[i - 2], indices[i]]
-                }
-            })
-            .collect(),
-        _ => (2..indices.len())
-            .map(|i| [indices[0], indices[i - 1], indices[i]])
-            .collect(),
-    };
+    let mut triangles = assemble_triangles(mode, &indices);
     // glTF: a node matrix with negative determinant reverses the winding.
     let linear = DMat3::from_mat4(*world);
     if linear.determinant() < 0.0 {
@@ -346,6 +348,51 @@ fn read_primitive(
         Some(mesh.computed_normals())
     };
     Ok((mesh, had_normals))
+}
+
+/// Checks the accessor types glTF allows (without extensions, which are refused
+/// when required): the gltf crate would misread or panic on others.
+fn check_accessor_types(
+    prim: &gltf::Primitive,
+    positions: &gltf::Accessor,
+) -> Result<(), Unusable> {
+    use gltf::accessor::{DataType, Dimensions};
+    expect_type("POSITION", positions, Dimensions::Vec3, &[DataType::F32])?;
+    if let Some(a) = prim.get(&gltf::Semantic::Normals) {
+        expect_type("NORMAL", &a, Dimensions::Vec3, &[DataType::F32])?;
+    }
+    if let Some(a) = prim.indices() {
+        expect_type(
+            "indices",
+            &a,
+            Dimensions::Scalar,
+            &[DataType::U8, DataType::U16, DataType::U32],
+        )?;
+    }
+    Ok(())
+}
+
+/// Triangles from the index list of a triangle list, strip or fan (glTF's
+/// winding rules for strips).
+fn assemble_triangles(mode: Mode, indices: &[u32]) -> Vec<[u32; 3]> {
+    match mode {
+        Mode::Triangles => indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect(),
+        Mode::TriangleStrip => (2..indices.len())
+            .map(|i| {
+                if i % 2 == 0 {
+                    [indices[i - 2], indices[i - 1], indices[i]]
+                } else {
+                    [indices[i - 1], indices[i - 2], indices[i]]
+                }
+            })
+            .collect(),
+        _ => (2..indices.len())
+            .map(|i| [indices[0], indices[i - 1], indices[i]])
+            .collect(),
+    }
 }
 
 /// Checks that all `count` elements an accessor declares were read.

@@ -120,73 +120,15 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
     let (welded, distinct_positions) = weld(&mesh.positions, &used, weld_distance);
     let corners = |t: &[u32; 3]| t.map(|k| mesh.positions[k as usize]);
 
-    let mut area = 0.0;
-    let mut degenerate_triangles = 0;
-    // Unit facet normals, `None` for degenerate triangles (whose normal is noise).
-    let mut facet_normals: Vec<Option<DVec3>> = Vec::with_capacity(mesh.triangles.len());
-    for t in &mesh.triangles {
-        let [a, b, c] = corners(t);
-        let cross = (b - a).cross(c - a);
-        let twice_area = cross.length();
-        area += 0.5 * twice_area;
-        let w = t.map(|k| welded[k as usize]);
-        let longest = (b - a)
-            .length_squared()
-            .max((c - b).length_squared())
-            .max((a - c).length_squared());
-        // height = 2A / longest side ≤ DEGENERATE_HEIGHT · longest side
-        if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] || twice_area <= DEGENERATE_HEIGHT * longest
-        {
-            degenerate_triangles += 1;
-            facet_normals.push(None);
-        } else {
-            facet_normals.push(Some(cross / twice_area));
-        }
-    }
-
-    // Undirected welded edge → its uses.
-    let mut edges: HashMap<(u32, u32), EdgeUse> = HashMap::with_capacity(mesh.triangles.len() * 2);
-    let mut components = UnionFind::new(distinct_positions);
-    for (i, t) in mesh.triangles.iter().enumerate() {
-        let w = t.map(|k| welded[k as usize]);
-        if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] {
-            continue; // its edges have no length
-        }
-        for (a, b) in [(w[0], w[1]), (w[1], w[2]), (w[2], w[0])] {
-            let e = edges.entry((a.min(b), a.max(b))).or_default();
-            if e.triangles < 2 {
-                e.first[e.triangles as usize] = i as u32;
-            }
-            e.triangles += 1;
-            e.low_to_high += u32::from(a < b);
-            components.join(a, b);
-        }
-    }
+    let (area, degenerate_triangles, facet_normals) = facets(mesh, &welded);
+    let (edges, mut components) = welded_edges(mesh, &welded, distinct_positions);
     let boundary_edges = edges.values().filter(|e| e.triangles == 1).count();
     let non_manifold_edges = edges.values().filter(|e| e.triangles > 2).count();
     let inconsistent_winding_edges = edges
         .values()
         .filter(|e| e.triangles == 2 && e.low_to_high != 1)
         .count();
-    // Bend between neighbouring facets, as unoriented planes (a winding fault is
-    // reported above, not here).
-    let mut facet_step_deg: Option<f64> = None;
-    let mut creases = 0;
-    for e in edges.values().filter(|e| e.triangles == 2) {
-        let (Some(n1), Some(n2)) = (
-            facet_normals[e.first[0] as usize],
-            facet_normals[e.first[1] as usize],
-        ) else {
-            continue;
-        };
-        let cos = n1.dot(n2).abs().min(1.0);
-        let angle = n1.cross(n2).length().atan2(cos).to_degrees();
-        if angle >= CREASE_DEG {
-            creases += 1;
-        } else {
-            facet_step_deg = Some(facet_step_deg.unwrap_or(0.0).max(angle));
-        }
-    }
+    let (facet_step_deg, creases) = facet_bends(&edges, &facet_normals);
     let mut roots: Vec<u32> = mesh
         .triangles
         .iter()
@@ -240,6 +182,88 @@ pub fn analyse(mesh: &TriangleMesh, normals_from_file: bool) -> MeshQuality {
         normals_against_winding,
         weld_distance,
     }
+}
+
+/// Total area, the number of degenerate triangles, and each triangle's unit
+/// normal (`None` for degenerate ones, whose normal is noise).
+fn facets(mesh: &TriangleMesh, welded: &[u32]) -> (f64, usize, Vec<Option<DVec3>>) {
+    let mut area = 0.0;
+    let mut degenerate_triangles = 0;
+    let mut facet_normals: Vec<Option<DVec3>> = Vec::with_capacity(mesh.triangles.len());
+    for t in &mesh.triangles {
+        let [a, b, c] = t.map(|k| mesh.positions[k as usize]);
+        let cross = (b - a).cross(c - a);
+        let twice_area = cross.length();
+        area += 0.5 * twice_area;
+        let w = t.map(|k| welded[k as usize]);
+        let longest = (b - a)
+            .length_squared()
+            .max((c - b).length_squared())
+            .max((a - c).length_squared());
+        // height = 2A / longest side ≤ DEGENERATE_HEIGHT · longest side
+        if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] || twice_area <= DEGENERATE_HEIGHT * longest
+        {
+            degenerate_triangles += 1;
+            facet_normals.push(None);
+        } else {
+            facet_normals.push(Some(cross / twice_area));
+        }
+    }
+    (area, degenerate_triangles, facet_normals)
+}
+
+/// Undirected welded edges with their uses, and the connected components of the
+/// welded vertices.
+fn welded_edges(
+    mesh: &TriangleMesh,
+    welded: &[u32],
+    distinct_positions: usize,
+) -> (HashMap<(u32, u32), EdgeUse>, UnionFind) {
+    let mut edges: HashMap<(u32, u32), EdgeUse> = HashMap::with_capacity(mesh.triangles.len() * 2);
+    let mut components = UnionFind::new(distinct_positions);
+    for (i, t) in mesh.triangles.iter().enumerate() {
+        let w = t.map(|k| welded[k as usize]);
+        if w[0] == w[1] || w[1] == w[2] || w[2] == w[0] {
+            continue; // its edges have no length
+        }
+        for (a, b) in [(w[0], w[1]), (w[1], w[2]), (w[2], w[0])] {
+            let e = edges.entry((a.min(b), a.max(b))).or_default();
+            if e.triangles < 2 {
+                e.first[e.triangles as usize] = i as u32;
+            }
+            e.triangles += 1;
+            e.low_to_high += u32::from(a < b);
+            components.join(a, b);
+        }
+    }
+    (edges, components)
+}
+
+/// The largest bend below [`CREASE_DEG`] between neighbouring facets, as
+/// unoriented planes (a winding fault is reported elsewhere), and the number of
+/// creases (bends at or above it).
+fn facet_bends(
+    edges: &HashMap<(u32, u32), EdgeUse>,
+    facet_normals: &[Option<DVec3>],
+) -> (Option<f64>, usize) {
+    let mut facet_step_deg: Option<f64> = None;
+    let mut creases = 0;
+    for e in edges.values().filter(|e| e.triangles == 2) {
+        let (Some(n1), Some(n2)) = (
+            facet_normals[e.first[0] as usize],
+            facet_normals[e.first[1] as usize],
+        ) else {
+            continue;
+        };
+        let cos = n1.dot(n2).abs().min(1.0);
+        let angle = n1.cross(n2).length().atan2(cos).to_degrees();
+        if angle >= CREASE_DEG {
+            creases += 1;
+        } else {
+            facet_step_deg = Some(facet_step_deg.unwrap_or(0.0).max(angle));
+        }
+    }
+    (facet_step_deg, creases)
 }
 
 /// Which vertices some triangle uses.

@@ -226,38 +226,7 @@ pub fn fit(
                 continue;
             }
             state.stage = stage;
-            let mut opt = nlopt::Nlopt::new(
-                algorithm,
-                free.len(),
-                |x: &[f64], _grad: Option<&mut [f64]>, s: &mut &mut State<_>| s.evaluate(x),
-                nlopt::Target::Minimize,
-                &mut state,
-            );
-            // The polish starts with steps of 2 % of each range: DIRECT-L has
-            // already located the basin to a few % (its cells at this budget).
-            let steps: Vec<f64> = lower
-                .iter()
-                .zip(&upper)
-                .map(|(l, u)| 0.02 * (u - l))
-                .collect();
-            let setup = opt
-                .set_lower_bounds(&lower)
-                .and_then(|_| opt.set_upper_bounds(&upper))
-                .and_then(|_| opt.set_maxeval(evaluations))
-                .and_then(|_| opt.set_xtol_rel(1e-4))
-                .and_then(|_| match stage {
-                    "local" => opt.set_initial_step(&steps),
-                    _ => Ok(nlopt::SuccessState::Success),
-                });
-            if setup.is_err() {
-                return Err(StudyError::Optimiser(format!(
-                    "NLopt refused the {stage} settings"
-                )));
-            }
-            // Stopping at the evaluation budget is the normal end; the best
-            // point is tracked by the state either way.
-            let _ = opt.optimize(&mut x);
-            drop(opt);
+            optimise(&mut state, algorithm, evaluations, (&lower, &upper), &mut x)?;
             if let Some(best) = &state.best {
                 x = free.iter().map(|&i| field(&best.parameters, i)).collect();
             }
@@ -273,6 +242,50 @@ pub fn fit(
         history: state.history,
         threads: state.threads,
     })
+}
+
+/// One NLopt stage over the free parameters within `(lower, upper)`, from `x`
+/// (updated in place), for at most `evaluations` evaluations.
+fn optimise<P: FnMut(&Evaluation, &Evaluation)>(
+    state: &mut State<P>,
+    algorithm: nlopt::Algorithm,
+    evaluations: u32,
+    (lower, upper): (&[f64], &[f64]),
+    x: &mut [f64],
+) -> Result<(), StudyError> {
+    let stage = state.stage;
+    let mut opt = nlopt::Nlopt::new(
+        algorithm,
+        lower.len(),
+        |x: &[f64], _grad: Option<&mut [f64]>, s: &mut &mut State<P>| s.evaluate(x),
+        nlopt::Target::Minimize,
+        state,
+    );
+    // The polish starts with steps of 2 % of each range: DIRECT-L has already
+    // located the basin to a few % (its cells at this budget).
+    let steps: Vec<f64> = lower
+        .iter()
+        .zip(upper)
+        .map(|(l, u)| 0.02 * (u - l))
+        .collect();
+    let setup = opt
+        .set_lower_bounds(lower)
+        .and_then(|_| opt.set_upper_bounds(upper))
+        .and_then(|_| opt.set_maxeval(evaluations))
+        .and_then(|_| opt.set_xtol_rel(1e-4))
+        .and_then(|_| match stage {
+            "local" => opt.set_initial_step(&steps),
+            _ => Ok(nlopt::SuccessState::Success),
+        });
+    if setup.is_err() {
+        return Err(StudyError::Optimiser(format!(
+            "NLopt refused the {stage} settings"
+        )));
+    }
+    // Stopping at the evaluation budget is the normal end; the best point is
+    // tracked by the state either way.
+    let _ = opt.optimize(x);
+    Ok(())
 }
 
 fn field(f: &FigureError, i: usize) -> f64 {

@@ -48,39 +48,8 @@ impl ReflectivityTable {
         coating.reflectivity(e_max, 0.0)?;
         let stack = &coating.stack;
         let depth: f64 = stack.layers.iter().map(|l| l.thickness_nm).sum();
-        let lambda_min = HC_KEV_NM / e_max;
-        // Critical angle scale of the densest material: √(2δ) at e_min.
-        let mut delta_max: f64 = 0.0;
-        for m in stack
-            .layers
-            .iter()
-            .map(|l| l.material.as_ref())
-            .chain([&stack.substrate])
-        {
-            delta_max = delta_max.max(m.delta_beta(e_min)?.0);
-        }
-        let theta_c = (2.0 * delta_max).sqrt();
-        let mut theta_step = theta_c / 60.0;
-        if depth > 0.0 {
-            theta_step = theta_step.min(lambda_min / (2.0 * depth) / 40.0);
-        }
-        let n_theta = (theta_max / theta_step).ceil() as usize + 1;
-        let theta_step = theta_max / (n_theta - 1) as f64;
-
-        let mut energies = vec![e_min];
-        if e_max > e_min {
-            // Fringes in energy at θ_max have period ≈ hc / (2 D sin θ_max).
-            let fringe = if depth > 0.0 {
-                HC_KEV_NM / (2.0 * depth * theta_max.sin())
-            } else {
-                f64::INFINITY
-            };
-            let step = (fringe / 16.0).min((e_max - e_min) / 4.0);
-            let n = ((e_max - e_min) / step).ceil() as usize;
-            energies = (0..=n)
-                .map(|i| e_min + (e_max - e_min) * i as f64 / n as f64)
-                .collect();
-        }
+        let (n_theta, theta_step) = angle_grid(coating, depth, e_min, e_max, theta_max)?;
+        let mut energies = energy_grid(depth, e_min, e_max, theta_max);
         let sigma = stack.substrate_roughness_nm;
         let row = |e: f64| -> Vec<f32> {
             let (layers, sub) = coating.layers_at(e).expect("range checked");
@@ -91,59 +60,7 @@ impl ReflectivityTable {
                 .collect()
         };
         let mut rows: Vec<Vec<f32>> = energies.par_iter().map(|&e| row(e)).collect();
-        // Adaptive refinement in energy: near absorption edges (e.g. the Pt M
-        // edges at 2.1–2.2 keV) R(E) bends within a few eV. Linear interpolation
-        // over a cell of width h errs by ≈ h²|R''|/8 at its middle; R'' is
-        // estimated from the neighbouring nodes, and cells above REFINE_TOL are
-        // halved (no extra evaluations where R(E) is smooth).
-        const REFINE_TOL: f64 = 1e-4;
-        for _ in 0..14 {
-            let n = energies.len();
-            if n < 3 {
-                break;
-            }
-            // Largest |R''| over angles at each interior node.
-            let curvature: Vec<f64> = (1..n - 1)
-                .into_par_iter()
-                .map(|i| {
-                    let (h0, h1) = (energies[i] - energies[i - 1], energies[i + 1] - energies[i]);
-                    rows[i]
-                        .iter()
-                        .zip(rows[i - 1].iter().zip(&rows[i + 1]))
-                        .map(|(&m, (&l, &r))| {
-                            let d = ((r - m) as f64 / h1 - (m - l) as f64 / h0) * 2.0 / (h0 + h1);
-                            d.abs()
-                        })
-                        .fold(0.0, f64::max)
-                })
-                .collect();
-            let split: Vec<usize> = (0..n - 1)
-                .filter(|&i| {
-                    let h = energies[i + 1] - energies[i];
-                    // 0.1 eV: finer than the Henke tables themselves.
-                    let c = curvature
-                        .get(i.wrapping_sub(1))
-                        .copied()
-                        .unwrap_or(0.0)
-                        .max(curvature.get(i).copied().unwrap_or(0.0));
-                    h > 1e-4 && h * h * c / 8.0 > REFINE_TOL
-                })
-                .collect();
-            if split.is_empty() {
-                break;
-            }
-            let new_rows: Vec<(f64, Vec<f32>)> = split
-                .par_iter()
-                .map(|&i| {
-                    let e = 0.5 * (energies[i] + energies[i + 1]);
-                    (e, row(e))
-                })
-                .collect();
-            for (k, (&i, (e, r))) in split.iter().zip(new_rows).enumerate() {
-                energies.insert(i + 1 + k, e);
-                rows.insert(i + 1 + k, r);
-            }
-        }
+        refine_in_energy(&mut energies, &mut rows, row);
         let values: Vec<f32> = rows.concat();
         Ok(ReflectivityTable {
             coating: coating.clone(),
@@ -198,5 +115,116 @@ impl ReflectivityTable {
 
     pub fn is_empty(&self) -> bool {
         self.values.is_empty()
+    }
+}
+
+/// The angle grid: `n_theta` angles from 0 to θ_max in equal steps, fine enough
+/// for the critical angle of the densest material (√(2δ) at e_min, 60 steps) and
+/// for the multilayer's angular fringes (λ_min / 2D, 40 steps).
+fn angle_grid(
+    coating: &Coating,
+    depth: f64,
+    e_min: f64,
+    e_max: f64,
+    theta_max: f64,
+) -> Result<(usize, f64), EnergyOutOfRange> {
+    let stack = &coating.stack;
+    let lambda_min = HC_KEV_NM / e_max;
+    let mut delta_max: f64 = 0.0;
+    for m in stack
+        .layers
+        .iter()
+        .map(|l| l.material.as_ref())
+        .chain([&stack.substrate])
+    {
+        delta_max = delta_max.max(m.delta_beta(e_min)?.0);
+    }
+    let theta_c = (2.0 * delta_max).sqrt();
+    let mut theta_step = theta_c / 60.0;
+    if depth > 0.0 {
+        theta_step = theta_step.min(lambda_min / (2.0 * depth) / 40.0);
+    }
+    let n_theta = (theta_max / theta_step).ceil() as usize + 1;
+    Ok((n_theta, theta_max / (n_theta - 1) as f64))
+}
+
+/// The initial energy grid: equal steps of at most 1/16 of the multilayer's
+/// fringe period at θ_max and 1/4 of the range.
+fn energy_grid(depth: f64, e_min: f64, e_max: f64, theta_max: f64) -> Vec<f64> {
+    if e_max <= e_min {
+        return vec![e_min];
+    }
+    // Fringes in energy at θ_max have period ≈ hc / (2 D sin θ_max).
+    let fringe = if depth > 0.0 {
+        HC_KEV_NM / (2.0 * depth * theta_max.sin())
+    } else {
+        f64::INFINITY
+    };
+    let step = (fringe / 16.0).min((e_max - e_min) / 4.0);
+    let n = ((e_max - e_min) / step).ceil() as usize;
+    (0..=n)
+        .map(|i| e_min + (e_max - e_min) * i as f64 / n as f64)
+        .collect()
+}
+
+/// Inserts energies (and their rows, from `row`) where linear interpolation
+/// between the nodes would be too coarse.
+fn refine_in_energy(
+    energies: &mut Vec<f64>,
+    rows: &mut Vec<Vec<f32>>,
+    row: impl Fn(f64) -> Vec<f32> + Sync,
+) {
+    // Adaptive refinement in energy: near absorption edges (e.g. the Pt M
+    // edges at 2.1–2.2 keV) R(E) bends within a few eV. Linear interpolation
+    // over a cell of width h errs by ≈ h²|R''|/8 at its middle; R'' is
+    // estimated from the neighbouring nodes, and cells above REFINE_TOL are
+    // halved (no extra evaluations where R(E) is smooth).
+    const REFINE_TOL: f64 = 1e-4;
+    for _ in 0..14 {
+        let n = energies.len();
+        if n < 3 {
+            break;
+        }
+        // Largest |R''| over angles at each interior node.
+        let curvature: Vec<f64> = (1..n - 1)
+            .into_par_iter()
+            .map(|i| {
+                let (h0, h1) = (energies[i] - energies[i - 1], energies[i + 1] - energies[i]);
+                rows[i]
+                    .iter()
+                    .zip(rows[i - 1].iter().zip(&rows[i + 1]))
+                    .map(|(&m, (&l, &r))| {
+                        let d = ((r - m) as f64 / h1 - (m - l) as f64 / h0) * 2.0 / (h0 + h1);
+                        d.abs()
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        let split: Vec<usize> = (0..n - 1)
+            .filter(|&i| {
+                let h = energies[i + 1] - energies[i];
+                // 0.1 eV: finer than the Henke tables themselves.
+                let c = curvature
+                    .get(i.wrapping_sub(1))
+                    .copied()
+                    .unwrap_or(0.0)
+                    .max(curvature.get(i).copied().unwrap_or(0.0));
+                h > 1e-4 && h * h * c / 8.0 > REFINE_TOL
+            })
+            .collect();
+        if split.is_empty() {
+            break;
+        }
+        let new_rows: Vec<(f64, Vec<f32>)> = split
+            .par_iter()
+            .map(|&i| {
+                let e = 0.5 * (energies[i] + energies[i + 1]);
+                (e, row(e))
+            })
+            .collect();
+        for (k, (&i, (e, r))) in split.iter().zip(new_rows).enumerate() {
+            energies.insert(i + 1 + k, e);
+            rows.insert(i + 1 + k, r);
+        }
     }
 }
