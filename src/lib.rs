@@ -5,6 +5,29 @@
 //! `trace` (photon loop, materials) → `sensor` (images) → `output` (files).
 #![deny(unsafe_code)]
 
+/// Declares a typed error that carries its message: for checks whose whole
+/// content is what to tell the user (the caller adds where: file, line, key).
+macro_rules! message_error {
+    ($(#[$meta:meta])* $name:ident) => {
+        $(#[$meta])*
+        #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+        #[error("{0}")]
+        pub struct $name(pub String);
+
+        impl From<String> for $name {
+            fn from(message: String) -> Self {
+                $name(message)
+            }
+        }
+
+        impl From<&str> for $name {
+            fn from(message: &str) -> Self {
+                $name(message.to_string())
+            }
+        }
+    };
+}
+
 pub mod analysis;
 pub mod bench;
 pub mod embree;

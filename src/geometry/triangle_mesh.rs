@@ -4,6 +4,12 @@
 use super::Transform;
 use glam::DVec3;
 
+message_error!(
+    /// A mesh the tracer cannot use (no triangles, non-finite coordinates,
+    /// indices out of range), with what is wrong.
+    InvalidMesh
+);
+
 /// A triangle mesh in f64 (Embree receives an f32 copy of the world-space vertices).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TriangleMesh {
@@ -17,19 +23,19 @@ pub struct TriangleMesh {
 impl TriangleMesh {
     /// Checks what the tracer relies on: at least one triangle, finite coordinates
     /// and normals, every index in range.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidMesh> {
         if self.triangles.is_empty() {
             return Err("contains no triangles".into());
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
-            return Err(format!(
+            return Err(InvalidMesh::from(format!(
                 "vertex {i} has a non-finite coordinate {:?}",
                 self.positions[i]
-            ));
+            )));
         }
         let n = self.positions.len();
         if n > u32::MAX as usize {
-            return Err(format!("{n} vertices is more than 2^32"));
+            return Err(InvalidMesh::from(format!("{n} vertices is more than 2^32")));
         }
         if let Some((i, t)) = self
             .triangles
@@ -37,17 +43,20 @@ impl TriangleMesh {
             .enumerate()
             .find(|(_, t)| t.iter().any(|&k| k as usize >= n))
         {
-            return Err(format!(
+            return Err(InvalidMesh::from(format!(
                 "triangle {i} uses vertex index {:?} but there are only {n} vertices",
                 t
-            ));
+            )));
         }
         if let Some(normals) = &self.normals {
             if normals.len() != n {
-                return Err(format!("{} normals for {n} vertices", normals.len()));
+                return Err(InvalidMesh::from(format!(
+                    "{} normals for {n} vertices",
+                    normals.len()
+                )));
             }
             if let Some(i) = normals.iter().position(|v| !v.is_finite()) {
-                return Err(format!("normal {i} is not finite"));
+                return Err(InvalidMesh::from(format!("normal {i} is not finite")));
             }
         }
         Ok(())

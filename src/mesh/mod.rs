@@ -194,6 +194,6 @@ pub fn select_parts(
             ),
         ));
     }
-    mesh.validate().map_err(|m| MeshError::invalid(path, m))?;
+    mesh.validate().map_err(|m| MeshError::invalid(path, m.0))?;
     Ok(mesh)
 }

@@ -6,6 +6,11 @@ use crate::material::Material;
 use glam::DVec3;
 use serde::Deserialize;
 
+message_error!(
+    /// An appearance or sky that cannot be rendered, with what is wrong.
+    InvalidAppearance
+);
+
 /// The visible-light appearance of an object.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Appearance {
@@ -67,14 +72,14 @@ pub enum AppearanceDesc {
 
 impl AppearanceDesc {
     /// The appearance, or what is wrong with it ("appearance color must ...").
-    pub fn build(&self) -> Result<Appearance, String> {
+    pub fn build(&self) -> Result<Appearance, InvalidAppearance> {
         let colour = |c: [f64; 3], what: &str| {
             if c.iter().all(|v| v.is_finite() && *v >= 0.0) {
                 Ok(DVec3::from(c))
             } else {
-                Err(format!(
+                Err(InvalidAppearance::from(format!(
                     "appearance {what} must be three numbers ≥ 0 (linear RGB)"
-                ))
+                )))
             }
         };
         Ok(match self {
@@ -83,7 +88,9 @@ impl AppearanceDesc {
             },
             AppearanceDesc::Metal { color, roughness } => {
                 if !(0.0..=1.0).contains(roughness) {
-                    return Err(format!("roughness = {roughness}: expected 0 to 1"));
+                    return Err(InvalidAppearance::from(format!(
+                        "roughness = {roughness}: expected 0 to 1"
+                    )));
                 }
                 Appearance::Metal {
                     color: colour(*color, "color")?,
@@ -92,7 +99,9 @@ impl AppearanceDesc {
             }
             AppearanceDesc::Glass { ior } => {
                 if !(ior.is_finite() && *ior >= 1.0) {
-                    return Err(format!("ior = {ior}: expected an index of refraction ≥ 1"));
+                    return Err(InvalidAppearance::from(format!(
+                        "ior = {ior}: expected an index of refraction ≥ 1"
+                    )));
                 }
                 Appearance::Glass { ior: *ior }
             }
@@ -153,14 +162,16 @@ fn sky_horizon() -> [f64; 3] {
 }
 
 impl SkyDesc {
-    pub fn build(&self) -> Result<Sky, &'static str> {
+    pub fn build(&self) -> Result<Sky, InvalidAppearance> {
         let colours_ok = [self.zenith, self.horizon]
             .iter()
             .flatten()
             .all(|v| v.is_finite() && *v >= 0.0);
         let up = DVec3::from(self.up);
         if !colours_ok || !up.is_finite() || up.length() == 0.0 {
-            return Err("sky: zenith and horizon are colours (≥ 0), up a non-zero direction");
+            return Err(InvalidAppearance::from(
+                "sky: zenith and horizon are colours (≥ 0), up a non-zero direction",
+            ));
         }
         Ok(Sky {
             zenith: DVec3::from(self.zenith),

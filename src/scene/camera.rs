@@ -5,6 +5,11 @@ use crate::geometry::{within_world, WORLD_LIMIT_MM};
 use glam::DVec3;
 use serde::Deserialize;
 
+message_error!(
+    /// A camera that cannot take a picture, with what is wrong.
+    InvalidCamera
+);
+
 /// A pinhole camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
@@ -17,15 +22,15 @@ pub struct Camera {
 
 impl Camera {
     /// Checks the camera; the message names what is wrong.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidCamera> {
         let forward = self.look_at - self.look_from;
         if !(self.look_from.is_finite() && self.look_at.is_finite() && self.up.is_finite()) {
             return Err("look_from, look_at and up must be finite".into());
         }
         if !within_world(&[self.look_from, self.look_at]) {
-            return Err(format!(
+            return Err(InvalidCamera::from(format!(
                 "look_from and look_at must lie within ±{WORLD_LIMIT_MM:e} mm of the origin"
-            ));
+            )));
         }
         if forward.length() == 0.0 {
             return Err("look_from and look_at must differ".into());
@@ -34,10 +39,10 @@ impl Camera {
             return Err("up must not be parallel to the viewing direction".into());
         }
         if !(self.vfov > 0.0 && self.vfov < 180.0) {
-            return Err(format!(
+            return Err(InvalidCamera::from(format!(
                 "vfov = {}: expected 0 < vfov < 180 degrees",
                 self.vfov
-            ));
+            )));
         }
         Ok(())
     }
@@ -67,7 +72,7 @@ pub(super) fn y_up() -> [f64; 3] {
 }
 
 impl CameraDesc {
-    pub fn build(&self) -> Result<Camera, String> {
+    pub fn build(&self) -> Result<Camera, InvalidCamera> {
         let camera = Camera {
             look_from: DVec3::from(self.look_from),
             look_at: DVec3::from(self.look_at),

@@ -55,7 +55,12 @@ pub(crate) struct SceneText<'a> {
 impl SceneText<'_> {
     /// An error at `span`; the empty span at 0 (things the file does not
     /// contain, such as built-in materials) names no line.
-    pub fn error(&self, span: std::ops::Range<usize>, message: impl Into<String>) -> SceneError {
+    pub fn error(
+        &self,
+        span: std::ops::Range<usize>,
+        message: impl std::fmt::Display,
+    ) -> SceneError {
+        let message = message.to_string();
         if span.is_empty() && span.start == 0 {
             SceneError::new(self.path, None, message)
         } else {
@@ -64,8 +69,8 @@ impl SceneText<'_> {
     }
 
     /// An error about the whole file (no line).
-    pub fn whole(&self, message: impl Into<String>) -> SceneError {
-        SceneError::new(self.path, None, message)
+    pub fn whole(&self, message: impl std::fmt::Display) -> SceneError {
+        SceneError::new(self.path, None, message.to_string())
     }
 }
 

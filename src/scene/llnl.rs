@@ -18,6 +18,11 @@ const SHIPPED: &str = include_str!(concat!(
     "/data/llnl_telescope.toml"
 ));
 
+message_error!(
+    /// Telescope data (radii, lengths) that describe no telescope.
+    InvalidTelescopeData
+);
+
 /// One shell: radii (mm) and the coating of both its mirrors.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -81,7 +86,7 @@ impl LlnlTelescope {
     }
 
     /// Checks the numbers make a telescope.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidTelescopeData> {
         let pos = |x: f64| x.is_finite() && x > 0.0;
         let valid = pos(self.focal_length_mm)
             && pos(self.mirror_length_mm)
@@ -100,7 +105,7 @@ impl LlnlTelescope {
                 || s.r1 - s.r2 >= self.mirror_length_mm
                 || s.r4 - s.r5 >= self.mirror_length_mm
             {
-                return Err(format!("shell {}: need r1 > r2 > 0 and r4 > r5 > 0 with differences below the mirror length", i + 1));
+                return Err(InvalidTelescopeData::from(format!("shell {}: need r1 > r2 > 0 and r4 > r5 > 0 with differences below the mirror length", i + 1)));
             }
         }
         Ok(())

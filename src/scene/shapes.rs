@@ -40,7 +40,7 @@ pub enum ShapeDesc {
 impl ShapeDesc {
     /// The analytic shape, or what is wrong with its parameters ("shape: ...");
     /// `None` for a mesh, which `objects` loads from its file.
-    pub fn analytic(&self) -> Option<Result<Shape, String>> {
+    pub fn analytic(&self) -> Option<Result<Shape, InvalidShape>> {
         let shape = match self {
             ShapeDesc::Cone(c) => c.build(),
             ShapeDesc::Cylinder(c) => c.build(),
@@ -52,16 +52,21 @@ impl ShapeDesc {
             ShapeDesc::Sphere(s) => s.build(),
             ShapeDesc::Mesh(_) => return None,
         };
-        Some(shape.map_err(|m| format!("shape: {m}")))
+        Some(shape.map_err(|m| InvalidShape(format!("shape: {m}"))))
     }
 }
+
+message_error!(
+    /// Shape parameters that describe no shape, with what is wrong.
+    InvalidShape
+);
 
 fn all_finite(v: &[f64]) -> bool {
     v.iter().all(|x| x.is_finite())
 }
 
 /// `azimuth = [from, to]` (degrees) as a range; absent = the full circle.
-fn azimuth(a: &Option<[f64; 2]>) -> Result<AzimuthRange, String> {
+fn azimuth(a: &Option<[f64; 2]>) -> Result<AzimuthRange, InvalidShape> {
     match a {
         None => Ok(AzimuthRange::FULL),
         Some([from, to])
@@ -88,7 +93,7 @@ pub struct ConeDesc {
 }
 
 impl ConeDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         let c = self;
         if !all_finite(&[c.radius_start, c.radius_end, c.z_start, c.z_end])
             || c.radius_start < 0.0
@@ -119,7 +124,7 @@ pub struct CylinderDesc {
 }
 
 impl CylinderDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         let c = self;
         if !all_finite(&[c.radius, c.z_start, c.z_end]) || c.radius <= 0.0 || c.z_start == c.z_end {
             return Err("cylinder needs radius > 0 and z_start ≠ z_end".into());
@@ -145,7 +150,7 @@ pub struct ParaboloidDesc {
 }
 
 impl ParaboloidDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         let p = self;
         if !all_finite(&[p.focal_length, p.z_start, p.z_end])
             || p.focal_length <= 0.0
@@ -175,7 +180,7 @@ pub struct HyperboloidDesc {
 }
 
 impl HyperboloidDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         let h = self;
         let (lo, hi) = (h.z_start.min(h.z_end), h.z_start.max(h.z_end));
         if !all_finite(&[h.semi_axis_a, h.semi_axis_b, lo, hi])
@@ -184,10 +189,9 @@ impl HyperboloidDesc {
             || lo == hi
             || !(lo >= h.semi_axis_a || hi <= -h.semi_axis_a)
         {
-            return Err(
-                "hyperboloid needs semi axes > 0 and a z range on one sheet (|z| ≥ semi_axis_a)"
-                    .into(),
-            );
+            return Err(InvalidShape::from(
+                "hyperboloid needs semi axes > 0 and a z range on one sheet (|z| ≥ semi_axis_a)",
+            ));
         }
         Ok(Shape::Revolution(RevolutionQuadric::hyperboloid(
             h.semi_axis_a,
@@ -210,7 +214,7 @@ pub struct DiskDesc {
 }
 
 impl DiskDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         let c = self;
         if !all_finite(&[c.radius, c.inner_radius])
             || c.radius <= 0.0
@@ -234,7 +238,7 @@ pub struct RectangleDesc {
 }
 
 impl RectangleDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         if !all_finite(&self.size) || self.size.iter().any(|v| *v <= 0.0) {
             return Err("rectangle needs size = [width, height] > 0".into());
         }
@@ -252,7 +256,7 @@ pub struct BoxDesc {
 }
 
 impl BoxDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         if !all_finite(&self.size) || self.size.iter().any(|v| *v <= 0.0) {
             return Err("box needs size = [x, y, z] > 0".into());
         }
@@ -269,7 +273,7 @@ pub struct SphereDesc {
 }
 
 impl SphereDesc {
-    fn build(&self) -> Result<Shape, String> {
+    fn build(&self) -> Result<Shape, InvalidShape> {
         if !self.radius.is_finite() || self.radius <= 0.0 {
             return Err("sphere needs radius > 0".into());
         }

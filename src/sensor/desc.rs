@@ -8,6 +8,11 @@ use serde::Deserialize;
 /// values are 1 GB.
 const MAX_PIXELS: u64 = 1 << 26;
 
+message_error!(
+    /// A sensor table whose numbers describe no sensor, with what is wrong.
+    InvalidSensor
+);
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorDesc {
@@ -25,25 +30,31 @@ pub struct SensorDesc {
 
 impl SensorDesc {
     /// The sensor of object number `object` named `name`, or what is wrong.
-    pub fn spec(&self, name: &str, object: usize) -> Result<SensorSpec, &'static str> {
+    pub fn spec(&self, name: &str, object: usize) -> Result<SensorSpec, InvalidSensor> {
         if !(self.size.iter().all(|v| v.is_finite() && *v > 0.0)) {
-            return Err("size must be two positive lengths (mm)");
+            return Err(InvalidSensor::from(
+                "size must be two positive lengths (mm)",
+            ));
         }
         let pixels = self.pixels[0] as u64 * self.pixels[1] as u64;
         if self.pixels.contains(&0) || pixels > MAX_PIXELS {
-            return Err("pixels must be positive, at most 2^26 (67 million) in all");
+            return Err(InvalidSensor::from(
+                "pixels must be positive, at most 2^26 (67 million) in all",
+            ));
         }
         if self
             .focal_length
             .is_some_and(|f| !(f.is_finite() && f > 0.0))
         {
-            return Err("focal_length must be a positive length (mm)");
+            return Err(InvalidSensor::from(
+                "focal_length must be a positive length (mm)",
+            ));
         }
         if let Some((lo, hi, n)) = self.energy_bins {
             if !(lo.is_finite() && hi.is_finite() && lo < hi && n >= 1)
                 || pixels * n as u64 > MAX_PIXELS
             {
-                return Err("energy_bins = [min, max, count] needs min < max (keV), count ≥ 1, and at most 2^26 pixels × bands");
+                return Err(InvalidSensor::from("energy_bins = [min, max, count] needs min < max (keV), count ≥ 1, and at most 2^26 pixels × bands"));
             }
         }
         Ok(SensorSpec {

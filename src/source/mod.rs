@@ -21,6 +21,11 @@ use crate::random::PhotonRng;
 use glam::DVec3;
 use serde::Deserialize;
 
+message_error!(
+    /// A source whose parameters describe no source, with what is wrong.
+    InvalidSource
+);
+
 /// Photon sources. With several sources, photon i comes from source i mod n.
 ///
 /// ```toml
@@ -49,7 +54,7 @@ pub enum SourceDesc {
 
 impl SourceDesc {
     /// The source, or what is wrong with its parameters.
-    pub fn build(&self) -> Result<Source, String> {
+    pub fn build(&self) -> Result<Source, InvalidSource> {
         Ok(match self {
             SourceDesc::Parallel(p) => Source::Parallel(p.build()?),
             SourceDesc::Point(p) => Source::Point(p.build()?),
@@ -58,8 +63,8 @@ impl SourceDesc {
 }
 
 /// Why sources must start near the origin: Embree works in float32.
-fn far_message() -> String {
-    format!("source positions, centres and radii must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry: start photons near the target)")
+fn far_message() -> InvalidSource {
+    InvalidSource(format!("source positions, centres and radii must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry: start photons near the target)"))
 }
 
 /// Whether a point or a radius reaches beyond `geometry::WORLD_LIMIT_MM`.

@@ -1,7 +1,10 @@
 //! A plane wave filling an aperture disk, annulus or annulus sector: an X-ray
 //! source at infinity, optionally off axis.
 
-use super::{far_from_origin, frame, AnnulusSector, ApertureDesc, EnergyDesc, Photon, Spectrum};
+use super::{
+    far_from_origin, frame, AnnulusSector, ApertureDesc, EnergyDesc, InvalidSource, Photon,
+    Spectrum,
+};
 use crate::random::PhotonRng;
 use glam::DVec3;
 use serde::Deserialize;
@@ -75,7 +78,7 @@ fn minus_z() -> [f64; 3] {
 
 impl ParallelDesc {
     /// The beam, or what is wrong with its parameters.
-    pub fn build(&self) -> Result<ParallelBeam, String> {
+    pub fn build(&self) -> Result<ParallelBeam, InvalidSource> {
         let p = self;
         if far_from_origin(&[p.aperture.center], &[p.aperture.radius]) {
             return Err(super::far_message());

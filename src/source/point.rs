@@ -11,7 +11,9 @@
 //! never spans the 100 m to the source, and nothing between source and target is
 //! traced.
 
-use super::{far_from_origin, AnnulusSector, ApertureDesc, EnergyDesc, Photon, Spectrum};
+use super::{
+    far_from_origin, AnnulusSector, ApertureDesc, EnergyDesc, InvalidSource, Photon, Spectrum,
+};
 use crate::random::PhotonRng;
 use glam::DVec3;
 use serde::Deserialize;
@@ -91,7 +93,7 @@ pub struct PointDesc {
 
 impl PointDesc {
     /// The source, or what is wrong with its parameters.
-    pub fn build(&self) -> Result<PointSource, String> {
+    pub fn build(&self) -> Result<PointSource, InvalidSource> {
         let p = self;
         if far_from_origin(&[p.position, p.target.center], &[p.target.radius]) {
             return Err(super::far_message());
@@ -104,10 +106,9 @@ impl PointDesc {
         }
         let dist = (DVec3::from(p.position) - DVec3::from(p.target.center)).length();
         if dist <= p.radius.max(p.target.radius) {
-            return Err(
-                "point source: the source must be farther from the target centre than both radii"
-                    .into(),
-            );
+            return Err(InvalidSource::from(
+                "point source: the source must be farther from the target centre than both radii",
+            ));
         }
         Ok(PointSource::new(
             DVec3::from(p.position),

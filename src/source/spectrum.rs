@@ -39,7 +39,7 @@ pub enum EnergyDesc {
 }
 
 impl EnergyDesc {
-    pub fn spectrum(&self) -> Result<Spectrum, String> {
+    pub fn spectrum(&self) -> Result<Spectrum, super::InvalidSource> {
         match *self {
             EnergyDesc::Line(x) if x.is_finite() && x > 0.0 => Ok(Spectrum::Line(x)),
             EnergyDesc::Band([a, b]) if a.is_finite() && b.is_finite() && a > 0.0 && b > a => {

@@ -6,7 +6,7 @@
 //! scene's own `[coatings]` and the shipped data/coatings.toml; `trace` asks the
 //! built [`Coating`] (through its table) for R at each reflection.
 
-use super::compound::Composition;
+use super::compound::{Composition, FormulaError};
 use super::optical::{EnergyOutOfRange, OpticalMaterial};
 use super::parratt::{reflectance, Layer, Reflectance};
 use num_complex::Complex64;
@@ -139,7 +139,7 @@ impl CoatingLibrary {
         self
     }
 
-    pub fn material(&self, name: &str) -> Result<OpticalMaterial, String> {
+    pub fn material(&self, name: &str) -> Result<OpticalMaterial, CoatingError> {
         let m = self.materials.get(name).ok_or_else(|| {
             format!(
                 "unknown material `{name}` (known: {:?})",
@@ -147,9 +147,9 @@ impl CoatingLibrary {
             )
         })?;
         if !(m.density > 0.0 && m.density.is_finite()) {
-            return Err(format!(
+            return Err(CoatingError::from(format!(
                 "material `{name}`: density must be positive (g/cm³)"
-            ));
+            )));
         }
         let composition = match (&m.formula, &m.mass_fractions) {
             (Some(f), None) => Composition::formula(f),
@@ -159,9 +159,11 @@ impl CoatingLibrary {
                     .map(|(k, v)| (k.clone(), *v))
                     .collect::<Vec<_>>(),
             ),
-            _ => Err("give exactly one of `formula` and `mass_fractions`".to_string()),
+            _ => Err(FormulaError::from(
+                "give exactly one of `formula` and `mass_fractions`",
+            )),
         }
-        .map_err(|e| format!("material `{name}`: {e}"))?;
+        .map_err(|e| CoatingError(format!("material `{name}`: {e}")))?;
         Ok(OpticalMaterial {
             name: name.to_string(),
             composition,
@@ -176,27 +178,27 @@ impl CoatingLibrary {
 
     /// Builds the named coating (a `perfect` one is an error: check
     /// [`CoatingLibrary::is_perfect`] first).
-    pub fn coating(&self, name: &str) -> Result<Coating, String> {
+    pub fn coating(&self, name: &str) -> Result<Coating, CoatingError> {
         let entry = self.coatings.get(name).ok_or_else(|| {
             format!(
                 "unknown coating `{name}` (known: {:?})",
                 self.coatings.keys().collect::<Vec<_>>()
             )
         })?;
-        let err = |m: String| format!("coating `{name}`: {m}");
+        let err = |m: CoatingError| CoatingError(format!("coating `{name}`: {m}"));
         let stack = match entry {
             CoatingEntry::Perfect(_) => {
-                return Err(err(
-                    "a perfect mirror has no layers to evaluate (R = 1)".into()
-                ))
+                return Err(err(CoatingError::from(
+                    "a perfect mirror has no layers to evaluate (R = 1)",
+                )))
             }
             CoatingEntry::DepthGraded(d) => {
                 let thicknesses = depth_graded_thicknesses(d.d_min_nm, d.d_max_nm, d.c, d.bilayers)
                     .map_err(err)?;
                 if !(d.gamma > 0.0 && d.gamma < 1.0 && non_negative(d.roughness_nm)) {
-                    return Err(err(
-                        "gamma must lie in (0, 1) and roughness_nm be ≥ 0".into()
-                    ));
+                    return Err(err(CoatingError::from(
+                        "gamma must lie in (0, 1) and roughness_nm be ≥ 0",
+                    )));
                 }
                 let top = Arc::new(self.material(&d.top).map_err(err)?);
                 let bottom = Arc::new(self.material(&d.bottom).map_err(err)?);
@@ -226,10 +228,10 @@ impl CoatingLibrary {
                         && e.thickness_nm.is_finite()
                         && non_negative(e.roughness_nm))
                     {
-                        return Err(err(format!(
+                        return Err(err(CoatingError::from(format!(
                             "layer of `{}`: thickness_nm must be > 0 and roughness_nm ≥ 0",
                             e.material
-                        )));
+                        ))));
                     }
                     layers.push(StackLayer {
                         material: Arc::new(self.material(&e.material).map_err(err)?),
@@ -256,6 +258,12 @@ impl CoatingLibrary {
     }
 }
 
+message_error!(
+    /// A coating or optical material that cannot be built (unknown name, bad
+    /// numbers), with what is wrong.
+    CoatingError
+);
+
 /// Finite and ≥ 0 (false for NaN).
 fn non_negative(x: f64) -> bool {
     x.is_finite() && x >= 0.0
@@ -269,9 +277,11 @@ pub fn depth_graded_thicknesses(
     d_max: f64,
     c: f64,
     n: u32,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, CoatingError> {
     if !(d_min > 0.0 && d_max >= d_min && c > 0.0 && n >= 1 && d_max.is_finite()) {
-        return Err("need 0 < d_min_nm ≤ d_max_nm, c > 0 and at least one bilayer".into());
+        return Err(CoatingError::from(
+            "need 0 < d_min_nm ≤ d_max_nm, c > 0 and at least one bilayer",
+        ));
     }
     if n == 1 || d_min == d_max {
         return Ok(vec![d_max; n as usize]);

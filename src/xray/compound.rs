@@ -11,16 +11,26 @@ pub struct Composition {
     pub moles_per_gram: Vec<(u32, f64)>,
 }
 
+message_error!(
+    /// A chemical formula or mixture that cannot be used.
+    FormulaError
+);
+
 /// Atoms per formula unit, by element symbol.
-pub fn parse_formula(formula: &str) -> Result<BTreeMap<String, f64>, String> {
+pub fn parse_formula(formula: &str) -> Result<BTreeMap<String, f64>, FormulaError> {
     let chars: Vec<char> = formula.chars().filter(|c| !c.is_whitespace()).collect();
     let mut pos = 0;
     let counts = parse_group(&chars, &mut pos, formula)?;
     if pos != chars.len() {
-        return Err(format!("formula `{formula}`: unexpected `{}`", chars[pos]));
+        return Err(FormulaError::from(format!(
+            "formula `{formula}`: unexpected `{}`",
+            chars[pos]
+        )));
     }
     if counts.is_empty() {
-        return Err(format!("formula `{formula}` names no element"));
+        return Err(FormulaError::from(format!(
+            "formula `{formula}` names no element"
+        )));
     }
     Ok(counts)
 }
@@ -39,7 +49,7 @@ fn parse_group(
     chars: &[char],
     pos: &mut usize,
     formula: &str,
-) -> Result<BTreeMap<String, f64>, String> {
+) -> Result<BTreeMap<String, f64>, FormulaError> {
     let mut counts = BTreeMap::new();
     while *pos < chars.len() {
         let c = chars[*pos];
@@ -50,7 +60,9 @@ fn parse_group(
             *pos += 1;
             let inner = parse_group(chars, pos, formula)?;
             if *pos >= chars.len() || chars[*pos] != ')' {
-                return Err(format!("formula `{formula}`: unclosed `(`"));
+                return Err(FormulaError::from(format!(
+                    "formula `{formula}`: unclosed `(`"
+                )));
             }
             *pos += 1;
             inner
@@ -62,15 +74,15 @@ fn parse_group(
                 *pos += 1;
             }
             if element(&sym).is_none() {
-                return Err(format!(
+                return Err(FormulaError::from(format!(
                     "formula `{formula}`: unknown element `{sym}` (H … U)"
-                ));
+                )));
             }
             BTreeMap::from([(sym, 1.0)])
         } else {
-            return Err(format!(
+            return Err(FormulaError::from(format!(
                 "formula `{formula}`: unexpected `{c}` (elements start with a capital letter)"
-            ));
+            )));
         };
         let n = if *pos < chars.len() && (chars[*pos].is_ascii_digit() || chars[*pos] == '.') {
             parse_number(chars, pos).ok_or_else(|| format!("formula `{formula}`: bad number"))?
@@ -78,7 +90,9 @@ fn parse_group(
             1.0
         };
         if !(n > 0.0 && n.is_finite()) {
-            return Err(format!("formula `{formula}`: counts must be positive"));
+            return Err(FormulaError::from(format!(
+                "formula `{formula}`: counts must be positive"
+            )));
         }
         for (k, v) in part {
             *counts.entry(k).or_insert(0.0) += v * n;
@@ -89,21 +103,21 @@ fn parse_group(
 
 impl Composition {
     /// A pure compound.
-    pub fn formula(formula: &str) -> Result<Composition, String> {
+    pub fn formula(formula: &str) -> Result<Composition, FormulaError> {
         Composition::mixture(&[(formula.to_string(), 1.0)])
     }
 
     /// A mixture of compounds by mass fraction; fractions are normalised to sum 1
     /// (they must already sum to 1 within 2 %, to catch typos).
-    pub fn mixture(parts: &[(String, f64)]) -> Result<Composition, String> {
+    pub fn mixture(parts: &[(String, f64)]) -> Result<Composition, FormulaError> {
         let total: f64 = parts.iter().map(|p| p.1).sum();
         if parts.is_empty()
             || parts.iter().any(|p| p.1.is_nan() || p.1 <= 0.0)
             || (total - 1.0).abs() > 0.02
         {
-            return Err(format!(
+            return Err(FormulaError::from(format!(
                 "mass fractions must be positive and sum to 1 (they sum to {total})"
-            ));
+            )));
         }
         let mut moles: BTreeMap<u32, f64> = BTreeMap::new();
         for (formula, w) in parts {

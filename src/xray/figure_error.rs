@@ -38,6 +38,11 @@ pub struct FigureError {
     pub out_of_plane: f64,
 }
 
+message_error!(
+    /// Figure-error parameters out of range, or an unknown preset.
+    InvalidFigureError
+);
+
 /// What became of a reflected direction.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Perturbed {
@@ -56,23 +61,23 @@ impl FigureError {
     };
 
     /// Checks the ranges; the message names the offending key.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), InvalidFigureError> {
         for (k, v) in [
             ("in_plane_narrow", self.in_plane_narrow),
             ("in_plane_wide", self.in_plane_wide),
             ("out_of_plane", self.out_of_plane),
         ] {
             if !(v.is_finite() && (0.0..=36_000.0).contains(&v)) {
-                return Err(format!(
+                return Err(InvalidFigureError::from(format!(
                     "{k} = {v}: expected a width in arcseconds, 0 to 36000"
-                ));
+                )));
             }
         }
         if !(0.0..=1.0).contains(&self.wide_fraction) {
-            return Err(format!(
+            return Err(InvalidFigureError::from(format!(
                 "wide_fraction = {}: expected a probability, 0 to 1",
                 self.wide_fraction
-            ));
+            )));
         }
         Ok(())
     }
@@ -176,7 +181,10 @@ impl FigureErrorLibrary {
     }
 
     /// Resolves a scene's figure error, checked; `None` for a perfect figure.
-    pub fn resolve(&self, spec: &FigureErrorSpec) -> Result<Option<FigureError>, String> {
+    pub fn resolve(
+        &self,
+        spec: &FigureErrorSpec,
+    ) -> Result<Option<FigureError>, InvalidFigureError> {
         let f = match spec {
             FigureErrorSpec::Preset(name) => self.get(name)?,
             FigureErrorSpec::Inline(f) => *f,
@@ -186,7 +194,7 @@ impl FigureErrorLibrary {
     }
 
     /// The preset `name` (`"none"` is always the perfect figure).
-    pub fn get(&self, name: &str) -> Result<FigureError, String> {
+    pub fn get(&self, name: &str) -> Result<FigureError, InvalidFigureError> {
         if name == "none" {
             return Ok(FigureError::NONE);
         }
@@ -197,10 +205,10 @@ impl FigureErrorLibrary {
                 let known: Vec<&str> = std::iter::once("none")
                     .chain(self.figure_errors.keys().map(|s| s.as_str()))
                     .collect();
-                format!(
+                InvalidFigureError(format!(
                     "unknown figure error `{name}` (known: {})",
                     known.join(", ")
-                )
+                ))
             })
     }
 }
