@@ -75,7 +75,6 @@ fn gaussian_spot_diameters() {
 
 #[test]
 fn eef_command_on_an_npy_from_elsewhere() {
-    use std::process::Command;
     // A uniform disk of radius 100 px written as float32 by "another program".
     let dir = tempfile::tempdir().unwrap();
     let n = 400usize;
@@ -101,7 +100,7 @@ fn eef_command_on_an_npy_from_elsewhere() {
         w.finish().unwrap();
     }
     let out = crate::common::run_ok(
-        Command::new(env!("CARGO_BIN_EXE_traxer"))
+        crate::common::traxer()
             .args([
                 "eef",
                 "--json",
@@ -120,18 +119,13 @@ fn eef_command_on_an_npy_from_elsewhere() {
     );
     assert!(dir.path().join("disk_eef.png").is_file());
     // Without a pitch (and no sidecar), or with garbage, exit code 2.
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .arg("eef")
-        .arg(&path)
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--pixel-pitch"));
+    let err = crate::common::run_fails(crate::common::traxer().arg("eef").arg(&path), 2);
+    assert!(err.contains("--pixel-pitch"), "{err}");
     std::fs::write(dir.path().join("junk.npy"), b"not numpy").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args(["eef", "--pixel-pitch", "1"])
-        .arg(dir.path().join("junk.npy"))
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    crate::common::run_fails(
+        crate::common::traxer()
+            .args(["eef", "--pixel-pitch", "1"])
+            .arg(dir.path().join("junk.npy")),
+        2,
+    );
 }

@@ -99,6 +99,21 @@ transform = [ {{ translate = [0, 0, -200] }} ]
     )
 }
 
+/// The `traxer` binary built for these tests, as a command to add arguments to.
+pub fn traxer() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_traxer"))
+}
+
+/// Runs a `traxer` command that must fail with exit code `code`; returns its
+/// stderr (which must not hold a panic).
+pub fn run_fails(cmd: &mut std::process::Command, code: i32) -> String {
+    let out = cmd.output().expect("run traxer");
+    let err = String::from_utf8_lossy(&out.stderr).into_owned();
+    assert_eq!(out.status.code(), Some(code), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+    err
+}
+
 /// Runs a `traxer` command that must succeed (stderr shown if it does not).
 pub fn run_ok(cmd: &mut std::process::Command) -> std::process::Output {
     let out = cmd.output().expect("run traxer");

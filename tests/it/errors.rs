@@ -3,7 +3,6 @@
 
 use crate::common::{broken_mesh_files, write};
 use std::path::Path;
-use std::process::Command;
 
 const GOOD: &str = r#"
 [vars]
@@ -28,7 +27,7 @@ shape = { type = "rectangle", size = [14.0, 14.0] }
 /// Runs `traxer trace` on `scene_text` (+ files) and returns (exit code, stderr).
 fn trace(dir: &Path, scene_text: &str, extra: &[&str]) -> (i32, String) {
     let scene = write(dir, "scene.toml", scene_text);
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+    let out = crate::common::traxer()
         .arg("trace")
         .arg(&scene)
         .args(["-n", "100", "-q", "--out"])
@@ -235,17 +234,15 @@ fn broken_meshes_give_clear_errors() {
 
 #[test]
 fn missing_scene_bad_arguments_and_run_failures() {
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args(["trace", "/nonexistent/scene.toml"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("/nonexistent/scene.toml"));
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args(["trace", "--photons", "lots", "x.toml"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
+    let err = crate::common::run_fails(
+        crate::common::traxer().args(["trace", "/nonexistent/scene.toml"]),
+        2,
+    );
+    assert!(err.contains("/nonexistent/scene.toml"), "{err}");
+    crate::common::run_fails(
+        crate::common::traxer().args(["trace", "--photons", "lots", "x.toml"]),
+        2,
+    );
     // The output folder cannot be created (a file is in the way): the run fails, 1.
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "out", "a file");
@@ -263,20 +260,20 @@ fn missing_scene_bad_arguments_and_run_failures() {
         &["--first-photon", "18446744073709551615"],
         &["runs past the last photon index"],
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args([
-            "tessellate",
-            "--shape",
-            "type = \"sphere\", radius = 1",
-            "--segments",
-            "100000000",
-            "--rings",
-            "100000000",
-            "--out",
-        ])
-        .arg(dir.path().join("huge.obj"))
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("more than 50000000 quads"));
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .args([
+                "tessellate",
+                "--shape",
+                "type = \"sphere\", radius = 1",
+                "--segments",
+                "100000000",
+                "--rings",
+                "100000000",
+                "--out",
+            ])
+            .arg(dir.path().join("huge.obj")),
+        2,
+    );
+    assert!(err.contains("more than 50000000 quads"), "{err}");
 }

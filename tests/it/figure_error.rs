@@ -310,11 +310,10 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
 
 #[test]
 fn fit_command_writes_history_and_a_loadable_preset() {
-    use std::process::Command;
     let dir = tempfile::tempdir().unwrap();
     let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
     crate::common::run_ok(
-        Command::new(env!("CARGO_BIN_EXE_traxer"))
+        crate::common::traxer()
             .arg("fit-figure-error")
             .arg(&scene)
             .args(PANTER_AL_TARGETS)
@@ -355,15 +354,15 @@ fn fit_command_writes_history_and_a_loadable_preset() {
         ref m => panic!("{m:?}"),
     }
     // A misspelt bound is a usage error.
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .arg("fit-figure-error")
-        .arg(&scene)
-        .args(PANTER_AL_TARGETS)
-        .args(["--bound", "narrow=0:50"])
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown parameter"));
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("fit-figure-error")
+            .arg(&scene)
+            .args(PANTER_AL_TARGETS)
+            .args(["--bound", "narrow=0:50"]),
+        2,
+    );
+    assert!(err.contains("unknown parameter"), "{err}");
 }
 
 /// The "over N seeds m ± s″, ..." means and standard deviations (HPD, 80 %,

@@ -6,11 +6,10 @@
 use crate::common::{broken_mesh_files, gltf_with_nodes, write};
 use serde_json::Value;
 use std::path::Path;
-use std::process::Command;
 
 /// Runs `traxer inspect --json` and returns (exit code, JSON, stderr).
 fn inspect(files: &[&Path], extra: &[&str]) -> (i32, Value, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+    let out = crate::common::traxer()
         .arg("inspect")
         .arg("--json")
         .args(files)
@@ -289,7 +288,7 @@ fn tessellated_cone_section_matches_its_closed_form() {
     let dir = tempfile::tempdir().unwrap();
     let tess = |azimuth: &str, file: &str| {
         let out = dir.path().join(file);
-        let st = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        let st = crate::common::traxer()
             .args(["tessellate", "--shape"])
             .arg(format!(
                 "type=\"cone\", radius_start={r1}, z_start={z1}, radius_end={r2}, z_end={z2}{azimuth}"
@@ -508,7 +507,7 @@ fn broken_files_exit_2_with_the_tracers_message() {
             "s.toml",
             &format!("[[objects]]\nname = \"x\"\nmaterial = \"absorber\"\nshape = {{ type = \"mesh\", file = \"{file}\" }}\n"),
         );
-        let trace = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        let trace = crate::common::traxer()
             .arg("trace")
             .arg(&scene)
             .output()
@@ -558,7 +557,7 @@ fn broken_files_exit_2_with_the_tracers_message() {
         .as_str()
         .unwrap()
         .contains("unsupported file type"));
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+    let out = crate::common::traxer()
         .args(["inspect", "--expect-size=-3"])
         .arg(&good)
         .output()
@@ -592,7 +591,7 @@ fn text_report_shows_the_same_facts() {
         "cube.obj",
         &cube_obj(&CUBE_FACES.map(String::from)),
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+    let out = crate::common::traxer()
         .arg("inspect")
         .arg(&p)
         .output()

@@ -113,12 +113,11 @@ coating = "perfect"
 
 #[test]
 fn panter_best_focus_is_where_panter_measured_it() {
-    use std::process::Command;
     let out_dir = tempfile::tempdir().unwrap();
     // Perfect mirrors (the focus is geometric; coatings only reweight the shells),
     // 13 positions over ±60 mm, the same 300 000 photons at each.
     crate::common::run_ok(
-        Command::new(env!("CARGO_BIN_EXE_traxer"))
+        crate::common::traxer()
             .arg("focus")
             .arg(crate::common::repo().join("scenes/panter_al_ka.toml"))
             .args(["--from=-1460", "--to=-1580", "--steps=13", "-n", "300000"])
@@ -154,32 +153,30 @@ fn panter_best_focus_is_where_panter_measured_it() {
 
 #[test]
 fn focus_sweep_that_misses_the_focus_says_so() {
-    use std::process::Command;
     let out_dir = tempfile::tempdir().unwrap();
     let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .arg("focus")
-        .arg(&scene)
-        .args(["--from=-1380", "--to=-1440", "--steps=5", "-n", "20000"])
-        .args(["-D", "coating=perfect", "-q", "-o"])
-        .arg(out_dir.path())
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(1));
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("focus")
+            .arg(&scene)
+            .args(["--from=-1380", "--to=-1440", "--steps=5", "-n", "20000"])
+            .args(["-D", "coating=perfect", "-q", "-o"])
+            .arg(out_dir.path()),
+        1,
+    );
     // (Either the curve has no minimum there or it lies outside: both say
     // to move or widen the range.)
     assert!(err.contains("range"), "{err}");
     // The measurements are still written.
     assert!(out_dir.path().join("focus.csv").is_file());
     // An unknown variable is a usage error.
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .arg("focus")
-        .arg(&scene)
-        .args(["--var", "nosuch", "--from=0", "--to=1", "-o"])
-        .arg(out_dir.path())
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("nosuch"));
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("focus")
+            .arg(&scene)
+            .args(["--var", "nosuch", "--from=0", "--to=1", "-o"])
+            .arg(out_dir.path()),
+        2,
+    );
+    assert!(err.contains("nosuch"), "{err}");
 }

@@ -2,12 +2,7 @@
 //! what `traxer tessellate` makes from the data, they load as the telescope, and
 //! `traxer compare` shows the meshes converging to the analytic image.
 
-use crate::common::{repo, run_ok};
-use std::process::Command;
-
-fn traxer() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_traxer"))
-}
+use crate::common::{repo, run_ok, traxer};
 
 #[test]
 fn shipped_telescope_meshes_are_regenerated_exactly_by_tessellate() {

@@ -2,7 +2,6 @@
 //! outside their active area, and `traxer tessellate` output lying on the surface.
 
 use crate::common::scene;
-use std::process::Command;
 use traxer::trace::{self, RunConfig};
 
 fn run(s: &traxer::scene::Scene, n: u64) -> traxer::trace::RunResult {
@@ -94,7 +93,7 @@ fn tessellate_command_writes_meshes_on_the_exact_surface() {
     let dir = tempfile::tempdir().unwrap();
     for ext in ["gltf", "glb", "obj"] {
         let out = dir.path().join(format!("cone.{ext}"));
-        let status = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        let status = crate::common::traxer()
             .args(["tessellate", "--shape"])
             .arg("type = \"cone\", radius_start = 63.2384, z_start = 229.0, radius_end = 60.9121, z_end = 4.0, azimuth = [-15.0, 15.0]")
             .args(["--segments", "500", "--rings", "20", "--out"])
@@ -136,16 +135,16 @@ fn tessellate_command_writes_meshes_on_the_exact_surface() {
         }
     }
     // Bad input: exit code 2 with the reason.
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
-        .args([
-            "tessellate",
-            "--shape",
-            "type = \"cone\", radius_start = 1",
-            "--out",
-        ])
-        .arg(dir.path().join("x.obj"))
-        .output()
-        .unwrap();
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("missing field"));
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .args([
+                "tessellate",
+                "--shape",
+                "type = \"cone\", radius_start = 1",
+                "--out",
+            ])
+            .arg(dir.path().join("x.obj")),
+        2,
+    );
+    assert!(err.contains("missing field"), "{err}");
 }

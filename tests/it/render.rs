@@ -234,12 +234,11 @@ shape = { type = "rectangle", size = [10.0, 10.0] }
 
 #[test]
 fn render_command_writes_a_png_and_refuses_bad_cameras() {
-    use std::process::Command;
     let dir = tempfile::tempdir().unwrap();
     let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
     let png = dir.path().join("t.png");
     crate::common::run_ok(
-        Command::new(env!("CARGO_BIN_EXE_traxer"))
+        crate::common::traxer()
             .arg("render")
             .arg(&scene)
             .args([
@@ -275,7 +274,7 @@ fn render_command_writes_a_png_and_refuses_bad_cameras() {
         vec!["--camera", "sensor", "--vfov", "0"],
     ] {
         let bad = dir.path().join("bad.png");
-        let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        let out = crate::common::traxer()
             .arg("render")
             .arg(&scene)
             .args(&args)
@@ -288,7 +287,7 @@ fn render_command_writes_a_png_and_refuses_bad_cameras() {
     }
     let npy = dir.path().join("wrong.npy");
     traxer::output::write_npy_f64(&npy, &[3, 3], &[1.0; 9]).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+    let out = crate::common::traxer()
         .arg("render")
         .arg(&scene)
         .args(["--camera", "sensor", "--sensor-image"])

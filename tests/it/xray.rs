@@ -348,11 +348,10 @@ fn coating_errors_name_the_material_line() {
 
 #[test]
 fn reflectivity_command_prints_csv_and_writes_a_plot() {
-    use std::process::Command;
     let dir = tempfile::tempdir().unwrap();
     let png = dir.path().join("r.png");
     let out = crate::common::run_ok(
-        Command::new(env!("CARGO_BIN_EXE_traxer"))
+        crate::common::traxer()
             .args([
                 "reflectivity",
                 "--coating",
@@ -386,7 +385,7 @@ fn reflectivity_command_prints_csv_and_writes_a_plot() {
         "[materials.Ir]\nformula = \"Ir\"\ndensity = 22.56\n[coatings.iridium]\ntype = \"substrate\"\nsubstrate = \"Ir\"\n",
     );
     let out = crate::common::run_ok(
-        Command::new(env!("CARGO_BIN_EXE_traxer"))
+        crate::common::traxer()
             .args(["reflectivity", "--coating"])
             .arg(&file)
             .args(["--energy", "0.5:10:0.5", "--angle", "0.3", "--plot"])
@@ -401,7 +400,7 @@ fn reflectivity_command_prints_csv_and_writes_a_plot() {
         ["--coating", "gold", "--energy", "40", "--angle", "1"],
         ["--coating", "gold", "--energy", "1:0:1", "--angle", "1"],
     ] {
-        let out = Command::new(env!("CARGO_BIN_EXE_traxer"))
+        let out = crate::common::traxer()
             .arg("reflectivity")
             .args(args)
             .arg("--plot")
