@@ -1,56 +1,150 @@
-//! Every shipped scene is also a test: it loads, traces, and its sensor sees light.
+//! Every shipped scene is also a regression test: it loads, traces (or renders),
+//! and gives the numbers recorded in tests/data/scene_expectations.toml — the
+//! fraction of photons reaching the sensor, the flux per photon, and the HPD, 80 %
+//! and 90 % diameters — within 5 standard deviations of one run (the recorded
+//! spread over 8 seeds), so Monte Carlo noise at any seed cannot fail it but a
+//! change of the physics, the geometry or the analysis that moves a result does.
+//! scripts/scene_expectations.py re-measures them when a change is meant to.
 
 use crate::common::{centroid_rms, device, repo};
+use traxer::analysis::{analyse, ImageGeometry};
 use traxer::scene::Scene;
 use traxer::trace::{self, RunConfig};
 
+/// Allowed distance from the recorded mean, in recorded standard deviations.
+const SIGMAS: f64 = 5.0;
+
+fn expectations() -> toml::Table {
+    let text = std::fs::read_to_string(repo().join("tests/data/scene_expectations.toml")).unwrap();
+    toml::from_str(&text).unwrap()
+}
+
+/// (mean, standard deviation) of `key` in a scene's table.
+fn expected(table: &toml::Table, key: &str) -> (f64, f64) {
+    let v = table[key].as_array().unwrap_or_else(|| panic!("{key}"));
+    let f = |x: &toml::Value| x.as_float().or(x.as_integer().map(|i| i as f64)).unwrap();
+    (f(&v[0]), f(&v[1]))
+}
+
+fn check(scene: &str, key: &str, got: f64, table: &toml::Table) {
+    let (mean, sd) = expected(table, key);
+    assert!(
+        (got - mean).abs() <= SIGMAS * sd,
+        "{scene}: {key} = {got}, expected {mean} ± {SIGMAS} × {sd}"
+    );
+}
+
 #[test]
-fn every_shipped_scene_loads_and_traces() {
+fn every_shipped_scene_gives_its_recorded_results() {
+    let all = expectations();
+    let photons = all["photons"].as_integer().unwrap() as u64;
+    let scenes = all["scenes"].as_table().unwrap();
     let mut n = 0;
     for entry in std::fs::read_dir(repo().join("scenes")).unwrap() {
         let path = entry.unwrap().path();
         if path.extension().is_none_or(|e| e != "toml") {
             continue;
         }
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let table = scenes[&name]
+            .as_table()
+            .unwrap_or_else(|| panic!("{name}: no expectations recorded"));
         let s = Scene::load(&device(), &path, &[]).unwrap_or_else(|e| panic!("{e}"));
         if s.sources.is_empty() {
-            // A visible-light scene: it must have a camera and render light.
-            let (name, cam) = s.cameras.iter().next().expect("a camera");
-            let img = traxer::render::render(
-                &s,
-                cam,
-                &s.sky,
-                &[],
-                &traxer::render::RenderSettings {
-                    width: 16,
-                    height: 12,
-                    spp: 2,
-                    max_depth: 8,
-                    seed: 1,
-                },
-            );
-            assert!(
-                img.iter().any(|c| c.length() > 0.1),
-                "{}: camera {name} sees nothing",
-                path.display()
-            );
+            check_render(&name, &s, table);
+            n += 1;
             continue;
         }
-        let r = trace::run(&s, &RunConfig::new(50_000, 1)).unwrap();
+        // A seed the expectations were not measured with.
+        let r = trace::run(&s, &RunConfig::new(photons, 7)).unwrap();
         assert_eq!(
             r.stats.fates(),
-            50_000,
-            "{}: every photon has one fate",
-            path.display()
+            photons,
+            "{name}: every photon has one fate"
         );
-        assert!(
-            !s.sensors.is_empty() && r.stats.reached_sensor > 0,
-            "{}: no photon reached a sensor",
-            path.display()
+        let emitted = r.stats.photons_emitted as f64;
+        check(
+            &name,
+            "reached_fraction",
+            r.stats.reached_sensor as f64 / emitted,
+            table,
         );
+        check(
+            &name,
+            "flux_per_photon",
+            r.images[0].total_flux() / emitted,
+            table,
+        );
+        let spec = &s.sensors[0];
+        let (q, _) = analyse(
+            &r.images[0].flux_summed(spec),
+            &ImageGeometry::of_sensor(spec),
+            spec.focal_length,
+        )
+        .expect("an image");
+        let arcsec = table["diameter_unit"].as_str() == Some("arcsec");
+        for (key, mm, angle) in [
+            ("hpd", q.hpd_mm, q.hpd_arcsec),
+            ("d80", q.d80_mm, q.d80_arcsec),
+            ("d90", q.d90_mm, q.d90_arcsec),
+        ] {
+            let got = if arcsec {
+                angle.expect("a focal length")
+            } else {
+                mm
+            };
+            check(&name, key, got, table);
+        }
         n += 1;
     }
-    assert!(n >= 2);
+    assert_eq!(n, scenes.len(), "a recorded scene is no longer shipped");
+}
+
+/// Mean radiance (linear RGB, averaged over channels and pixels) of a 48 × 32,
+/// 8-spp picture from the scene's first camera.
+fn mean_radiance(s: &Scene, seed: u64) -> f64 {
+    let (_, cam) = s.cameras.iter().next().expect("a camera");
+    let img = traxer::render::render(
+        s,
+        cam,
+        &s.sky,
+        &[],
+        &traxer::render::RenderSettings {
+            width: 48,
+            height: 32,
+            spp: 8,
+            max_depth: 8,
+            seed,
+        },
+    );
+    img.iter().map(|c| c.element_sum() / 3.0).sum::<f64>() / img.len() as f64
+}
+
+/// A render-only scene: its picture's mean radiance is recorded.
+fn check_render(name: &str, s: &Scene, table: &toml::Table) {
+    let mean = mean_radiance(s, 7);
+    assert!(mean > 0.05, "{name}: the camera sees nothing");
+    check(name, "mean_radiance", mean, table);
+}
+
+/// Prints the mean and spread of the render-only scenes' mean radiance over seeds
+/// 101..108, for tests/data/scene_expectations.toml:
+/// `cargo test --release -- --ignored --nocapture render_expectations`.
+#[test]
+#[ignore]
+fn render_expectations() {
+    for entry in std::fs::read_dir(repo().join("scenes")).unwrap() {
+        let path = entry.unwrap().path();
+        let s = Scene::load(&device(), &path, &[]).unwrap();
+        if !s.sources.is_empty() {
+            continue;
+        }
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let v: Vec<f64> = (101..109).map(|seed| mean_radiance(&s, seed)).collect();
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        let sd = (v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (v.len() - 1) as f64).sqrt();
+        println!("[scenes.{name}]\nmean_radiance = [{mean:.6}, {sd:.3e}]");
+    }
 }
 
 #[test]

@@ -1,0 +1,51 @@
+#!/usr/bin/env python3
+"""Measures what every shipped scene gives, for tests/data/scene_expectations.toml.
+
+Each scene with sources is traced with 8 seeds (101..108) of 200 000 photons; the
+mean and the standard deviation of one run are printed as TOML for: the fraction
+of photons reaching the sensor, the flux per emitted photon, and the HPD, 80 % and
+90 % diameters (arcsec when the sensor has a focal length, else mm).
+
+Run it only when a change is *meant* to alter results, check the differences, and
+say why in the commit:
+    cargo build --release && scripts/scene_expectations.py > tests/data/scene_expectations.toml
+(spheres.toml, a render-only scene, is measured by the test itself; its entry is
+kept by hand.)
+"""
+import glob
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+BIN = os.path.join(ROOT, "target", "release", "traxer")
+PHOTONS, SEEDS = 200_000, range(101, 109)
+
+print("# Written by scripts/scene_expectations.py: mean and standard deviation of one")
+print(f"# {PHOTONS}-photon run over seeds {SEEDS.start}..{SEEDS.stop - 1}, per shipped scene.")
+print(f"photons = {PHOTONS}")
+with tempfile.TemporaryDirectory() as tmp:
+    for scene in sorted(glob.glob(os.path.join(ROOT, "scenes", "*.toml"))):
+        name = os.path.basename(scene)[:-5]
+        if "[[sources]]" not in open(scene).read():
+            continue
+        runs = []
+        for seed in SEEDS:
+            out = os.path.join(tmp, f"{name}_{seed}")
+            subprocess.run([BIN, "trace", scene, "-n", str(PHOTONS), "-s", str(seed), "-q", "-o", out], check=True)
+            s = json.load(open(os.path.join(out, "summary.json")))
+            st, sensor = s["statistics"], s["sensors"][0]
+            q = sensor["image_quality"]
+            unit = "arcsec" if q.get("hpd_arcsec") is not None else "mm"
+            d = lambda k: q[f"{k}_{unit}"]
+            runs.append((st["reached_sensor"] / st["photons_emitted"],
+                         sensor["total_flux"] / st["photons_emitted"], d("hpd"), d("d80"), d("d90")))
+        cols = list(zip(*runs))
+        print(f"\n[scenes.{name}]")
+        print(f'diameter_unit = "{unit}"')
+        for key, col in zip(["reached_fraction", "flux_per_photon", "hpd", "d80", "d90"], cols):
+            print(f"{key} = [{statistics.mean(col):.6g}, {statistics.stdev(col):.3g}]")
+        sys.stdout.flush()
