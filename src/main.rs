@@ -6,7 +6,7 @@
 
 mod cli;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 use std::process::ExitCode;
 
 /// X-ray raytracer for grazing-incidence telescopes (CAST, BabyIAXO), on Intel Embree.
@@ -33,6 +33,9 @@ enum Command {
     Compare(cli::compare::CompareArgs),
     FitFigureError(cli::fit_figure_error::FitFigureErrorArgs),
     Render(cli::render::RenderArgs),
+    /// Print every subcommand with all its arguments (docs/scene-format.md).
+    #[command(hide = true)]
+    Synopsis,
 }
 
 fn main() -> ExitCode {
@@ -49,6 +52,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => cli::compare::run(a),
         Command::FitFigureError(a) => cli::fit_figure_error::run(a),
         Command::Render(a) => cli::render::run(a),
+        Command::Synopsis => cli::synopsis::run(&Cli::command()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

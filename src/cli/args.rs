@@ -45,10 +45,10 @@ pub struct SceneArgs {
 pub struct SamplingArgs {
     /// Random seed; photon (or pixel) i uses the stream derived from (seed, i), so
     /// results are the same for any --threads.
-    #[arg(short, long, default_value_t = 1)]
+    #[arg(short, long, value_name = "S", default_value_t = 1)]
     pub seed: u64,
     /// Worker threads (0 = one per core).
-    #[arg(short = 'j', long, default_value_t = 0, value_parser = parse_threads)]
+    #[arg(short = 'j', long, value_name = "T", default_value_t = 0, value_parser = parse_threads)]
     pub threads: usize,
 }
 
@@ -56,7 +56,7 @@ pub struct SamplingArgs {
 #[derive(clap::Args, Clone, Debug)]
 pub struct RunArgs {
     /// Number of photons to emit.
-    #[arg(short = 'n', long, default_value_t = 1_000_000)]
+    #[arg(short = 'n', long, value_name = "N", default_value_t = 1_000_000)]
     pub photons: u64,
     #[command(flatten)]
     pub sampling: SamplingArgs,
@@ -79,7 +79,7 @@ impl RunArgs {
 #[derive(clap::Args, Clone, Debug)]
 pub struct OutputArgs {
     /// Output folder (created if missing).
-    #[arg(short, long, default_value = "out")]
+    #[arg(short, long, value_name = "DIR", default_value = "out")]
     pub out: PathBuf,
     #[command(flatten)]
     pub quiet: QuietArg,

@@ -17,7 +17,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// Photons whose queries are replayed for the raw Embree rate.
-    #[arg(long, default_value_t = 300_000)]
+    #[arg(value_name = "N", long, default_value_t = 300_000)]
     pub raw_photons: u64,
     /// Print JSON.
     #[arg(long)]

@@ -31,15 +31,15 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Tessellations to compare, SEGMENTSxRINGS (comma separated).
-    #[arg(long, value_delimiter = ',', value_parser = parse_resolution,
+    #[arg(value_name = "SxR", long, value_delimiter = ',', value_parser = parse_resolution,
           default_value = "4x1,8x1,15x1,30x1,60x2,120x4")]
     pub resolutions: Vec<Resolution>,
     /// Other scene files to trace and compare (repeatable), e.g. a scene built
     /// from exported meshes; they get the same -D overrides.
-    #[arg(long)]
+    #[arg(value_name = "SCENE", long)]
     pub also: Vec<PathBuf>,
     /// Sensor to measure (default: the scene's only sensor).
-    #[arg(long)]
+    #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
     #[command(flatten)]
     pub run: RunArgs,

@@ -19,13 +19,13 @@ pub struct EefArgs {
     /// The image (.npy).
     pub image: PathBuf,
     /// Focal length (mm) for diameters in arcseconds: 2·atan(r/f).
-    #[arg(long)]
+    #[arg(value_name = "MM", long)]
     pub focal_length: Option<f64>,
     /// Pixel pitch in mm (x,y or one value for square pixels).
-    #[arg(long, value_delimiter = ',')]
+    #[arg(value_name = "MM", long, value_delimiter = ',')]
     pub pixel_pitch: Vec<f64>,
     /// EEF plot to write (default: IMAGE_eef.png next to the image).
-    #[arg(long)]
+    #[arg(value_name = "PNG", long)]
     pub plot: Option<PathBuf>,
     /// Print JSON instead of text.
     #[arg(long)]

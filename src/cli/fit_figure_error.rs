@@ -30,13 +30,13 @@ pub struct FitFigureErrorArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Measured half-power diameter (arcsec).
-    #[arg(long)]
+    #[arg(value_name = "ARCSEC", long)]
     pub target_hpd: f64,
     /// Measured 80 % diameter (arcsec).
-    #[arg(long)]
+    #[arg(value_name = "ARCSEC", long)]
     pub target_c80: f64,
     /// Measured 90 % diameter (arcsec).
-    #[arg(long)]
+    #[arg(value_name = "ARCSEC", long)]
     pub target_c90: f64,
     /// Search range NAME=LOW:HIGH, or NAME=VALUE to hold it fixed (repeatable).
     /// Defaults: in_plane_narrow=0:120, in_plane_wide=0:900, wide_fraction=0:0.6,
@@ -44,22 +44,22 @@ pub struct FitFigureErrorArgs {
     #[arg(long = "bound", value_name = "NAME=LOW:HIGH")]
     pub bounds: Vec<String>,
     /// Evaluations of the global search (DIRECT-L).
-    #[arg(long, default_value_t = 150)]
+    #[arg(value_name = "N", long, default_value_t = 150)]
     pub global_evals: u32,
     /// Evaluations of the local polish.
-    #[arg(long, default_value_t = 60)]
+    #[arg(value_name = "N", long, default_value_t = 60)]
     pub local_evals: u32,
     /// Local optimiser of the polish.
     #[arg(long, value_enum, default_value = "sbplx")]
     pub local_algorithm: LocalAlgorithmArg,
     /// Extra seeds traced with the best parameters to show the Monte Carlo spread.
-    #[arg(long, default_value_t = 3)]
+    #[arg(value_name = "K", long, default_value_t = 3)]
     pub check_seeds: u64,
     /// Sensor to measure (default: the scene's only sensor).
-    #[arg(long)]
+    #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
     /// Name of the preset written to figure_error.toml.
-    #[arg(long, default_value = "fitted")]
+    #[arg(value_name = "PRESET", long, default_value = "fitted")]
     pub name: String,
     #[command(flatten)]
     pub run: RunArgs,

@@ -27,19 +27,19 @@ pub struct FocusArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Scene variable that places the sensor (declared in [vars]).
-    #[arg(long, default_value = "sensor_z")]
+    #[arg(value_name = "NAME", long, default_value = "sensor_z")]
     pub var: String,
     /// First value of the variable.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(value_name = "VALUE", long, allow_hyphen_values = true)]
     pub from: f64,
     /// Last value of the variable.
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(value_name = "VALUE", long, allow_hyphen_values = true)]
     pub to: f64,
     /// Number of values (evenly spaced, ends included).
-    #[arg(long, default_value_t = 13)]
+    #[arg(value_name = "N", long, default_value_t = 13)]
     pub steps: usize,
     /// Sensor to measure (default: the scene's only sensor).
-    #[arg(long)]
+    #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
     #[command(flatten)]
     pub run: RunArgs,

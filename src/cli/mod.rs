@@ -23,6 +23,7 @@ pub mod inspect;
 pub mod progress;
 pub mod reflectivity;
 pub mod render;
+pub mod synopsis;
 pub mod tessellate;
 pub mod trace;
 

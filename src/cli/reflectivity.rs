@@ -21,19 +21,19 @@ use traxer::xray::{Coating, CoatingLibrary};
 pub struct ReflectivityArgs {
     /// A coating of data/coatings.toml (e.g. llnl_recipe_3, gold), or FILE or
     /// FILE:NAME for a TOML file with [materials] and [coatings] tables.
-    #[arg(long)]
+    #[arg(value_name = "NAME|FILE", long)]
     pub coating: String,
     /// Photon energies, keV.
-    #[arg(long)]
+    #[arg(value_name = "KEV_LIST", long)]
     pub energy: String,
     /// Grazing angles, degrees.
-    #[arg(long)]
+    #[arg(value_name = "DEG_LIST", long)]
     pub angle: String,
     /// PNG plot to write.
-    #[arg(long, default_value = "reflectivity.png")]
+    #[arg(value_name = "PNG", long, default_value = "reflectivity.png")]
     pub plot: PathBuf,
     /// Also write the CSV to this file (atomically) instead of only printing it.
-    #[arg(long)]
+    #[arg(value_name = "FILE", long)]
     pub csv: Option<PathBuf>,
 }
 

@@ -28,46 +28,46 @@ pub struct RenderArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Output PNG.
-    #[arg(short, long)]
+    #[arg(value_name = "PNG", short, long)]
     pub out: PathBuf,
     /// Camera of the scene's [cameras] table.
-    #[arg(long)]
+    #[arg(value_name = "NAME", long)]
     pub camera: Option<String>,
     /// Camera position x,y,z (mm).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(value_name = "X,Y,Z", long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub look_from: Option<DVec3>,
     /// Point the camera looks at, x,y,z (mm).
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(value_name = "X,Y,Z", long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub look_at: Option<DVec3>,
     /// Up direction x,y,z.
-    #[arg(long, value_parser = parse_vec3, allow_hyphen_values = true)]
+    #[arg(value_name = "X,Y,Z", long, value_parser = parse_vec3, allow_hyphen_values = true)]
     pub up: Option<DVec3>,
     /// Vertical field of view (degrees).
-    #[arg(long)]
+    #[arg(value_name = "DEG", long)]
     pub vfov: Option<f64>,
-    #[arg(long, default_value_t = 800)]
+    #[arg(value_name = "PX", long, default_value_t = 800)]
     pub width: usize,
-    #[arg(long, default_value_t = 450)]
+    #[arg(value_name = "PX", long, default_value_t = 450)]
     pub height: usize,
     /// Samples per pixel.
-    #[arg(long, default_value_t = 64)]
+    #[arg(value_name = "N", long, default_value_t = 64)]
     pub spp: u32,
     /// Maximum bounces per path.
-    #[arg(long, default_value_t = 12)]
+    #[arg(value_name = "N", long, default_value_t = 12)]
     pub max_depth: u32,
     #[command(flatten)]
     pub sampling: SamplingArgs,
     /// X-ray image(s) to show on the sensors: a trace output folder or a .npy.
-    #[arg(long)]
+    #[arg(value_name = "DIR|NPY", long)]
     pub sensor_image: Option<PathBuf>,
     /// The sensor a single .npy belongs to (default: the scene's only sensor).
-    #[arg(long)]
+    #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
     /// Show sensor images on a log scale over this many decades.
-    #[arg(long)]
+    #[arg(value_name = "N", long)]
     pub log_decades: Option<u32>,
     /// Radiance of the brightest sensor pixel (1 = as bright as a white sky).
-    #[arg(long, default_value_t = 1.5)]
+    #[arg(value_name = "B", long, default_value_t = 1.5)]
     pub brightness: f64,
     #[command(flatten)]
     pub quiet: QuietArg,

@@ -24,19 +24,19 @@ pub struct TessellateArgs {
     #[arg(required_unless_present = "shape", conflicts_with = "shape")]
     pub scene: Option<PathBuf>,
     /// One shape, written as the inside of a scene file's `shape = { ... }`.
-    #[arg(long)]
+    #[arg(value_name = "'SHAPE'", long)]
     pub shape: Option<String>,
     /// Only these objects of the scene (repeatable).
-    #[arg(long)]
+    #[arg(value_name = "NAME", long)]
     pub object: Vec<String>,
     /// Divisions around the azimuth (default: the object's `tessellate`, else 360).
-    #[arg(long)]
+    #[arg(value_name = "N", long)]
     pub segments: Option<usize>,
     /// Divisions along the axis (default: the object's `tessellate`, else 16).
-    #[arg(long)]
+    #[arg(value_name = "M", long)]
     pub rings: Option<usize>,
     /// Output file or folder.
-    #[arg(short, long)]
+    #[arg(value_name = "FILE|DIR", short, long)]
     pub out: PathBuf,
     /// Formats written into a folder (comma separated).
     #[arg(long, value_enum, value_delimiter = ',', default_value = "gltf,obj")]

@@ -26,7 +26,7 @@ pub struct TraceArgs {
     pub output: OutputArgs,
     /// First photon index: trace photons [first, first + photons) of a larger run
     /// (for splitting one run into shards on a cluster).
-    #[arg(long, default_value_t = 0)]
+    #[arg(value_name = "K", long, default_value_t = 0)]
     pub first_photon: u64,
 }
 

@@ -4,6 +4,7 @@
 mod analysis;
 mod common;
 mod determinism;
+mod docs;
 mod embree_parity;
 mod errors;
 mod figure_error;
