@@ -12,6 +12,7 @@ mod files;
 mod focusing;
 mod geometry;
 mod inspect;
+mod layout;
 mod llnl;
 mod mesh_io;
 mod meshed_telescope;

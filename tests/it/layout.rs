@@ -1,0 +1,177 @@
+//! The shape of the code (ARCHITECTURE.md): the library's top-level modules
+//! import each other without cycles, no source file grows past 600 lines, and
+//! `unsafe` appears only in `embree/`.
+
+use crate::common::repo;
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
+    for e in std::fs::read_dir(dir).unwrap() {
+        let p = e.unwrap().path();
+        if p.is_dir() {
+            rust_files(&p, out);
+        } else if p.extension().is_some_and(|x| x == "rs") {
+            out.push(p);
+        }
+    }
+}
+
+/// The code of a file without its comments (line comments only: the crate
+/// writes no block comments).
+fn code(text: &str) -> String {
+    text.lines()
+        .map(|l| match l.find("//") {
+            Some(i) if !l[..i].contains('"') => &l[..i],
+            _ => l,
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Top-level library module → the top-level modules it names as `crate::X`
+/// (single paths and `crate::{a, b::c}` groups).
+fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
+    let src = repo().join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let top = |p: &Path| -> Option<String> {
+        let rel = p.strip_prefix(&src).unwrap();
+        let first = rel.components().next()?.as_os_str().to_string_lossy();
+        let name = first.trim_end_matches(".rs").to_string();
+        (!matches!(name.as_str(), "lib" | "main" | "cli")).then_some(name)
+    };
+    let modules: BTreeSet<String> = files.iter().filter_map(|p| top(p)).collect();
+    let mut graph: BTreeMap<String, BTreeSet<String>> = modules
+        .iter()
+        .map(|m| (m.clone(), BTreeSet::new()))
+        .collect();
+    for f in &files {
+        let Some(from) = top(f) else { continue };
+        let text = code(&std::fs::read_to_string(f).unwrap());
+        for (i, _) in text.match_indices("crate::") {
+            let rest = &text[i + "crate::".len()..];
+            let names: Vec<String> = if let Some(group) = rest.strip_prefix('{') {
+                // Top-level names of the group: `a`, `b::c`, `d::{e, f}`.
+                let mut depth = 0;
+                let mut items = vec![String::new()];
+                for c in group.chars() {
+                    match c {
+                        '{' => depth += 1,
+                        '}' if depth == 0 => break,
+                        '}' => depth -= 1,
+                        ',' if depth == 0 => items.push(String::new()),
+                        _ => items.last_mut().unwrap().push(c),
+                    }
+                }
+                items
+                    .iter()
+                    .map(|s| s.trim().split("::").next().unwrap_or("").to_string())
+                    .collect()
+            } else {
+                let name: String = rest
+                    .chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect();
+                vec![name]
+            };
+            for n in names {
+                if modules.contains(&n) && n != from {
+                    graph.get_mut(&from).unwrap().insert(n);
+                }
+            }
+        }
+    }
+    graph
+}
+
+/// A cycle of the graph, if it has one (depth-first search).
+fn find_cycle(graph: &BTreeMap<String, BTreeSet<String>>) -> Option<Vec<String>> {
+    fn visit(
+        n: &str,
+        graph: &BTreeMap<String, BTreeSet<String>>,
+        state: &mut BTreeMap<String, u8>,
+        path: &mut Vec<String>,
+    ) -> Option<Vec<String>> {
+        state.insert(n.to_string(), 1);
+        path.push(n.to_string());
+        for m in &graph[n] {
+            match state.get(m.as_str()).copied().unwrap_or(0) {
+                1 => {
+                    let start = path.iter().position(|p| p == m).unwrap();
+                    let mut cycle = path[start..].to_vec();
+                    cycle.push(m.clone());
+                    return Some(cycle);
+                }
+                0 => {
+                    if let Some(c) = visit(m, graph, state, path) {
+                        return Some(c);
+                    }
+                }
+                _ => {}
+            }
+        }
+        path.pop();
+        state.insert(n.to_string(), 2);
+        None
+    }
+    let mut state = BTreeMap::new();
+    for n in graph.keys() {
+        if state.get(n).copied().unwrap_or(0) == 0 {
+            if let Some(c) = visit(n, graph, &mut state, &mut Vec::new()) {
+                return Some(c);
+            }
+        }
+    }
+    None
+}
+
+#[test]
+fn library_modules_import_each_other_without_cycles() {
+    let graph = module_graph();
+    // The graph is read correctly: known edges are there.
+    assert!(graph["trace"].contains("raycast"), "{graph:?}");
+    assert!(graph["scene"].contains("geometry"), "{graph:?}");
+    if let Some(cycle) = find_cycle(&graph) {
+        panic!("module cycle: {}", cycle.join(" → "));
+    }
+    // The lower layers know nothing of the upper ones.
+    for (low, forbidden) in [
+        ("geometry", ["embree", "render", "output", "scene", "trace"]),
+        ("xray", ["embree", "render", "output", "scene", "trace"]),
+        ("source", ["embree", "render", "output", "scene", "trace"]),
+        ("files", ["embree", "render", "output", "scene", "trace"]),
+    ] {
+        for f in forbidden {
+            assert!(!graph[low].contains(f), "{low} imports {f}");
+        }
+    }
+}
+
+#[test]
+fn the_cycle_finder_finds_cycles() {
+    let g: BTreeMap<String, BTreeSet<String>> = [("a", "b"), ("b", "c"), ("c", "a")]
+        .iter()
+        .map(|(x, y)| (x.to_string(), BTreeSet::from([y.to_string()])))
+        .collect();
+    assert_eq!(find_cycle(&g).unwrap().len(), 4);
+}
+
+#[test]
+fn no_source_file_is_over_600_lines_and_unsafe_stays_in_embree() {
+    let mut files = Vec::new();
+    rust_files(&repo().join("src"), &mut files);
+    for f in files {
+        let text = std::fs::read_to_string(&f).unwrap();
+        let n = text.lines().count();
+        assert!(n <= 600, "{}: {n} lines", f.display());
+        let in_embree = f.components().any(|c| c.as_os_str() == "embree");
+        if !in_embree {
+            assert!(
+                !code(&text).contains("unsafe "),
+                "{}: unsafe outside embree/",
+                f.display()
+            );
+        }
+    }
+}
