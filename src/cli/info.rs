@@ -11,12 +11,6 @@ pub struct InfoArgs {
 pub fn run(a: InfoArgs) -> anyhow::Result<()> {
     let device = traxer::embree::Device::new()?;
     let e = device.info();
-    let isa = match e.native_packets.iter().max() {
-        Some(16) => "AVX-512 (native 16-wide packets)",
-        Some(8) => "AVX/AVX2 (native 8-wide packets)",
-        Some(4) => "SSE (native 4-wide packets)",
-        _ => "scalar",
-    };
     let mut cpu = Vec::new();
     #[cfg(target_arch = "x86_64")]
     {
@@ -33,6 +27,21 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
             cpu.push("avx512f");
         }
     }
+    // The library reports the packet widths it was compiled for (16 = AVX-512
+    // code paths present); at run time it uses the widest one this CPU runs.
+    let compiled = |w: u32| e.native_packets.contains(&w);
+    let has = |f: &str| cpu.contains(&f);
+    let isa = if compiled(16) && has("avx512f") {
+        "AVX-512 (16-wide packets)"
+    } else if compiled(8) && has("avx2") {
+        "AVX2 (8-wide packets)"
+    } else if compiled(8) && has("avx") {
+        "AVX (8-wide packets)"
+    } else if compiled(4) {
+        "SSE (4-wide packets)"
+    } else {
+        "scalar"
+    };
     let threads = std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1);
@@ -41,7 +50,7 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
             "traxer_version": env!("CARGO_PKG_VERSION"),
             "git_hash": traxer::output::git_hash(),
             "embree": e,
-            "embree_isa": isa,
+            "embree_isa_used": isa,
             "cpu_features": cpu,
             "threads": threads,
         });
@@ -58,7 +67,10 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
             e.major,
             e.tasking_system
         );
-        say!("Embree ISA: {isa}; robust scenes: yes");
+        say!(
+            "Embree compiled for packet widths {:?}; on this CPU it uses {isa}; robust scenes: yes",
+            e.native_packets
+        );
         say!("CPU features: {}", cpu.join(" "));
         say!("threads (default for --threads 0): {threads}");
     }
