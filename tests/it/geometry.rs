@@ -365,3 +365,40 @@ fn tessellation_is_wound_towards_the_front_and_converges_in_area() {
             < 1e-12
     );
 }
+
+#[test]
+fn a_box_tessellates_at_the_resolution_asked() {
+    // Each face a 3 × 2 grid: 6 faces × 6 quads × 2 triangles, every vertex on the
+    // surface, every facet facing outwards, the area unchanged.
+    let size = DVec3::new(1.0, 2.0, 3.0);
+    let bx = Shape::Cuboid(Cuboid { size });
+    let m = bx.tessellate(Resolution {
+        segments: 3,
+        rings: 2,
+    });
+    assert_eq!(m.triangles.len(), 72);
+    assert!((m.area() - 22.0).abs() < 1e-12, "{}", m.area());
+    let h = 0.5 * size;
+    for p in &m.positions {
+        let on_face = (0..3).any(|k| (p[k].abs() - h[k]).abs() < 1e-12);
+        let inside = (0..3).all(|k| p[k].abs() <= h[k] + 1e-12);
+        assert!(on_face && inside, "{p}");
+    }
+    for i in 0..m.triangles.len() {
+        let [a, b, c] = m.triangles[i].map(|k| m.positions[k as usize]);
+        let centre = (a + b + c) / 3.0;
+        assert!(
+            m.face_normal(i).dot(centre) > 0.0,
+            "triangle {i} faces inwards"
+        );
+        // The exact normal of the face the triangle lies on.
+        assert_eq!(bx.normal(centre), m.face_normal(i).normalize());
+    }
+    // A finer grid has more triangles on the same surface.
+    let fine = bx.tessellate(Resolution {
+        segments: 10,
+        rings: 10,
+    });
+    assert_eq!(fine.triangles.len(), 6 * 200);
+    assert!((fine.area() - 22.0).abs() < 1e-12);
+}
