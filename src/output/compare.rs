@@ -83,8 +83,7 @@ pub fn write_compare(
     rows: &[Row],
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+    crate::files::create_dir_all(dir)?;
     let (rel, arcsec) = relative(rows);
     let csv = dir.join("compare.csv");
     let header = [

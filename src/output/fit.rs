@@ -66,8 +66,7 @@ pub fn write_fit(
     report: &FitReport,
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+    crate::files::create_dir_all(dir)?;
     let history = dir.join("history.csv");
     let header = [
         "evaluation",

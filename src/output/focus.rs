@@ -17,8 +17,7 @@ pub fn write_focus(
     range: (f64, f64),
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+    crate::files::create_dir_all(dir)?;
     let csv = dir.join("focus.csv");
     let header = [var, "hpd_mm", "d80_mm", "d90_mm", "photons_on_sensor"];
     write_csv(

@@ -18,8 +18,7 @@ pub fn write_run(
     result: &RunResult,
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir)
-        .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", dir.display())))?;
+    crate::files::create_dir_all(dir)?;
     let mut written = Vec::new();
     let stats = statistics_json(scene, result);
     let sources = sources_json(scene);
