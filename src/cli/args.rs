@@ -35,6 +35,13 @@ pub fn parse_define(s: &str) -> Result<String, String> {
 pub struct SceneArgs {
     /// Scene file (TOML); see docs/scene-format.md.
     pub scene: PathBuf,
+    #[command(flatten)]
+    pub vars: DefineArgs,
+}
+
+/// `-D name=value` overrides of scene variables.
+#[derive(clap::Args, Clone, Debug)]
+pub struct DefineArgs {
     /// Override a scene variable declared in [vars]: -D name=value (repeatable).
     #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
     pub define: Vec<String>,

@@ -66,7 +66,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let mut warnings = Warnings::default();
     let mut main_scene = None;
     let load = |path: &std::path::Path, repr| {
-        let scene = Scene::load_as(&device, path, &a.scene.define, repr)?;
+        let scene = Scene::load_as(&device, path, &a.scene.vars.define, repr)?;
         warnings.show(&scene);
         main_scene.get_or_insert_with(|| Provenance::new(None).scene(&scene));
         Ok(scene)

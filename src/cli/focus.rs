@@ -62,7 +62,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     let mut warnings = Warnings::default();
     let mut first_scene = None;
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
-        let defines = [a.scene.define.as_slice(), extra].concat();
+        let defines = [a.scene.vars.define.as_slice(), extra].concat();
         let scene = Scene::load(&device, &a.scene.scene, &defines)?;
         warnings.show(&scene);
         first_scene.get_or_insert_with(|| Provenance::new(None).scene(&scene));
@@ -99,7 +99,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     // swept one (focus.csv has its values).
     let mut provenance = Provenance {
         embree_version: Some(device.info().version),
-        overrides: a.scene.define.clone(),
+        overrides: a.scene.vars.define.clone(),
         ..first_scene.unwrap_or_else(|| Provenance::new(None))
     }
     .run(&cfg, scan.threads);

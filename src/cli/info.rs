@@ -50,7 +50,7 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
             "traxer_version": env!("CARGO_PKG_VERSION"),
             "git_hash": traxer::output::git_hash(),
             "embree": e,
-            "embree_isa_used": isa,
+            "embree_isa": isa,
             "cpu_features": cpu,
             "threads": threads,
         });

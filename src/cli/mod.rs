@@ -69,7 +69,7 @@ impl Warnings {
 /// version), printing the scene's warnings.
 pub fn load_scene(a: &SceneArgs) -> anyhow::Result<(Device, Scene)> {
     let device = Device::new()?;
-    let scene = Scene::load(&device, &a.scene, &a.define)?;
+    let scene = Scene::load(&device, &a.scene, &a.vars.define)?;
     Warnings::default().show(&scene);
     Ok((device, scene))
 }

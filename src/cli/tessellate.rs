@@ -1,6 +1,6 @@
 //! `traxer tessellate`: analytic shapes → triangle meshes (glTF and/or OBJ).
 
-use super::args::parse_define;
+use super::args::DefineArgs;
 use super::InputError;
 use anyhow::Context;
 use std::path::PathBuf;
@@ -44,9 +44,8 @@ pub struct TessellateArgs {
     /// Keep the shapes in their local frames (ignore the objects' transforms).
     #[arg(long)]
     pub local: bool,
-    /// Override a scene variable: -D name=value.
-    #[arg(short = 'D', value_name = "NAME=VALUE", value_parser = parse_define)]
-    pub define: Vec<String>,
+    #[command(flatten)]
+    pub vars: DefineArgs,
 }
 
 /// Mesh file formats `tessellate` writes.
@@ -73,7 +72,7 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         return Err(InputError("--segments and --rings must be at least 1".into()).into());
     }
     let mut shapes: Vec<NamedShape> = match (&a.scene, &a.shape) {
-        (Some(scene), _) => analytic_shapes(scene, &a.define)?,
+        (Some(scene), _) => analytic_shapes(scene, &a.vars.define)?,
         (None, Some(text)) => vec![NamedShape {
             name: "shape".into(),
             shape: inline_shape(text)?,

@@ -26,8 +26,6 @@ pub enum StudyError {
     Optimiser(String),
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
-    #[error(transparent)]
-    Embree(#[from] crate::embree::EmbreeError),
 }
 
 impl StudyError {
