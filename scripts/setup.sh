@@ -3,6 +3,7 @@
 # libclang (for bindgen) and CMake (for NLopt), from the system's packages. Safe to run repeatedly.
 # Set EMBREE_DIR to use an Embree of your own instead.
 set -euo pipefail
+cd "$(dirname "$0")/.."
 
 have_embree() {
   [ -n "${EMBREE_DIR:-}" ] && return 0
@@ -45,7 +46,21 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
 
-if ! command -v cargo >/dev/null 2>&1; then
-  echo "traxer needs Rust (cargo): see the Rust installation guide (rustup)." >&2
+if ! command -v cargo >/dev/null 2>&1 || ! command -v rustc >/dev/null 2>&1; then
+  echo "traxer needs Rust (cargo and rustc): install it with rustup, the official Rust installer." >&2
+  exit 1
+fi
+
+# The oldest Rust that builds traxer and its locked dependencies (Cargo.toml's
+# rust-version). Distributions ship older ones (Debian 13: 1.85, Ubuntu 24.04: 1.75).
+need=$(sed -n 's/^rust-version = "\([0-9.]*\)"/\1/p' Cargo.toml)
+have=$(rustc --version | sed -n 's/^rustc \([0-9][0-9.]*\).*/\1/p')
+older() { # whether version $1 is older than $2 (major.minor[.patch])
+  [ "$(printf '%s\n%s\n' "$1" "$2" | sort -V | head -n 1)" = "$1" ] && [ "$1" != "$2" ]
+}
+if [ -z "$have" ] || older "$have" "$need"; then
+  echo "traxer needs Rust $need or newer; this rustc is ${have:-unknown} ($(command -v rustc))." >&2
+  echo "Install a current Rust with rustup (the official installer), or run \`rustup update stable\`" >&2
+  echo "if you have it; a distribution's rustc package is usually too old." >&2
   exit 1
 fi

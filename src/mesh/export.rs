@@ -100,10 +100,10 @@ pub fn write_gltf(path: &Path, parts: &[(&str, &TriangleMesh)]) -> std::io::Resu
     }
     // GLB: 12-byte header, JSON chunk (space padded), BIN chunk (zero padded).
     let mut json_chunk = text.into_bytes();
-    while json_chunk.len() % 4 != 0 {
+    while !json_chunk.len().is_multiple_of(4) {
         json_chunk.push(b' ');
     }
-    while bin.len() % 4 != 0 {
+    while !bin.len().is_multiple_of(4) {
         bin.push(0);
     }
     let total = 12 + 8 + json_chunk.len() + 8 + bin.len();

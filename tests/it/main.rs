@@ -21,4 +21,5 @@ mod photon_loop;
 mod render;
 mod scenes;
 mod sources;
+mod toolchain;
 mod xray;
