@@ -57,7 +57,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            cli::tell_line(format_args!("error: {e:#}"));
             if cli::is_input_error(&e) {
                 ExitCode::from(2)
             } else {

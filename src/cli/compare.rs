@@ -81,7 +81,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         |r| {
             if !quiet {
                 bar.suspend(|| {
-                    eprintln!(
+                    tell!(
                         "{}: {} triangles, {:.2} s, HPD {}",
                         r.label,
                         r.triangles,

@@ -107,7 +107,7 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
                 None => say!("{name:>11}: {d:.4} mm"),
             }
         }
-        eprintln!("wrote {}", plot.display());
+        tell!("wrote {}", plot.display());
     }
     Ok(())
 }

@@ -167,7 +167,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let started = std::time::Instant::now();
     let result = fit(&mut scene, &settings, &|n| bar.inc(n), |e, best| {
         if !quiet {
-            bar.suspend(|| eprintln!("{}", evaluation_line(e, best, &started)));
+            bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
         }
     });
     let fit_seconds = started.elapsed().as_secs_f64();

@@ -89,7 +89,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let scan = result?;
     if !scan.clipped.is_empty() {
-        eprintln!(
+        tell!(
             "warning: fewer photons reach the sensor at {} = {:?} than elsewhere in the sweep: \
              the image is probably larger than the sensor there (narrow the sweep or enlarge the sensor)",
             a.var, scan.clipped

@@ -115,7 +115,7 @@ pub fn run(a: InspectArgs) -> anyhow::Result<()> {
         1 => Err(failures.remove(0).into()),
         n => {
             for e in &failures {
-                eprintln!("error: {e}");
+                tell!("error: {e}");
             }
             Err(InputError(format!(
                 "{n} of {} files cannot be imported (see above)",

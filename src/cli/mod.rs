@@ -4,11 +4,19 @@
 //! these modules only handle I/O-side settings (photons, seed, threads, output
 //! folder). Progress bars are drawn here ([`progress`]), never in the library.
 
-/// `println!` that treats a closed pipe (`traxer ... | head`) as the end of the
-/// program rather than an error: the process exits quietly with code 0.
+/// `println!` that never panics: once stdout is closed (`traxer ... | head`) the
+/// rest is dropped and the run goes on; its exit code is what the run deserves.
 macro_rules! say {
     ($($t:tt)*) => {
         $crate::cli::say_line(format_args!($($t)*))
+    };
+}
+
+/// `eprintln!` that never panics: with stderr closed (`traxer ... 2>&1 | true`)
+/// warnings and messages are dropped, and the run is not killed for it.
+macro_rules! tell {
+    ($($t:tt)*) => {
+        $crate::cli::tell_line(format_args!($($t)*))
     };
 }
 
@@ -59,7 +67,7 @@ impl Warnings {
     pub fn show(&mut self, scene: &Scene) {
         for w in &scene.warnings {
             if self.0.insert(w.clone()) {
-                eprintln!("warning: {w}");
+                tell!("warning: {w}");
             }
         }
     }
@@ -81,16 +89,32 @@ pub fn load_xray_scene(a: &SceneArgs) -> anyhow::Result<(Device, Scene)> {
     Ok((device, scene))
 }
 
-/// Writes one line to stdout; see [`say!`].
+/// Writes one line to stdout; see [`say!`]. After the first failed write (a
+/// closed pipe, a full disk) nothing more is tried.
 pub fn say_line(text: std::fmt::Arguments) {
     use std::io::Write;
-    let mut out = std::io::stdout().lock();
-    let result = out.write_fmt(text).and_then(|_| out.write_all(b"\n"));
-    if let Err(e) = result {
-        if e.kind() == std::io::ErrorKind::BrokenPipe {
-            std::process::exit(0);
-        }
-        eprintln!("error: cannot write to standard output: {e}");
-        std::process::exit(1);
+    use std::sync::atomic::{AtomicBool, Ordering};
+    static CLOSED: AtomicBool = AtomicBool::new(false);
+    if CLOSED.load(Ordering::Relaxed) {
+        return;
     }
+    let mut out = std::io::stdout().lock();
+    let result = out
+        .write_fmt(text)
+        .and_then(|_| out.write_all(b"\n"))
+        .and_then(|_| out.flush());
+    if let Err(e) = result {
+        CLOSED.store(true, Ordering::Relaxed);
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            tell!("warning: cannot write to standard output: {e}");
+        }
+    }
+}
+
+/// Writes one line to stderr; see [`tell!`]. Errors are ignored: there is no one
+/// left to tell.
+pub fn tell_line(text: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut err = std::io::stderr().lock();
+    let _ = err.write_fmt(text).and_then(|_| err.write_all(b"\n"));
 }

@@ -199,6 +199,6 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
     });
     write_sidecar(&a.plot, &Provenance::new(None), details)
         .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;
-    eprintln!("wrote {}", a.plot.display());
+    tell!("wrote {}", a.plot.display());
     Ok(())
 }

@@ -42,7 +42,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     cfg.first_photon = a.first_photon;
     let (device, scene) = load_xray_scene(&a.scene)?;
     if scene.sensors.is_empty() {
-        eprintln!("warning: the scene has no sensor; only statistics will be written");
+        tell!("warning: the scene has no sensor; only statistics will be written");
     }
     let quiet = a.output.quiet.quiet;
     let bar = progress::bar(cfg.photons, "photons", quiet);

@@ -21,5 +21,6 @@ mod photon_loop;
 mod render;
 mod scenes;
 mod sources;
+mod streams;
 mod toolchain;
 mod xray;
