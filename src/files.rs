@@ -1,11 +1,14 @@
-//! Files on disk, at the bottom of every data flow: atomic writes and content
-//! hashes. Everything traxer writes (images, tables, plots, meshes, sidecars)
-//! goes through [`atomic_write`]; scenes and provenance hash with [`sha256_hex`].
+//! Files on disk, at the bottom of every data flow: atomic writes, checks of
+//! output locations before any work, and content hashes. Everything traxer writes
+//! (images, tables, plots, meshes, sidecars) goes through [`atomic_write`], which
+//! only ever replaces regular files; commands call [`check_output_dir`] or
+//! [`check_output_file`] before tracing, so that a location that cannot take the
+//! results is refused at once; scenes and provenance hash with [`sha256_hex`].
 //! This module uses no other part of traxer.
 
 use sha2::{Digest, Sha256};
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Writes `bytes` to `path` so that readers see either the old file or the whole
 /// new one, never a part: the bytes go to a temporary file with a unique name in
@@ -13,6 +16,19 @@ use std::path::Path;
 /// it), are flushed to disk, and the file is renamed over `path`. On failure the
 /// temporary file is removed and `path` is untouched.
 pub fn atomic_write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    // A rename would replace a device node, a FIFO or a socket with a regular file.
+    if let Ok(m) = std::fs::metadata(path) {
+        if !m.is_file() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!(
+                    "{}: is {}, not a regular file; traxer only replaces regular files",
+                    path.display(),
+                    kind(&m)
+                ),
+            ));
+        }
+    }
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
@@ -38,6 +54,116 @@ pub fn atomic_write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     tmp.write_all(bytes).map_err(with_path)?;
     tmp.as_file().sync_all().map_err(with_path)?;
     tmp.persist(path).map_err(|e| with_path(e.error))?;
+    Ok(())
+}
+
+/// Why an output location cannot take a command's results (exit code 2).
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct OutputLocationError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+/// What a non-regular file is, for messages.
+fn kind(m: &std::fs::Metadata) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    let t = m.file_type();
+    if t.is_dir() {
+        "a folder"
+    } else if t.is_char_device() || t.is_block_device() {
+        "a device"
+    } else if t.is_fifo() {
+        "a named pipe"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
+}
+
+/// Checks that `dir` is, or can be created as, a folder this process can write
+/// files into: the nearest existing ancestor must be a folder (not a file in the
+/// way) and writable (a temporary file is made in it and removed).
+fn check_writable_folder(dir: &Path) -> Result<(), OutputLocationError> {
+    let fail = |path: &Path, message: String| OutputLocationError {
+        path: path.to_path_buf(),
+        message,
+    };
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let mut existing = dir;
+    while std::fs::metadata(existing).is_err() {
+        match existing.parent() {
+            Some(p) if !p.as_os_str().is_empty() => existing = p,
+            _ => {
+                existing = Path::new(".");
+                break;
+            }
+        }
+    }
+    let m = std::fs::metadata(existing).map_err(|e| fail(existing, e.to_string()))?;
+    if !m.is_dir() {
+        let what = if m.is_file() { "a file" } else { kind(&m) };
+        return Err(if existing == dir {
+            fail(dir, format!("is {what}, not a folder"))
+        } else {
+            fail(
+                dir,
+                format!("cannot be created: {} is {what}", existing.display()),
+            )
+        });
+    }
+    tempfile::Builder::new()
+        .prefix(".traxer-write-check")
+        .tempfile_in(existing)
+        .map(drop)
+        .map_err(|e| fail(existing, format!("cannot write there: {e}")))
+}
+
+/// Checks, before any work, that `path` can receive an output file: its folder
+/// exists or can be created and is writable, and `path` is a new name or a
+/// regular file (never a folder, device, pipe or socket).
+pub fn check_output_file(path: &Path) -> Result<(), OutputLocationError> {
+    if let Ok(m) = std::fs::metadata(path) {
+        if !m.is_file() {
+            return Err(OutputLocationError {
+                path: path.to_path_buf(),
+                message: format!(
+                    "is {}; give a file name (traxer only replaces regular files)",
+                    kind(&m)
+                ),
+            });
+        }
+    }
+    if path.file_name().is_none() {
+        return Err(OutputLocationError {
+            path: path.to_path_buf(),
+            message: "is not a file name".into(),
+        });
+    }
+    check_writable_folder(path.parent().unwrap_or(Path::new(".")))
+}
+
+/// Checks, before any work, that `dir` can receive the files `names`: it is (or
+/// can be created as) a writable folder, and none of the names is there as
+/// anything but a regular file.
+pub fn check_output_dir<S: AsRef<str>>(dir: &Path, names: &[S]) -> Result<(), OutputLocationError> {
+    check_writable_folder(dir)?;
+    for n in names {
+        let p = dir.join(n.as_ref());
+        if let Ok(m) = std::fs::metadata(&p) {
+            if !m.is_file() {
+                return Err(OutputLocationError {
+                    path: p,
+                    message: format!("is {}, in the way of an output file of that name", kind(&m)),
+                });
+            }
+        }
+    }
     Ok(())
 }
 

@@ -60,6 +60,7 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
+    traxer::files::check_output_dir(&a.output.out, &traxer::output::COMPARE_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);

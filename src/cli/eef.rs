@@ -5,7 +5,8 @@ use anyhow::Context;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::analysis::{analyse, ImageGeometry};
-use traxer::output::{read_image, write_eef_plot, write_sidecar, Provenance};
+use traxer::files::check_output_file;
+use traxer::output::{read_image, sidecar_path, write_eef_plot, write_sidecar, Provenance};
 
 /// Encircled-energy analysis of an image from a trace or from elsewhere.
 ///
@@ -75,6 +76,8 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
             .unwrap_or_default();
         a.image.with_file_name(format!("{stem}_eef.png"))
     });
+    check_output_file(&plot)?;
+    check_output_file(&sidecar_path(&plot))?;
     write_eef_plot(
         &plot,
         &format!("{}: encircled energy", a.image.display()),

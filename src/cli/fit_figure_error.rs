@@ -141,6 +141,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     }
     let bounds = parse_bounds(&a.bounds)?;
     let run = a.run.config()?;
+    traxer::files::check_output_dir(&a.output.out, &traxer::output::FIT_FILES)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {

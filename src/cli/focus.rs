@@ -57,6 +57,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     };
     let values = sweep.values()?;
     let cfg = a.run.config()?;
+    traxer::files::check_output_dir(&a.output.out, &traxer::output::FOCUS_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let mut warnings = Warnings::default();

@@ -37,6 +37,7 @@ pub mod trace;
 
 use args::SceneArgs;
 use traxer::embree::Device;
+use traxer::files::OutputLocationError;
 use traxer::mesh::MeshError;
 use traxer::output::NpyError;
 use traxer::scene::{Scene, SceneError};
@@ -54,6 +55,7 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<MeshError>()
             || c.is::<InputError>()
             || c.is::<NpyError>()
+            || c.is::<OutputLocationError>()
             || c.downcast_ref::<StudyError>()
                 .is_some_and(StudyError::is_bad_input)
     })

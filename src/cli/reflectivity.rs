@@ -6,7 +6,8 @@ use anyhow::Context;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::files::atomic_write;
-use traxer::output::{csv_text, line_plot, write_sidecar, Provenance, Series};
+use traxer::files::check_output_file;
+use traxer::output::{csv_text, line_plot, sidecar_path, write_sidecar, Provenance, Series};
 use traxer::xray::{Coating, CoatingLibrary};
 
 /// Print the reflectivity of a mirror coating as CSV and plot it.
@@ -121,6 +122,11 @@ fn load_coating(spec: &str) -> Result<Coating, InputError> {
 }
 
 pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
+    check_output_file(&a.plot)?;
+    check_output_file(&sidecar_path(&a.plot))?;
+    if let Some(csv) = &a.csv {
+        check_output_file(csv)?;
+    }
     let coating = load_coating(&a.coating)?;
     let energies = parse_values("energy", &a.energy)?;
     let angles = parse_values("angle", &a.angle)?;

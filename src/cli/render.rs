@@ -7,7 +7,8 @@ use anyhow::Context;
 use glam::DVec3;
 use serde_json::json;
 use std::path::{Path, PathBuf};
-use traxer::output::{read_image, write_rgb_png, write_sidecar, Provenance, Scale};
+use traxer::files::check_output_file;
+use traxer::output::{read_image, sidecar_path, write_rgb_png, write_sidecar, Provenance, Scale};
 use traxer::render::{render_with_progress, to_srgb8, Camera, RenderSettings, SensorTexture};
 use traxer::scene::Scene;
 use traxer::studies::pick_sensor;
@@ -182,6 +183,8 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     if !(a.brightness.is_finite() && a.brightness >= 0.0) {
         return Err(InputError("--brightness must be a number ≥ 0".into()).into());
     }
+    check_output_file(&a.out)?;
+    check_output_file(&sidecar_path(&a.out))?;
     let (device, scene) = load_scene(&a.scene)?;
     let cam = camera(&a, &scene)?;
     let textures = match &a.sensor_image {

@@ -103,8 +103,19 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         .extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| ["gltf", "glb", "obj"].contains(&e.to_ascii_lowercase().as_str()));
-    if !is_file {
-        std::fs::create_dir_all(&a.out)
+    if is_file {
+        traxer::files::check_output_file(&a.out)?;
+    } else {
+        let names: Vec<String> = shapes
+            .iter()
+            .flat_map(|s| {
+                a.format
+                    .iter()
+                    .map(|f| format!("{}.{}", file_stem(&s.name), f.extension()))
+            })
+            .collect();
+        traxer::files::check_output_dir(&a.out, &names)?;
+        traxer::files::create_dir_all(&a.out)
             .with_context(|| format!("cannot create {}", a.out.display()))?;
     }
     let mut meshes = Vec::with_capacity(shapes.len());

@@ -41,6 +41,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     }
     cfg.first_photon = a.first_photon;
     let (device, scene) = load_xray_scene(&a.scene)?;
+    traxer::files::check_output_dir(&a.output.out, &traxer::output::run_file_names(&scene))?;
     if scene.sensors.is_empty() {
         tell!("warning: the scene has no sensor; only statistics will be written");
     }

@@ -77,6 +77,9 @@ pub fn compare_markdown(rows: &[Row]) -> String {
     md.trim_end().to_string()
 }
 
+/// The files of a comparison.
+pub const COMPARE_FILES: [&str; 2] = ["compare.csv", "compare.json"];
+
 /// Writes compare.csv and compare.json into `dir` (created if needed).
 pub fn write_compare(
     dir: &Path,
@@ -85,7 +88,7 @@ pub fn write_compare(
 ) -> std::io::Result<Vec<PathBuf>> {
     crate::files::create_dir_all(dir)?;
     let (rel, arcsec) = relative(rows);
-    let csv = dir.join("compare.csv");
+    let csv = dir.join(COMPARE_FILES[0]);
     let header = [
         "representation",
         "triangles",
@@ -140,7 +143,7 @@ pub fn write_compare(
             })
         })
         .collect();
-    let json_path = dir.join("compare.json");
+    let json_path = dir.join(COMPARE_FILES[1]);
     write_json(
         &json_path,
         &json!({

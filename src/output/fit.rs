@@ -60,6 +60,9 @@ impl FitReport<'_> {
     }
 }
 
+/// The files of a fit.
+pub const FIT_FILES: [&str; 3] = ["history.csv", "figure_error.toml", "fit.json"];
+
 /// Writes history.csv, figure_error.toml and fit.json into `dir`.
 pub fn write_fit(
     dir: &Path,
@@ -67,7 +70,7 @@ pub fn write_fit(
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
     crate::files::create_dir_all(dir)?;
-    let history = dir.join("history.csv");
+    let history = dir.join(FIT_FILES[0]);
     let header = [
         "evaluation",
         "stage",
@@ -111,10 +114,10 @@ pub fn write_fit(
         p.out_of_plane,
         toml::Value::String(source.clone())
     );
-    let toml_path = dir.join("figure_error.toml");
+    let toml_path = dir.join(FIT_FILES[1]);
     atomic_write(&toml_path, preset.as_bytes())?;
     let (s, sp) = (report.settings, report.spread);
-    let json_path = dir.join("fit.json");
+    let json_path = dir.join(FIT_FILES[2]);
     write_json(
         &json_path,
         &json!({

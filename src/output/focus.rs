@@ -8,6 +8,9 @@ use crate::studies::focus::{FocusScan, DIAMETERS};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
+/// The files of a focus scan.
+pub const FOCUS_FILES: [&str; 3] = ["focus.csv", "focus.json", "focus.png"];
+
 /// Writes focus.csv, focus.json and focus.png into `dir` (created if needed);
 /// `var` is the swept variable, `range` its first and last value.
 pub fn write_focus(
@@ -18,7 +21,7 @@ pub fn write_focus(
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
     crate::files::create_dir_all(dir)?;
-    let csv = dir.join("focus.csv");
+    let csv = dir.join(FOCUS_FILES[0]);
     let header = [var, "hpd_mm", "d80_mm", "d90_mm", "photons_on_sensor"];
     write_csv(
         &csv,
@@ -39,7 +42,7 @@ pub fn write_focus(
         Ok(f) => json!(f),
         Err(e) => json!({ "error": e.to_string() }),
     };
-    let json_path = dir.join("focus.json");
+    let json_path = dir.join(FOCUS_FILES[1]);
     write_json(
         &json_path,
         &json!({
@@ -57,7 +60,7 @@ pub fn write_focus(
             "fit_d90": fit_json(2),
         }),
     )?;
-    let png = dir.join("focus.png");
+    let png = dir.join(FOCUS_FILES[2]);
     plot(&png, scan, var, range, provenance)?;
     Ok(vec![csv, json_path, png])
 }

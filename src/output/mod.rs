@@ -22,14 +22,14 @@ mod provenance;
 mod run_files;
 
 pub use colormap::Scale;
-pub use compare::{compare_markdown, write_compare};
+pub use compare::{compare_markdown, write_compare, COMPARE_FILES};
 pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
-pub use fit::{write_fit, FitReport};
-pub use focus::{plotted_diameter, write_focus};
+pub use fit::{write_fit, FitReport, FIT_FILES};
+pub use focus::{plotted_diameter, write_focus, FOCUS_FILES};
 pub use montage::{write_montage, Tile};
 pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyImage};
 pub use plot::{line_plot, Series};
 pub use png::{write_png, write_rgb_png};
 pub use provenance::{git_hash, sidecar_path, write_sidecar, Provenance};
-pub use run_files::{file_stem, write_json, write_run};
+pub use run_files::{file_stem, run_file_names, sensor_file_names, write_json, write_run};

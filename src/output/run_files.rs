@@ -11,6 +11,31 @@ use crate::trace::RunResult;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
+/// The files of one sensor named `name`: flux, counts, linear and log PNGs, the
+/// JSON sidecar, the EEF plot, the projections.
+pub fn sensor_file_names(name: &str) -> [String; 7] {
+    let stem = file_stem(name);
+    [
+        format!("{stem}.npy"),
+        format!("{stem}_counts.npy"),
+        format!("{stem}.png"),
+        format!("{stem}_log.png"),
+        format!("{stem}.json"),
+        format!("{stem}_eef.png"),
+        format!("{stem}_projections.csv"),
+    ]
+}
+
+/// Every file a trace of `scene` writes: each sensor's and summary.json.
+pub fn run_file_names(scene: &Scene) -> Vec<String> {
+    scene
+        .sensors
+        .iter()
+        .flat_map(|s| sensor_file_names(&s.name))
+        .chain(["summary.json".to_string()])
+        .collect()
+}
+
 /// Writes every output of a run into `dir` (created if needed); returns the paths.
 pub fn write_run(
     dir: &Path,
@@ -24,7 +49,6 @@ pub fn write_run(
     let sources = sources_json(scene);
     let mut sensor_summaries = Vec::new();
     for (spec, image) in scene.sensors.iter().zip(&result.images) {
-        let stem = file_stem(&spec.name);
         let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
         // [band][iy][ix] with energy bins, [iy][ix] without.
         let shape: Vec<u64> = match spec.energy_bins {
@@ -32,15 +56,7 @@ pub fn write_run(
             None => vec![ny as u64, nx as u64],
         };
         let summed = image.flux_summed(spec);
-        let files = [
-            format!("{stem}.npy"),
-            format!("{stem}_counts.npy"),
-            format!("{stem}.png"),
-            format!("{stem}_log.png"),
-            format!("{stem}.json"),
-            format!("{stem}_eef.png"),
-            format!("{stem}_projections.csv"),
-        ];
+        let files = sensor_file_names(&spec.name);
         let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
         write_npy_f64(&paths[0], &shape, &image.flux)?;
         write_npy_u64(&paths[1], &shape, &image.counts)?;

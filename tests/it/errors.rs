@@ -243,12 +243,13 @@ fn missing_scene_bad_arguments_and_run_failures() {
         crate::common::traxer().args(["trace", "--photons", "lots", "x.toml"]),
         2,
     );
-    // The output folder cannot be created (a file is in the way): the run fails, 1.
+    // The output folder cannot be created (a file is in the way): refused before
+    // tracing, as bad input (2).
     let dir = tempfile::tempdir().unwrap();
     write(dir.path(), "out", "a file");
     let (code, err) = trace(dir.path(), GOOD, &[]);
-    assert_eq!(code, 1, "{err}");
-    assert!(err.contains("cannot write the results"), "{err}");
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("is a file, not a folder"), "{err}");
     // Values that used to hang, wrap around or exhaust memory.
     expect_input_error(
         GOOD,

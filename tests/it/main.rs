@@ -16,6 +16,7 @@ mod layout;
 mod llnl;
 mod mesh_io;
 mod meshed_telescope;
+mod output_location;
 mod outputs;
 mod photon_loop;
 mod render;
