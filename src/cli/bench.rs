@@ -28,6 +28,15 @@ pub struct BenchArgs {
 
 pub fn run(a: BenchArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
+    // Every query of the replayed photons is kept (24 bytes, ~2.5 per photon).
+    const MAX_RAW: u64 = 10_000_000;
+    if a.raw_photons > MAX_RAW {
+        return Err(super::InputError(format!(
+            "--raw-photons {} keeps every query in memory: at most {MAX_RAW}",
+            a.raw_photons
+        ))
+        .into());
+    }
     let (_device, scene) = load_xray_scene(&a.scene)?;
     let bar = progress::bar(cfg.photons, "photons", a.quiet.quiet);
     let r = traxer::bench::run(&scene, &cfg, a.raw_photons, &|n| bar.inc(n));

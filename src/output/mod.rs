@@ -21,6 +21,7 @@ mod png;
 mod provenance;
 mod run_files;
 
+pub use crate::sensor::{file_stem, sensor_file_names};
 pub use colormap::Scale;
 pub use compare::{compare_markdown, write_compare, COMPARE_FILES};
 pub use csv_table::{csv_text, write_csv};
@@ -32,4 +33,4 @@ pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyI
 pub use plot::{line_plot, Series};
 pub use png::{write_png, write_rgb_png};
 pub use provenance::{git_hash, sidecar_path, write_sidecar, Provenance};
-pub use run_files::{file_stem, run_file_names, sensor_file_names, write_json, write_run};
+pub use run_files::{run_file_names, write_json, write_run};

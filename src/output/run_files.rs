@@ -6,25 +6,11 @@ use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scal
 use crate::analysis::{analyse, projections, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
+use crate::sensor::{sensor_file_names, SUMMARY_FILE};
 use crate::source::Source;
 use crate::trace::RunResult;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-
-/// The files of one sensor named `name`: flux, counts, linear and log PNGs, the
-/// JSON sidecar, the EEF plot, the projections.
-pub fn sensor_file_names(name: &str) -> [String; 7] {
-    let stem = file_stem(name);
-    [
-        format!("{stem}.npy"),
-        format!("{stem}_counts.npy"),
-        format!("{stem}.png"),
-        format!("{stem}_log.png"),
-        format!("{stem}.json"),
-        format!("{stem}_eef.png"),
-        format!("{stem}_projections.csv"),
-    ]
-}
 
 /// Every file a trace of `scene` writes: each sensor's and summary.json.
 pub fn run_file_names(scene: &Scene) -> Vec<String> {
@@ -32,7 +18,7 @@ pub fn run_file_names(scene: &Scene) -> Vec<String> {
         .sensors
         .iter()
         .flat_map(|s| sensor_file_names(&s.name))
-        .chain(["summary.json".to_string()])
+        .chain([SUMMARY_FILE.to_string()])
         .collect()
 }
 
@@ -119,7 +105,7 @@ pub fn write_run(
         "statistics": stats,
         "warnings": scene.warnings,
     });
-    let p = dir.join("summary.json");
+    let p = dir.join(SUMMARY_FILE);
     write_json(&p, &summary)?;
     written.push(p);
     Ok(written)
@@ -151,19 +137,6 @@ pub fn write_json(path: &Path, v: &Value) -> std::io::Result<()> {
     let mut text = serde_json::to_string_pretty(v).expect("JSON of plain values");
     text.push('\n');
     atomic_write(path, text.as_bytes())
-}
-
-/// Object names may hold anything; file names get letters, digits, '-', '_', '.'.
-pub fn file_stem(name: &str) -> String {
-    name.chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
-                c
-            } else {
-                '_'
-            }
-        })
-        .collect()
 }
 
 fn statistics_json(scene: &Scene, r: &RunResult) -> Value {

@@ -16,6 +16,9 @@ use crate::geometry::{
 };
 use crate::material::Material;
 use crate::mesh::{self, MeshPart};
+use crate::sensor::{
+    check_file_names, sensor_file_names, SensorSpec, MAX_TOTAL_PIXELS, SUMMARY_FILE,
+};
 use glam::DVec3;
 use std::collections::{HashMap, HashSet};
 use std::ops::Range;
@@ -29,6 +32,10 @@ pub(super) struct ObjectBuilder<'a> {
     pub dir: &'a Path,
     pub representation: Representation,
     names: HashSet<String>,
+    /// Output file name → the sensor that writes it.
+    sensor_files: HashMap<String, String>,
+    /// Pixels × bands of the sensors so far.
+    sensor_pixels: u64,
     /// Several objects may take parts of one file: it is read once.
     mesh_files: HashMap<PathBuf, Vec<MeshPart>>,
     /// Things the user should hear about (skipped mesh pieces, tiny meshes).
@@ -42,6 +49,8 @@ impl<'a> ObjectBuilder<'a> {
             dir,
             representation,
             names: HashSet::new(),
+            sensor_files: HashMap::new(),
+            sensor_pixels: 0,
             mesh_files: HashMap::new(),
             warnings: Vec::new(),
         }
@@ -65,6 +74,9 @@ impl<'a> ObjectBuilder<'a> {
         }
         let transform = transform(&od.transform).map_err(|(s, m)| self.at.error(s, m))?;
         let material = self.material(&od, &name, index, materials)?;
+        if let Material::Sensor { sensor } = material {
+            self.check_sensor(&materials.sensors[sensor], ospan.clone())?;
+        }
         let geometry = self.geometry(&od, ospan.clone(), &name, &material, transform)?;
         let (lo, hi) = geometry.world_bounds();
         if !within_world(&[lo, hi]) {
@@ -89,6 +101,43 @@ impl<'a> ObjectBuilder<'a> {
             geometry,
             appearance,
         })
+    }
+
+    /// A sensor's files must not collide with another sensor's or the summary,
+    /// their names must suit file systems, and all sensors' pixels together must
+    /// stay within [`MAX_TOTAL_PIXELS`].
+    fn check_sensor(&mut self, spec: &SensorSpec, span: Range<usize>) -> Result<(), SceneError> {
+        let name = &spec.name;
+        check_file_names(name).map_err(|m| self.at.error(span.clone(), m))?;
+        for file in sensor_file_names(name) {
+            let other = if file == SUMMARY_FILE {
+                Some("the run's summary".to_string())
+            } else {
+                self.sensor_files
+                    .get(&file)
+                    .map(|s| format!("sensor `{s}`"))
+            };
+            if let Some(other) = other {
+                return Err(self.at.error(
+                    span,
+                    format!(
+                        "sensor `{name}` would write {file}, as {other} does: rename one of them"
+                    ),
+                ));
+            }
+            self.sensor_files.insert(file, name.clone());
+        }
+        self.sensor_pixels += spec.pixel_count() as u64 * spec.bands() as u64;
+        if self.sensor_pixels > MAX_TOTAL_PIXELS {
+            return Err(self.at.error(
+                span,
+                format!(
+                    "sensor `{name}`: the scene's sensors have {} pixels × energy bands in all, more than {MAX_TOTAL_PIXELS} (2 GB of images); use fewer or coarser sensors",
+                    self.sensor_pixels
+                ),
+            ));
+        }
+        Ok(())
     }
 
     fn material(

@@ -8,6 +8,10 @@ use serde::Deserialize;
 /// values are 1 GB.
 const MAX_PIXELS: u64 = 1 << 26;
 
+/// The most pixels (times energy bands) all sensors of a scene may have together:
+/// 2^27 values of flux and counts are 2 GB, allocated once when a run starts.
+pub const MAX_TOTAL_PIXELS: u64 = 1 << 27;
+
 message_error!(
     /// A sensor table whose numbers describe no sensor, with what is wrong.
     InvalidSensor

@@ -7,8 +7,12 @@
 //! With energy binning the image has an energy axis: [band][iy][ix].
 
 mod desc;
+mod files;
 
-pub use desc::SensorDesc;
+pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
+pub use files::{
+    check_file_names, file_stem, sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+};
 
 use glam::DVec3;
 

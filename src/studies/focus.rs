@@ -11,6 +11,10 @@ use crate::progress::Progress;
 use crate::scene::Scene;
 use crate::trace::RunConfig;
 
+/// The most positions a scan may have: each is a full trace, and their results
+/// are kept (ten thousand is days of tracing already).
+pub const MAX_STEPS: usize = 10_000;
+
 /// What to sweep.
 #[derive(Clone, Debug)]
 pub struct FocusSweep {
@@ -27,10 +31,10 @@ pub struct FocusSweep {
 impl FocusSweep {
     /// The swept values, or what is wrong with the sweep.
     pub fn values(&self) -> Result<Vec<f64>, StudyError> {
-        if self.steps < 4 {
-            return Err(StudyError::Input(
-                "--steps must be at least 4 to fit a focus curve".into(),
-            ));
+        if !(4..=MAX_STEPS).contains(&self.steps) {
+            return Err(StudyError::Input(format!(
+                "--steps must be 4 (to fit a focus curve) to {MAX_STEPS} (each is a whole trace)"
+            )));
         }
         if !self.from.is_finite() || !self.to.is_finite() || self.from == self.to {
             return Err(StudyError::Input(

@@ -13,6 +13,7 @@ mod focusing;
 mod geometry;
 mod inspect;
 mod layout;
+mod limits;
 mod llnl;
 mod mesh_io;
 mod meshed_telescope;

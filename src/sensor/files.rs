@@ -1,0 +1,60 @@
+//! The names of a sensor's output files, decided here — where sensors are defined
+//! — so that the scene build can refuse names that collide or that no file
+//! system takes before any photon is traced, and `output` writes exactly these.
+
+/// The run's own file beside the sensors' files.
+pub const SUMMARY_FILE: &str = "summary.json";
+
+/// The longest file name (bytes) common file systems (ext4, XFS, Btrfs, APFS,
+/// NTFS) take.
+pub const MAX_FILE_NAME_BYTES: usize = 255;
+
+/// Object names may hold anything; file names get letters, digits, '-', '_', '.'.
+pub fn file_stem(name: &str) -> String {
+    name.chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || "-_.".contains(c) {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect()
+}
+
+/// The files of one sensor named `name`: flux, counts, linear and log PNGs, the
+/// JSON sidecar, the EEF plot, the projections.
+pub fn sensor_file_names(name: &str) -> [String; 7] {
+    let stem = file_stem(name);
+    [
+        format!("{stem}.npy"),
+        format!("{stem}_counts.npy"),
+        format!("{stem}.png"),
+        format!("{stem}_log.png"),
+        format!("{stem}.json"),
+        format!("{stem}_eef.png"),
+        format!("{stem}_projections.csv"),
+    ]
+}
+
+/// Why a sensor's name cannot name its files.
+pub fn check_file_names(name: &str) -> Result<(), String> {
+    let stem = file_stem(name);
+    if stem.is_empty() || stem.chars().all(|c| c == '.') {
+        return Err(format!(
+            "sensor `{name}`: its files would be named `{stem}.npy` ...: give it a name with letters or digits"
+        ));
+    }
+    let longest = sensor_file_names(name)
+        .iter()
+        .map(|f| f.len())
+        .max()
+        .unwrap_or(0);
+    if longest > MAX_FILE_NAME_BYTES {
+        return Err(format!(
+            "sensor name of {} characters: its file names would be {longest} bytes long, more than the {MAX_FILE_NAME_BYTES} file systems take; shorten it",
+            name.chars().count()
+        ));
+    }
+    Ok(())
+}
