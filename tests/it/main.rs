@@ -17,6 +17,7 @@ mod limits;
 mod llnl;
 mod mesh_io;
 mod meshed_telescope;
+mod npy_read;
 mod output_location;
 mod outputs;
 mod photon_loop;
