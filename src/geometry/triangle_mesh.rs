@@ -22,7 +22,7 @@ pub struct TriangleMesh {
 
 impl TriangleMesh {
     /// Checks what the tracer relies on: at least one triangle, finite coordinates
-    /// and normals, every index in range.
+    /// and normals, every index in range, and some triangle with an area.
     pub fn validate(&self) -> Result<(), InvalidMesh> {
         if self.triangles.is_empty() {
             return Err("contains no triangles".into());
@@ -58,6 +58,13 @@ impl TriangleMesh {
             if let Some(i) = normals.iter().position(|v| !v.is_finite()) {
                 return Err(InvalidMesh::from(format!("normal {i} is not finite")));
             }
+        }
+        // Lines or points exported as triangles: nothing a ray can hit.
+        if (0..self.triangles.len()).all(|i| self.face_normal(i) == DVec3::ZERO) {
+            return Err(InvalidMesh::from(format!(
+                "all its {} triangles have zero area (lines or points exported as triangles?): nothing to trace",
+                self.triangles.len()
+            )));
         }
         Ok(())
     }

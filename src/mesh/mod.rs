@@ -12,6 +12,7 @@ mod export;
 mod gltf_import;
 mod guard;
 mod obj_import;
+mod polygon;
 pub mod quality;
 pub mod units;
 

@@ -1,5 +1,7 @@
-//! Wavefront OBJ import through `tobj`: polygons are triangulated, each object
-//! (or group) of the file is one [`MeshPart`]; material libraries are ignored.
+//! Wavefront OBJ import through `tobj`: each object (or group) of the file is
+//! one [`MeshPart`]; polygon faces are triangulated by ear clipping (a concave
+//! face keeps its area); line (`l`) and point (`p`) elements are left out and
+//! reported; material libraries are ignored.
 
 use super::{ImportReport, MeshError, MeshPart, Skipped, TriangleMesh};
 use glam::DVec3;
@@ -7,12 +9,19 @@ use std::path::Path;
 
 pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
     let options = tobj::LoadOptions {
-        triangulate: true,
+        triangulate: false,
         single_index: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj(path, &options).map_err(|e| {
+    let text = std::fs::read(path).map_err(|_| MeshError::invalid(path, "cannot read the file"))?;
+    // tobj reads a line element of three or more vertices as a polygon face:
+    // line elements are taken out here, and counted.
+    let (faces_only, lines) = without_line_elements(&text);
+    let loaded = tobj::load_obj_buf(&mut &faces_only[..], &options, |_| {
+        Ok((Vec::new(), Default::default()))
+    });
+    let (models, _materials) = loaded.map_err(|e| {
         MeshError::invalid(
             path,
             match e {
@@ -27,6 +36,12 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         normals_from_file: true,
         ..Default::default()
     };
+    if lines > 0 {
+        report.skipped.push(Skipped {
+            what: format!("{lines} line element(s) (`l`)"),
+            reason: "lines have no area to trace".into(),
+        });
+    }
     for model in models {
         let m = &model.mesh;
         if m.indices.is_empty() {
@@ -41,11 +56,7 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             .chunks_exact(3)
             .map(|p| DVec3::new(p[0], p[1], p[2]))
             .collect();
-        let triangles: Vec<[u32; 3]> = m
-            .indices
-            .chunks_exact(3)
-            .map(|c| [c[0], c[1], c[2]])
-            .collect();
+        let triangles = faces_to_triangles(&m.indices, &m.face_arities, &positions);
         let mut part = TriangleMesh {
             positions,
             normals: None,
@@ -92,4 +103,54 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         parts.push(piece);
     }
     Ok((parts, report))
+}
+
+/// The file without its line elements (`l ...`, with any `\` continuation
+/// lines), and how many there were.
+fn without_line_elements(text: &[u8]) -> (Vec<u8>, usize) {
+    let mut out = Vec::with_capacity(text.len());
+    let (mut count, mut continuing) = (0, false);
+    for line in text.split_inclusive(|&b| b == b'\n') {
+        let trimmed = line.trim_ascii();
+        let is_line = continuing
+            || trimmed.first() == Some(&b'l')
+                && trimmed.get(1).is_none_or(|c| c.is_ascii_whitespace());
+        if is_line {
+            count += usize::from(!continuing);
+            continuing = trimmed.ends_with(b"\\");
+            out.push(b'\n'); // keeps the line numbers of tobj's messages
+        } else {
+            out.extend_from_slice(line);
+        }
+    }
+    (out, count)
+}
+
+/// Triangles of the faces given as `indices` with `arities` corners each (no
+/// arities: all triangles); polygons by ear clipping.
+fn faces_to_triangles(indices: &[u32], arities: &[u32], positions: &[DVec3]) -> Vec<[u32; 3]> {
+    if arities.is_empty() {
+        return indices
+            .chunks_exact(3)
+            .map(|c| [c[0], c[1], c[2]])
+            .collect();
+    }
+    let mut out = Vec::with_capacity(indices.len());
+    let mut start = 0;
+    for &a in arities {
+        let face = &indices[start..start + a as usize];
+        start += a as usize;
+        if face.len() < 3 {
+            continue;
+        }
+        // Out-of-range indices are reported by the caller; treat them as the origin here.
+        let corners: Vec<DVec3> = face
+            .iter()
+            .map(|&k| positions.get(k as usize).copied().unwrap_or(DVec3::ZERO))
+            .collect();
+        for t in super::polygon::triangulate(&corners) {
+            out.push(t.map(|i| face[i]));
+        }
+    }
+    out
 }

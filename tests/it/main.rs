@@ -18,6 +18,7 @@ mod llnl;
 mod mesh_io;
 mod meshed_telescope;
 mod npy_read;
+mod obj_faces;
 mod output_location;
 mod outputs;
 mod photon_loop;
