@@ -40,6 +40,7 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    cli::stop_cleanly_on_signals();
     let result = match cli.command {
         Command::Trace(a) => cli::trace::run(a),
         Command::Tessellate(a) => cli::tessellate::run(a),

@@ -5,12 +5,14 @@
 //! (`traxer::studies::compare`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
+use super::names;
 use super::{progress, Warnings};
 use anyhow::Context;
 use std::path::PathBuf;
 use traxer::embree::Device;
+use traxer::files::OutputFolder;
 use traxer::geometry::Resolution;
-use traxer::output::{compare_markdown, write_compare, Provenance};
+use traxer::output::{compare_markdown, write_compare, Provenance, COMPARE_FILES};
 use traxer::scene::Scene;
 use traxer::studies::compare::{compare, variants};
 
@@ -60,7 +62,7 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    traxer::files::check_output_dir(&a.output.out, &traxer::output::COMPARE_FILES)?;
+    let folder = OutputFolder::prepare(&a.output.out, &names(&COMPARE_FILES))?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);
@@ -105,7 +107,8 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     }
     .run(&cfg, threads);
     let out = &a.output.out;
-    write_compare(out, &rows, &provenance)
+    write_compare(folder.path(), &rows, &provenance)
+        .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     say!("{}", compare_markdown(&rows));
     if !quiet {

@@ -5,7 +5,8 @@
 use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
-use traxer::output::{write_fit, FitReport, Provenance};
+use traxer::files::OutputFolder;
+use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
 use traxer::studies::fit::{
     fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, PARAMETERS,
 };
@@ -141,7 +142,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     }
     let bounds = parse_bounds(&a.bounds)?;
     let run = a.run.config()?;
-    traxer::files::check_output_dir(&a.output.out, &traxer::output::FIT_FILES)?;
+    let folder = OutputFolder::prepare(&a.output.out, &super::names(&FIT_FILES))?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {
@@ -191,7 +192,8 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         fit_seconds,
     };
     let out = &a.output.out;
-    write_fit(out, &report, &provenance)
+    write_fit(folder.path(), &report, &provenance)
+        .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     print_result(&report, out);
     Ok(())

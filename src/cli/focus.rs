@@ -3,10 +3,12 @@
 //! (`traxer::studies::focus`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
+use super::names;
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
-use traxer::output::{plotted_diameter, write_focus, Provenance};
+use traxer::files::OutputFolder;
+use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
 use traxer::scene::Scene;
 use traxer::studies::focus::{scan, FocusSweep};
 use traxer::studies::StudyError;
@@ -57,7 +59,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     };
     let values = sweep.values()?;
     let cfg = a.run.config()?;
-    traxer::files::check_output_dir(&a.output.out, &traxer::output::FOCUS_FILES)?;
+    let folder = OutputFolder::prepare(&a.output.out, &names(&FOCUS_FILES))?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let mut warnings = Warnings::default();
@@ -106,7 +108,8 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     .run(&cfg, scan.threads);
     provenance.variables.remove(&a.var);
     let out = &a.output.out;
-    write_focus(out, &scan, &a.var, (a.from, a.to), &provenance)
+    write_focus(folder.path(), &scan, &a.var, (a.from, a.to), &provenance)
+        .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     let fits = &scan.fits;
     match &fits[0].1 {

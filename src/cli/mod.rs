@@ -61,6 +61,22 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
     })
 }
 
+/// Owned names of a command's output files.
+pub fn names(files: &[&str]) -> Vec<String> {
+    files.iter().map(|f| f.to_string()).collect()
+}
+
+/// On SIGINT, SIGTERM or SIGHUP: remove the temporary files and staging folders
+/// of results being written (the previous results stay as they were) and exit
+/// with 130, at once.
+pub fn stop_cleanly_on_signals() {
+    let _ = ctrlc::set_handler(|| {
+        traxer::files::temporaries::remove_all();
+        tell!("stopped: no results were written");
+        std::process::exit(130);
+    });
+}
+
 /// Prints a scene's warnings once each, however often it is loaded.
 #[derive(Default)]
 pub struct Warnings(std::collections::BTreeSet<String>);

@@ -4,6 +4,7 @@ use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
 use traxer::analysis::{analyse, ImageGeometry};
+use traxer::files::OutputFolder;
 use traxer::output::{write_run, Provenance};
 use traxer::trace::{self, RunResult};
 
@@ -41,7 +42,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     }
     cfg.first_photon = a.first_photon;
     let (device, scene) = load_xray_scene(&a.scene)?;
-    traxer::files::check_output_dir(&a.output.out, &traxer::output::run_file_names(&scene))?;
+    let folder = OutputFolder::prepare(&a.output.out, &traxer::output::run_file_names(&scene))?;
     if scene.sensors.is_empty() {
         tell!("warning: the scene has no sensor; only statistics will be written");
     }
@@ -54,7 +55,8 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         .scene(&scene)
         .run(&cfg, result.threads);
     let out = &a.output.out;
-    let files = write_run(out, &scene, &result, &provenance)
+    let files = write_run(folder.path(), &scene, &result, &provenance)
+        .and_then(|files| folder.commit().map(|_| files))
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     if !quiet {
         report(&scene, &result);

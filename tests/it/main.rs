@@ -23,6 +23,7 @@ mod output_location;
 mod outputs;
 mod photon_loop;
 mod render;
+mod results_folder;
 mod scenes;
 mod sources;
 mod streams;

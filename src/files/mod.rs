@@ -6,6 +6,11 @@
 //! results is refused at once; scenes and provenance hash with [`sha256_hex`].
 //! This module uses no other part of traxer.
 
+mod folder;
+pub mod temporaries;
+
+pub use folder::OutputFolder;
+
 use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -51,10 +56,16 @@ pub fn atomic_write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
     let mut tmp = builder.tempfile_in(dir).map_err(with_path)?;
-    tmp.write_all(bytes).map_err(with_path)?;
-    tmp.as_file().sync_all().map_err(with_path)?;
-    tmp.persist(path).map_err(|e| with_path(e.error))?;
-    Ok(())
+    // Registered, so that a signal arriving meanwhile removes it too.
+    let tmp_path = tmp.path().to_path_buf();
+    temporaries::register(&tmp_path);
+    let written = tmp.write_all(bytes).and_then(|_| tmp.as_file().sync_all());
+    let result = match written {
+        Ok(()) => tmp.persist(path).map(drop).map_err(|e| e.error),
+        Err(e) => Err(e),
+    };
+    temporaries::forget(&tmp_path);
+    result.map_err(with_path)
 }
 
 /// Why an output location cannot take a command's results (exit code 2).
