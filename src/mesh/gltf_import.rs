@@ -94,6 +94,7 @@ fn load_unguarded(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErro
 /// which one, where it is used and what to do), then validated.
 fn read_document(path: &Path) -> Result<(gltf::Document, Option<Vec<u8>>), MeshError> {
     let bad = |m: String| MeshError::invalid(path, m);
+    check_glb_length(path)?;
     let file = std::fs::File::open(path).map_err(|e| bad(format!("cannot read it: {e}")))?;
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_reader_without_validation(std::io::BufReader::new(file))
@@ -440,6 +441,37 @@ fn unreadable(what: &str, accessor: &gltf::Accessor) -> Unusable {
         accessor.index(),
         accessor.count()
     ))
+}
+
+/// A binary glTF (GLB) file declares its length in its 12-byte header: a file
+/// shorter than that was cut off (an interrupted copy or download).
+fn check_glb_length(path: &Path) -> Result<(), MeshError> {
+    use std::io::Read;
+    let Ok(mut f) = std::fs::File::open(path) else {
+        return Ok(()); // the reader says why
+    };
+    let mut header = Vec::with_capacity(12);
+    let _ = f.by_ref().take(12).read_to_end(&mut header);
+    if header.len() < 4 || &header[..4] != b"glTF" {
+        return Ok(());
+    }
+    let size = std::fs::metadata(path).map(|m| m.len()).unwrap_or(0);
+    if header.len() < 12 {
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "is truncated: a GLB file starts with a 12-byte header, this one has {size} bytes"
+            ),
+        ));
+    }
+    let declared = u32::from_le_bytes([header[8], header[9], header[10], header[11]]) as u64;
+    if size < declared {
+        return Err(MeshError::invalid(
+            path,
+            format!("is truncated: its header declares {declared} bytes, the file has {size}"),
+        ));
+    }
+    Ok(())
 }
 
 /// The gltf crate's errors, in words a user can act on.

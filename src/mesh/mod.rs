@@ -158,6 +158,12 @@ pub fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
 
 /// The parts of a mesh file, unchecked (see [`select_parts`]).
 pub fn load_parts(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshError> {
+    if path.is_dir() {
+        return Err(MeshError::invalid(
+            path,
+            "is a folder, not a mesh file (.gltf, .glb or .obj)",
+        ));
+    }
     let ext = path
         .extension()
         .and_then(|e| e.to_str())

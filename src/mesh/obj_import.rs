@@ -27,7 +27,12 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             match e {
                 tobj::LoadError::OpenFileFailed => "cannot open the file".to_string(),
                 tobj::LoadError::ReadError => "cannot read the file".to_string(),
-                other => format!("not a valid OBJ file: {other}"),
+                other => match first_bad_line(&faces_only, &other) {
+                    Some((line, text)) => {
+                        format!("not a valid OBJ file: line {line}: {other}: `{text}`")
+                    }
+                    None => format!("not a valid OBJ file: {other}"),
+                },
             },
         )
     })?;
@@ -153,4 +158,51 @@ fn faces_to_triangles(indices: &[u32], arities: &[u32], positions: &[DVec3]) -> 
         }
     }
     out
+}
+
+/// The first line (1-based, with its text cut to 80 characters) of the kind an
+/// OBJ error is about that does not parse: `v` or `vn` without three numbers, `vt`
+/// without one, `f` with fewer than three corners or a corner that is not a
+/// vertex index of the file. `None` if no such line is found.
+fn first_bad_line(text: &[u8], error: &tobj::LoadError) -> Option<(usize, String)> {
+    use tobj::LoadError as E;
+    let text = String::from_utf8_lossy(text);
+    let mut vertices: i64 = 0;
+    for (i, line) in text.lines().enumerate() {
+        let mut tokens = line.split_whitespace();
+        let keyword = tokens.next().unwrap_or("");
+        let rest: Vec<&str> = tokens.collect();
+        let numbers =
+            |n: usize| rest.len() >= n && rest[..n].iter().all(|t| t.parse::<f64>().is_ok());
+        let bad = match (keyword, error) {
+            ("v", _) => {
+                vertices += 1;
+                matches!(error, E::PositionParseError) && !numbers(3)
+            }
+            ("vn", E::NormalParseError) => !numbers(3),
+            ("vt", E::TexcoordParseError) => !numbers(1),
+            (
+                "f",
+                E::FaceParseError
+                | E::InvalidPolygon
+                | E::FaceVertexOutOfBounds
+                | E::GenericFailure,
+            ) => {
+                rest.len() < 3
+                    || rest.iter().any(|c| {
+                        let index = c.split('/').next().unwrap_or("").parse::<i64>();
+                        // 1-based, or negative counting back from the last vertex.
+                        index.is_err()
+                            || index.is_ok_and(|k| k == 0 || k > vertices || -k > vertices)
+                    })
+            }
+            _ => false,
+        };
+        if bad {
+            let shown: String = line.chars().take(80).collect();
+            let cut = if line.chars().count() > 80 { "…" } else { "" };
+            return Some((i + 1, format!("{}{cut}", shown.trim_end())));
+        }
+    }
+    None
 }

@@ -110,8 +110,14 @@ fn expand_llnl(
             LlnlTelescope::from_toml(&body).map_err(|e| SceneError::from_toml(&file, &body, &e))?
         }
     };
-    data.validate()
-        .map_err(|m| err(format!("llnl_telescope data: {m}")))?;
+    data.validate().map_err(|m| match &t.data {
+        // The numbers are wrong in the user's data file: name it.
+        Some(f) => err(format!(
+            "llnl_telescope data {}: {m}",
+            dir.join(f).display()
+        )),
+        None => err(format!("llnl_telescope data: {m}")),
+    })?;
     if !t.azimuth_center.is_finite() {
         return Err(err("azimuth_center must be a number (degrees)".into()));
     }

@@ -32,12 +32,18 @@ pub(super) fn build(
 ) -> Result<Scene, SceneError> {
     let LoadedScene {
         text,
+        original,
         sha256,
         overrides,
         vars,
         mut desc,
     } = loaded;
-    let at = SceneText { path, text: &text };
+    let at = SceneText {
+        path,
+        text: &text,
+        original: &original,
+        overrides: &overrides,
+    };
     let max_interactions = *desc.max_interactions.get_ref();
     if max_interactions == 0 {
         return Err(at.error(
@@ -96,7 +102,7 @@ pub(super) fn build(
     Ok(Scene {
         path: path.to_path_buf(),
         text_sha256: sha256,
-        overrides,
+        overrides: overrides.clone(),
         vars,
         objects,
         sensors: materials.sensors,
@@ -152,6 +158,8 @@ pub fn analytic_shapes(path: &Path, overrides: &[String]) -> Result<Vec<NamedSha
     let at = SceneText {
         path,
         text: &loaded.text,
+        original: &loaded.original,
+        overrides: &loaded.overrides,
     };
     // Assemblies (the LLNL telescope) become their objects, as in a trace.
     let dir = path.parent().unwrap_or(Path::new("."));
@@ -187,7 +195,12 @@ pub fn inline_shape(text: &str) -> Result<Shape, SceneError> {
     let full = format!("shape = {{ {text} }}");
     let w: Wrapper =
         toml::from_str(&full).map_err(|e| SceneError::new(path, None, e.message().to_string()))?;
-    let at = SceneText { path, text: &full };
+    let at = SceneText {
+        path,
+        text: &full,
+        original: &full,
+        overrides: &[],
+    };
     match w.shape.get_ref().analytic() {
         None => Err(at.whole("a mesh is already a mesh; give an analytic shape")),
         Some(shape) => shape.map_err(|m| at.error(w.shape.span(), m)),

@@ -40,7 +40,7 @@ impl SceneError {
             None => (span.start, message.to_string()),
         };
         let line = line_of(text, offset);
-        let quoted = text.lines().nth(line - 1).unwrap_or("").trim_end();
+        let quoted = excerpt(text, offset);
         SceneError::new(file, Some(line), format!("{message}\n    | {quoted}"))
     }
 }
@@ -50,6 +50,11 @@ impl SceneError {
 pub(crate) struct SceneText<'a> {
     pub path: &'a Path,
     pub text: &'a str,
+    /// The file as written (before variables were substituted) and the `-D`
+    /// overrides, so that an error on a line that uses an overridden variable
+    /// says where its value came from.
+    pub original: &'a str,
+    pub overrides: &'a [String],
 }
 
 impl SceneText<'_> {
@@ -62,10 +67,34 @@ impl SceneText<'_> {
     ) -> SceneError {
         let message = message.to_string();
         if span.is_empty() && span.start == 0 {
-            SceneError::new(self.path, None, message)
-        } else {
-            SceneError::at(self.path, self.text, span.start, message)
+            return SceneError::new(self.path, None, message);
         }
+        let line = line_of(self.text, span.start);
+        let last = line_of(self.text, span.end.max(span.start));
+        let message = match self.override_used(line, last) {
+            Some(d) => format!("{message} (from -D {d})"),
+            None => message,
+        };
+        SceneError::new(self.path, Some(line), message)
+    }
+
+    /// The `-D` override of a variable that lines `first..=last` (1-based) of the
+    /// file use, if any (substitution keeps lines where they were).
+    fn override_used(&self, first: usize, last: usize) -> Option<&str> {
+        let lines: Vec<&str> = self
+            .original
+            .lines()
+            .skip(first.checked_sub(1)?)
+            .take(last + 1 - first)
+            .collect();
+        let written = lines.join("\n");
+        self.overrides.iter().map(String::as_str).find(|d| {
+            d.split_once('=').is_some_and(|(name, _)| {
+                let name = name.trim();
+                written.contains(&format!("\"${name}\""))
+                    || written.contains(&format!("${{{name}}}"))
+            })
+        })
     }
 
     /// An error about the whole file (no line).
@@ -83,26 +112,40 @@ fn locate_bad_value(
     span: std::ops::Range<usize>,
     message: &str,
 ) -> Option<(usize, String)> {
-    // What identifies the value: its description, or (unknown field) its key.
-    let (described, unknown_key) = match message.strip_prefix("unknown field `") {
-        Some(rest) => (None, Some(rest.split_once('`')?.0)),
-        None => {
-            let rest = message
-                .strip_prefix("invalid type: ")
-                .or_else(|| message.strip_prefix("invalid value: "))?;
-            (Some(rest.rsplit_once(", expected ")?.0), None)
-        }
-    };
+    // What identifies the value: its description, (unknown field) its key, an
+    // array's wrong length, or a table of one-key choices with several keys.
+    let mut described = None;
+    let mut unknown_key = None;
+    let mut length = None;
+    let mut one_key_table = false;
+    if let Some(rest) = message.strip_prefix("unknown field `") {
+        unknown_key = Some(rest.split_once('`')?.0);
+    } else if let Some(rest) = message.strip_prefix("invalid length ") {
+        length = rest.split(',').next()?.trim().parse::<usize>().ok();
+    } else if message.contains("expected map with a single key")
+        || message.starts_with("wanted exactly 1 element")
+    {
+        one_key_table = true;
+    } else {
+        let rest = message
+            .strip_prefix("invalid type: ")
+            .or_else(|| message.strip_prefix("invalid value: "))?;
+        described = Some(rest.rsplit_once(", expected ")?.0);
+    }
     let doc = toml_edit::ImDocument::parse(text).ok()?;
     let mut found = Vec::new();
     visit_table(doc.as_table(), "", &mut |key, value| {
         let inside = value
             .span()
             .is_some_and(|s| s.start >= span.start && s.end <= span.end);
-        let matches = match (described, unknown_key) {
-            (Some(d), _) => describes(d, value),
-            (None, Some(k)) => key.rsplit('.').next() == Some(k),
-            _ => false,
+        let matches = if let Some(d) = described {
+            describes(d, value)
+        } else if let Some(k) = unknown_key {
+            key.rsplit('.').next() == Some(k)
+        } else if let Some(n) = length {
+            value.as_array().is_some_and(|a| a.len() == n)
+        } else {
+            one_key_table && is_one_key_choice(value)
         };
         if inside && matches {
             found.push((
@@ -113,8 +156,27 @@ fn locate_bad_value(
     });
     match found.as_slice() {
         [one] => Some(one.clone()),
-        _ => None,
+        // Several elements of one array (`pixels = [10.0, 10.0]`): the array.
+        [first, rest @ ..] => {
+            let parent = |k: &str| k.rsplit_once('[').map(|(p, _)| p.to_string());
+            let p = parent(&first.1)?;
+            let same = rest
+                .iter()
+                .all(|r| parent(&r.1).as_deref() == Some(p.as_str()));
+            same.then_some((first.0, p))
+        }
+        [] => None,
     }
+}
+
+/// Tables in which exactly one of a few keys is written (an energy: `line` or
+/// `band`; a transform step: `translate`, `rotate` or `scale`), written with
+/// more than one of them.
+fn is_one_key_choice(value: &toml_edit::Value) -> bool {
+    const CHOICES: [&str; 5] = ["line", "band", "translate", "rotate", "scale"];
+    value
+        .as_inline_table()
+        .is_some_and(|t| t.len() > 1 && t.iter().all(|(k, _)| CHOICES.contains(&k)))
 }
 
 /// Whether serde's description of an unexpected value ("string \"ten\"",
@@ -183,6 +245,32 @@ fn visit_value(value: &toml_edit::Value, path: &str, f: &mut dyn FnMut(&str, &to
         _ => {}
     }
 }
+
+/// The line holding byte `offset`, cut to at most [`EXCERPT`] characters around
+/// that offset (a generated file may have a line of megabytes).
+fn excerpt(text: &str, offset: usize) -> String {
+    let offset = offset.min(text.len());
+    let start = text[..offset].rfind('\n').map_or(0, |i| i + 1);
+    let end = text[offset..].find('\n').map_or(text.len(), |i| offset + i);
+    let line = text[start..end].trim_end();
+    if line.chars().count() <= EXCERPT {
+        return line.to_string();
+    }
+    // A window around the offset, on character boundaries.
+    let at = text[start..offset].chars().count();
+    let from = at.saturating_sub(EXCERPT / 2);
+    let window: String = line.chars().skip(from).take(EXCERPT).collect();
+    let before = if from > 0 { "…" } else { "" };
+    let after = if from + EXCERPT < line.chars().count() {
+        "…"
+    } else {
+        ""
+    };
+    format!("{before}{window}{after}")
+}
+
+/// The longest excerpt of a scene line an error quotes (characters).
+const EXCERPT: usize = 160;
 
 /// 1-based line number of a byte offset.
 pub fn line_of(text: &str, offset: usize) -> usize {

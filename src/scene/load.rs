@@ -13,6 +13,8 @@ use std::path::Path;
 pub struct LoadedScene {
     /// The text after substitution: spans in `desc` point into it (lines are kept).
     pub text: String,
+    /// The file as written.
+    pub original: String,
     /// SHA-256 of the file's bytes as read.
     pub sha256: String,
     /// The `-D name=value` overrides applied.
@@ -31,6 +33,7 @@ pub fn read(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError
         toml::from_str(&text).map_err(|e| SceneError::from_toml(path, &text, &e))?;
     Ok(LoadedScene {
         sha256: sha256_hex(original.as_bytes()),
+        original,
         overrides: overrides.to_vec(),
         text,
         vars,

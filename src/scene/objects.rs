@@ -221,6 +221,15 @@ impl<'a> ObjectBuilder<'a> {
             unreachable!("only mesh shapes have no analytic form")
         };
         let file = self.dir.join(&m.file);
+        if file.is_dir() {
+            return Err(self.at.error(
+                sspan,
+                format!(
+                    "object `{name}`: mesh file {} is a folder; give the .gltf, .glb or .obj file in it",
+                    file.display()
+                ),
+            ));
+        }
         if !file.is_file() {
             return Err(self.at.error(
                 sspan,

@@ -17,6 +17,7 @@ mod limits;
 mod llnl;
 mod mesh_io;
 mod meshed_telescope;
+mod messages;
 mod npy_read;
 mod obj_faces;
 mod output_location;
