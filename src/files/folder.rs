@@ -64,16 +64,44 @@ fn remove_stale_staging(parent: &Path, prefix: &str) {
     }
 }
 
+/// Entries of a results folder that belong to other traxer results and stay:
+/// nested results folders (`out/focus` inside `out`, as the defaults nest) and
+/// the staging folders of runs writing them.
+fn kept_entries(dir: &Path) -> Vec<OsString> {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return Vec::new();
+    };
+    entries
+        .flatten()
+        .filter(|e| {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let path = e.path();
+            path.is_dir()
+                && (path.join(MANIFEST).is_file()
+                    || name.starts_with('.') && name.contains(".traxer-"))
+        })
+        .map(|e| e.file_name())
+        .collect()
+}
+
 /// The names in `dir` that no traxer run wrote: not in its manifest, nor among
-/// `names` (what this command writes).
+/// `names` (what this command writes), nor other traxer results kept in it.
 fn foreign_files(dir: &Path, names: &[String]) -> std::io::Result<Vec<String>> {
+    let kept: Vec<String> = kept_entries(dir)
+        .iter()
+        .map(|n| n.to_string_lossy().into_owned())
+        .collect();
     let listed: Vec<String> = std::fs::read_to_string(dir.join(MANIFEST))
         .map(|t| t.lines().map(String::from).collect())
         .unwrap_or_default();
     let mut foreign = Vec::new();
     for e in std::fs::read_dir(dir)? {
         let name = e?.file_name().to_string_lossy().into_owned();
-        if name != MANIFEST && !listed.contains(&name) && !names.contains(&name) {
+        if name != MANIFEST
+            && !listed.contains(&name)
+            && !names.contains(&name)
+            && !kept.contains(&name)
+        {
             foreign.push(name);
         }
     }
@@ -165,6 +193,18 @@ impl OutputFolder {
             .map(|n| format!("{}\n", n.to_string_lossy()))
             .collect();
         super::atomic_write(&staging.path().join(MANIFEST), list.as_bytes())?;
+        // Other results kept in the folder move along into the new one.
+        let mut moved = Vec::new();
+        for name in kept_entries(&self.target) {
+            let (old, new) = (self.target.join(&name), staging.path().join(&name));
+            if let Err(e) = std::fs::rename(&old, &new) {
+                for (old, new) in moved {
+                    let _ = std::fs::rename(new, old);
+                }
+                return Err(e);
+            }
+            moved.push((old, new));
+        }
         let from = staging.keep();
         let swapped = rustix::fs::renameat_with(
             rustix::fs::CWD,

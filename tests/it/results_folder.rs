@@ -199,3 +199,39 @@ fn a_new_run_replaces_the_whole_folder_and_no_foreign_file() {
     );
     assert!(out.join("second.npy").is_file());
 }
+
+#[test]
+fn results_nested_in_a_results_folder_are_kept() {
+    // The defaults nest: trace writes `out`, focus `out/focus`. A new trace
+    // replaces its own files and keeps the focus scan.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let scene = repo().join("scenes/wolter1_parallel.toml");
+    let trace = |seed: &str| {
+        run_ok(
+            traxer()
+                .arg("trace")
+                .arg(&scene)
+                .args(["-n", "2000", "-s", seed, "-q", "-o"])
+                .arg(&out),
+        );
+    };
+    trace("1");
+    run_ok(
+        traxer()
+            .arg("focus")
+            .arg(&scene)
+            .args(["--var", "focus_shift", "--from=-2", "--to=2", "--steps=4"])
+            .args(["-n", "5000", "-q", "-o"])
+            .arg(out.join("focus")),
+    );
+    let scan = std::fs::read(out.join("focus/focus.csv")).unwrap();
+    trace("2");
+    assert_eq!(seed_of(&out), 2);
+    assert_eq!(std::fs::read(out.join("focus/focus.csv")).unwrap(), scan);
+    assert!(
+        leftovers(dir.path()).is_empty(),
+        "{:?}",
+        leftovers(dir.path())
+    );
+}
