@@ -48,6 +48,37 @@ pub struct TessellateArgs {
     pub vars: DefineArgs,
 }
 
+/// One shape tessellated at the resolution asked (command line, else the
+/// object's own, else 360 × 16), placed unless `--local`.
+fn tessellate(a: &TessellateArgs, s: &NamedShape) -> Result<TriangleMesh, InputError> {
+    let res = Resolution {
+        segments: a
+            .segments
+            .or(s.resolution.map(|r| r.segments))
+            .unwrap_or(360),
+        rings: a.rings.or(s.resolution.map(|r| r.rings)).unwrap_or(16),
+    };
+    if res.segments.saturating_mul(res.rings) > MAX_TESSELLATION_QUADS {
+        return Err(InputError(format!(
+            "{}: {} segments × {} rings is more than {MAX_TESSELLATION_QUADS} quads",
+            s.name, res.segments, res.rings
+        )));
+    }
+    let mut mesh = s.shape.tessellate(res);
+    if !a.local {
+        mesh = mesh.transformed(&s.transform);
+    }
+    say!(
+        "{}: {} triangles, {} vertices ({} × {})",
+        s.name,
+        mesh.triangles.len(),
+        mesh.positions.len(),
+        res.segments,
+        res.rings
+    );
+    Ok(mesh)
+}
+
 /// Mesh file formats `tessellate` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum MeshFormat {
@@ -118,36 +149,10 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         traxer::files::create_dir_all(&a.out)
             .with_context(|| format!("cannot create {}", a.out.display()))?;
     }
-    let mut meshes = Vec::with_capacity(shapes.len());
-    for s in &shapes {
-        let res = Resolution {
-            segments: a
-                .segments
-                .or(s.resolution.map(|r| r.segments))
-                .unwrap_or(360),
-            rings: a.rings.or(s.resolution.map(|r| r.rings)).unwrap_or(16),
-        };
-        if res.segments.saturating_mul(res.rings) > MAX_TESSELLATION_QUADS {
-            return Err(InputError(format!(
-                "{}: {} segments × {} rings is more than {MAX_TESSELLATION_QUADS} quads",
-                s.name, res.segments, res.rings
-            ))
-            .into());
-        }
-        let mut mesh = s.shape.tessellate(res);
-        if !a.local {
-            mesh = mesh.transformed(&s.transform);
-        }
-        say!(
-            "{}: {} triangles, {} vertices ({} × {})",
-            s.name,
-            mesh.triangles.len(),
-            mesh.positions.len(),
-            res.segments,
-            res.rings
-        );
-        meshes.push(mesh);
-    }
+    let meshes = shapes
+        .iter()
+        .map(|s| tessellate(&a, s))
+        .collect::<Result<Vec<_>, _>>()?;
     if is_file {
         // One file: one named part (glTF node, OBJ object) per shape.
         let parts: Vec<(&str, &TriangleMesh)> = shapes

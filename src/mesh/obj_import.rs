@@ -56,48 +56,8 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             });
             continue;
         }
-        let positions: Vec<DVec3> = m
-            .positions
-            .chunks_exact(3)
-            .map(|p| DVec3::new(p[0], p[1], p[2]))
-            .collect();
-        let triangles = faces_to_triangles(&m.indices, &m.face_arities, &positions);
-        let mut part = TriangleMesh {
-            positions,
-            normals: None,
-            triangles,
-        };
-        let n = part.positions.len();
-        if let Some((i, t)) = part
-            .triangles
-            .iter()
-            .enumerate()
-            .find(|(_, t)| t.iter().any(|&k| k as usize >= n))
-        {
-            return Err(MeshError::invalid(
-                path,
-                format!(
-                    "object '{}': triangle {i} uses vertex index {t:?} but the object has only {n} vertices",
-                    model.name
-                ),
-            ));
-        }
-        let had_normals = m.normals.len() == 3 * n && n > 0;
-        if had_normals {
-            part.normals = Some(
-                m.normals
-                    .chunks_exact(3)
-                    .map(|v| {
-                        DVec3::new(v[0], v[1], v[2])
-                            .try_normalize()
-                            .unwrap_or(DVec3::NAN)
-                    })
-                    .collect(),
-            );
-        } else {
-            report.normals_from_file = false;
-            part.normals = Some(part.computed_normals());
-        }
+        let (part, had_normals) = model_mesh(path, &model)?;
+        report.normals_from_file &= had_normals;
         let mut piece = MeshPart {
             name: model.name.clone(),
             aliases: Vec::new(),
@@ -108,6 +68,51 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         parts.push(piece);
     }
     Ok((parts, report))
+}
+
+/// One OBJ object as a checked mesh, and whether the file gave its normals.
+fn model_mesh(path: &Path, model: &tobj::Model) -> Result<(TriangleMesh, bool), MeshError> {
+    let m = &model.mesh;
+    let positions: Vec<DVec3> = m
+        .positions
+        .chunks_exact(3)
+        .map(|p| DVec3::new(p[0], p[1], p[2]))
+        .collect();
+    let triangles = faces_to_triangles(&m.indices, &m.face_arities, &positions);
+    let mut part = TriangleMesh {
+        positions,
+        normals: None,
+        triangles,
+    };
+    let n = part.positions.len();
+    if let Some((i, t)) = part
+        .triangles
+        .iter()
+        .enumerate()
+        .find(|(_, t)| t.iter().any(|&k| k as usize >= n))
+    {
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "object '{}': triangle {i} uses vertex index {t:?} but the object has only {n} vertices",
+                model.name
+            ),
+        ));
+    }
+    let had_normals = m.normals.len() == 3 * n && n > 0;
+    part.normals = Some(if had_normals {
+        m.normals
+            .chunks_exact(3)
+            .map(|v| {
+                DVec3::new(v[0], v[1], v[2])
+                    .try_normalize()
+                    .unwrap_or(DVec3::NAN)
+            })
+            .collect()
+    } else {
+        part.computed_normals()
+    });
+    Ok((part, had_normals))
 }
 
 /// The file without its line elements (`l ...`, with any `\` continuation

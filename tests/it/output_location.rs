@@ -108,6 +108,23 @@ fn an_output_where_nothing_can_be_written_is_refused() {
     }
 }
 
+/// `traxer reflectivity` plotting to `plot`.
+fn reflectivity_to(plot: &Path) -> std::process::Command {
+    let mut c = traxer();
+    c.args([
+        "reflectivity",
+        "--coating",
+        "gold",
+        "--energy",
+        "1.49",
+        "--angle",
+        "1",
+    ])
+    .arg("--plot")
+    .arg(plot);
+    c
+}
+
 #[test]
 fn an_output_name_taken_by_a_folder_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -128,21 +145,7 @@ fn an_output_name_taken_by_a_folder_is_refused() {
     // Nothing was written next to it.
     assert_eq!(std::fs::read_dir(&out).unwrap().count(), 1);
     std::fs::create_dir_all(out.join("r.png")).unwrap();
-    let err = run_fails(
-        traxer()
-            .args([
-                "reflectivity",
-                "--coating",
-                "gold",
-                "--energy",
-                "1.49",
-                "--angle",
-                "1",
-            ])
-            .arg("--plot")
-            .arg(out.join("r.png")),
-        2,
-    );
+    let err = run_fails(&mut reflectivity_to(&out.join("r.png")), 2);
     assert!(err.contains("folder"), "{err}");
 }
 
@@ -156,21 +159,7 @@ fn a_device_is_never_replaced_by_an_output_file() {
         .status()
         .unwrap();
     assert!(made.success());
-    let err = run_fails(
-        traxer()
-            .args([
-                "reflectivity",
-                "--coating",
-                "gold",
-                "--energy",
-                "1.49",
-                "--angle",
-                "1",
-            ])
-            .arg("--plot")
-            .arg(&fifo),
-        2,
-    );
+    let err = run_fails(&mut reflectivity_to(&fifo), 2);
     assert!(err.contains("named pipe"), "{err}");
     let err = run_fails(
         traxer()
@@ -187,19 +176,6 @@ fn a_device_is_never_replaced_by_an_output_file() {
     let e = traxer::files::atomic_write(&fifo, b"x").unwrap_err();
     assert!(e.to_string().contains("not a regular file"), "{e}");
     // /dev/null is a device: refused as an output, untouched.
-    let err = run_fails(
-        traxer()
-            .args([
-                "reflectivity",
-                "--coating",
-                "gold",
-                "--energy",
-                "1.49",
-                "--angle",
-                "1",
-            ])
-            .args(["--plot", "/dev/null"]),
-        2,
-    );
+    let err = run_fails(&mut reflectivity_to(Path::new("/dev/null")), 2);
     assert!(err.contains("device"), "{err}");
 }
