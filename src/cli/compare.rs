@@ -5,7 +5,6 @@
 //! (`traxer::studies::compare`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::names;
 use super::{progress, Warnings};
 use anyhow::Context;
 use std::path::PathBuf;
@@ -62,7 +61,7 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    let folder = OutputFolder::prepare(&a.output.out, &names(&COMPARE_FILES))?;
+    let folder = OutputFolder::prepare(&a.output.out, &COMPARE_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);

@@ -142,7 +142,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     }
     let bounds = parse_bounds(&a.bounds)?;
     let run = a.run.config()?;
-    let folder = OutputFolder::prepare(&a.output.out, &super::names(&FIT_FILES))?;
+    let folder = OutputFolder::prepare(&a.output.out, &FIT_FILES)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {

@@ -3,7 +3,6 @@
 //! (`traxer::studies::focus`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::names;
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
@@ -59,7 +58,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     };
     let values = sweep.values()?;
     let cfg = a.run.config()?;
-    let folder = OutputFolder::prepare(&a.output.out, &names(&FOCUS_FILES))?;
+    let folder = OutputFolder::prepare(&a.output.out, &FOCUS_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let mut warnings = Warnings::default();

@@ -61,11 +61,6 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
     })
 }
 
-/// Owned names of a command's output files.
-pub fn names(files: &[&str]) -> Vec<String> {
-    files.iter().map(|f| f.to_string()).collect()
-}
-
 /// On SIGINT, SIGTERM or SIGHUP: remove the temporary files and staging folders
 /// of results being written (the previous results stay as they were) and exit
 /// with 130, at once.

@@ -86,7 +86,7 @@ fn kept_entries(dir: &Path) -> Vec<OsString> {
 
 /// The names in `dir` that no traxer run wrote: not in its manifest, nor among
 /// `names` (what this command writes), nor other traxer results kept in it.
-fn foreign_files(dir: &Path, names: &[String]) -> std::io::Result<Vec<String>> {
+fn foreign_files<S: AsRef<str>>(dir: &Path, names: &[S]) -> std::io::Result<Vec<String>> {
     let kept: Vec<String> = kept_entries(dir)
         .iter()
         .map(|n| n.to_string_lossy().into_owned())
@@ -99,7 +99,7 @@ fn foreign_files(dir: &Path, names: &[String]) -> std::io::Result<Vec<String>> {
         let name = e?.file_name().to_string_lossy().into_owned();
         if name != MANIFEST
             && !listed.contains(&name)
-            && !names.contains(&name)
+            && !names.iter().any(|n| n.as_ref() == name)
             && !kept.contains(&name)
         {
             foreign.push(name);
@@ -114,7 +114,10 @@ impl OutputFolder {
     /// location (see `check_output_dir`), refuses a target holding files traxer
     /// did not write or held by another running traxer, and makes the staging
     /// folder. Call before any work.
-    pub fn prepare(target: &Path, names: &[String]) -> Result<OutputFolder, OutputLocationError> {
+    pub fn prepare<S: AsRef<str>>(
+        target: &Path,
+        names: &[S],
+    ) -> Result<OutputFolder, OutputLocationError> {
         super::check_output_dir(target, names)?;
         let created = !target.exists();
         super::create_dir_all(target).map_err(|e| fail(target, e.to_string()))?;
