@@ -39,6 +39,9 @@ pub enum Material {
     },
     /// Stops the photon.
     Absorber,
+    /// A thin foil (window, filter): the photon goes straight on with its weight
+    /// multiplied by the transmission T(E, θ) of `Scene::foils[foil]`.
+    Foil { foil: usize },
     /// Records the photon in image sensor number `sensor` and stops it.
     Sensor { sensor: usize },
 }

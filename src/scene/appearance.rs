@@ -36,6 +36,7 @@ impl Appearance {
             Material::Absorber => Appearance::Diffuse {
                 color: DVec3::splat(0.5),
             },
+            Material::Foil { .. } => Appearance::Glass { ior: 1.02 },
             Material::Sensor { .. } => Appearance::Diffuse {
                 color: DVec3::splat(0.05),
             },

@@ -14,7 +14,7 @@ use crate::embree::Device;
 use crate::geometry::{AnalyticObject, Resolution, Shape, Transform};
 use crate::source::Source;
 use crate::xray::figure_error::FigureErrorLibrary;
-use crate::xray::{Coating, CoatingLibrary, ReflectivityTable};
+use crate::xray::{Coating, CoatingLibrary, Foil, ReflectivityTable};
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -84,6 +84,7 @@ pub(super) fn build(
         .map(|s| s.get_ref().build().map_err(|m| at.error(s.span(), m)))
         .collect::<Result<Vec<_>, _>>()?;
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
+    check_foils(at, &materials.foils, &sources)?;
     let embree = embree
         .commit()
         .map_err(|e| at.whole(format!("Embree could not build the scene: {e}")))?;
@@ -106,6 +107,7 @@ pub(super) fn build(
         vars,
         objects,
         sensors: materials.sensors,
+        foils: materials.foils,
         sources,
         max_interactions,
         reflectivity,
@@ -117,18 +119,42 @@ pub(super) fn build(
     })
 }
 
+/// Lowest and highest energy the sources emit (keV); (∞, −∞) without sources.
+fn source_energy_range(sources: &[Source]) -> (f64, f64) {
+    sources
+        .iter()
+        .map(|s| s.spectrum().range())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
+            (a.min(lo), b.max(hi))
+        })
+}
+
+/// Every foil must know its attenuation at every energy the sources emit.
+fn check_foils(at: SceneText, foils: &[Foil], sources: &[Source]) -> Result<(), SceneError> {
+    let (e_min, e_max) = source_energy_range(sources);
+    if sources.is_empty() {
+        return Ok(());
+    }
+    for f in foils {
+        for e in [e_min, e_max] {
+            f.attenuation_per_nm(e).map_err(|err| {
+                at.whole(format!(
+                    "foil of `{}`: the sources emit energies it cannot describe: {err}",
+                    f.material.name
+                ))
+            })?;
+        }
+    }
+    Ok(())
+}
+
 /// One reflectivity table per coating, over the energies the sources emit.
 fn reflectivity_tables(
     at: SceneText,
     coatings: &[Coating],
     sources: &[Source],
 ) -> Result<Vec<ReflectivityTable>, SceneError> {
-    let (e_min, e_max) = sources
-        .iter()
-        .map(|s| s.spectrum().range())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
-            (a.min(lo), b.max(hi))
-        });
+    let (e_min, e_max) = source_energy_range(sources);
     coatings
         .iter()
         .map(|c| {

@@ -6,7 +6,7 @@
 use crate::material::{Material, Side};
 use crate::sensor::{SensorDesc, SensorSpec};
 use crate::xray::figure_error::{FigureErrorLibrary, FigureErrorSpec};
-use crate::xray::{Coating, CoatingLibrary};
+use crate::xray::{Coating, CoatingLibrary, Foil};
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
@@ -22,6 +22,11 @@ use std::ops::Range;
 /// [materials.baffle]
 /// type = "absorber"
 ///
+/// [materials.window]
+/// type = "foil"        # photons pass, weight × exp(−μ t / cos θ) (Henke μ = 4πβ/λ)
+/// material = "Si3N4"   # an optical material (data/coatings.toml or [optical_materials])
+/// thickness_nm = 300.0
+///
 /// [materials.detector]
 /// type = "sensor"      # records and absorbs every photon
 /// size = [14.0, 14.0]  # mm, along the object's local x and y, centred on its origin
@@ -34,7 +39,16 @@ use std::ops::Range;
 pub enum MaterialDesc {
     Mirror(MirrorDesc),
     Absorber(AbsorberDesc),
+    Foil(FoilDesc),
     Sensor(SensorDesc),
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FoilDesc {
+    /// An optical material: formula or mass fractions and density.
+    pub material: String,
+    pub thickness_nm: f64,
 }
 
 #[derive(Debug, Deserialize)]
@@ -107,6 +121,8 @@ pub struct Materials {
     pub coatings: Vec<Coating>,
     /// Sensors in object order (`Material::Sensor::sensor` indexes this).
     pub sensors: Vec<SensorSpec>,
+    /// Foils in order of first use (`Material::Foil::foil` indexes this).
+    pub foils: Vec<Foil>,
 }
 
 impl Materials {
@@ -153,6 +169,7 @@ impl Materials {
             figure_errors,
             coatings: Vec::new(),
             sensors: Vec::new(),
+            foils: Vec::new(),
         }
     }
 
@@ -187,6 +204,29 @@ impl Materials {
         };
         Some(match &entry.desc {
             MaterialDesc::Absorber(_) => Ok(Material::Absorber),
+            MaterialDesc::Foil(f) => {
+                if !(f.thickness_nm.is_finite() && f.thickness_nm >= 0.0) {
+                    return Some(Err(fail(format!(
+                        "thickness_nm = {}: expected a thickness ≥ 0 (nm)",
+                        f.thickness_nm
+                    ))));
+                }
+                let foil = match self.coating_library.material(&f.material) {
+                    Ok(material) => Foil {
+                        material,
+                        thickness_nm: f.thickness_nm,
+                    },
+                    Err(e) => return Some(Err(fail(e.to_string()))),
+                };
+                let index = match self.foils.iter().position(|k| *k == foil) {
+                    Some(i) => i,
+                    None => {
+                        self.foils.push(foil);
+                        self.foils.len() - 1
+                    }
+                };
+                Ok(Material::Foil { foil: index })
+            }
             MaterialDesc::Sensor(s) => match s.spec(object_name, object) {
                 Ok(spec) => {
                     self.sensors.push(spec);

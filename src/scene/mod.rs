@@ -29,7 +29,7 @@ pub use assemblies::{AssemblyDesc, LlnlTelescopeDesc};
 pub use build::{analytic_shapes, inline_shape, NamedShape};
 pub use camera::{Camera, CameraDesc};
 pub use error::SceneError;
-pub use materials::{AbsorberDesc, MaterialDesc, MirrorDesc, SideDesc};
+pub use materials::{AbsorberDesc, FoilDesc, MaterialDesc, MirrorDesc, SideDesc};
 pub use placement::{RotateDesc, ScaleDesc, TransformStep};
 pub use shapes::ShapeDesc;
 
@@ -54,6 +54,8 @@ pub struct Scene {
     pub vars: BTreeMap<String, toml::Value>,
     pub objects: Vec<Object>,
     pub sensors: Vec<SensorSpec>,
+    /// Thin foils (windows, filters), indexed by `Material::Foil::foil`.
+    pub foils: Vec<crate::xray::Foil>,
     pub sources: Vec<Source>,
     pub max_interactions: u32,
     /// Reflectivity tables of the coated mirrors' coatings (indexed by

@@ -77,6 +77,13 @@ pub fn trace_photon<H: QueryHook>(
                 stats.absorbed += 1;
                 return None;
             }
+            Material::Foil { foil } => {
+                let cos = photon.dir.dot(hit.geometric_normal);
+                photon.weight *= scene.foils[foil].transmission(photon.energy, cos);
+                // Straight on, leaving the foil's surface behind.
+                photon.origin = hit.point;
+                start = Some(hit);
+            }
             Material::Sensor { sensor } => {
                 let spec = &scene.sensors[sensor];
                 let local = object.transform.to_local.transform_point3(hit.point);

@@ -13,11 +13,13 @@ pub mod coating;
 pub mod compound;
 pub mod elements;
 pub mod figure_error;
+pub mod foil;
 pub mod optical;
 pub mod parratt;
 pub mod table;
 
 pub use coating::{Coating, CoatingLibrary};
 pub use figure_error::{FigureError, FigureErrorLibrary};
+pub use foil::Foil;
 pub use optical::OpticalMaterial;
 pub use table::ReflectivityTable;

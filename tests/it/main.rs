@@ -10,6 +10,7 @@ mod errors;
 mod figure_error;
 mod files;
 mod focusing;
+mod foil;
 mod geometry;
 mod inspect;
 mod layout;
