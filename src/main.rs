@@ -33,6 +33,7 @@ enum Command {
     Compare(cli::compare::CompareArgs),
     FitFigureError(cli::fit_figure_error::FitFigureErrorArgs),
     Render(cli::render::RenderArgs),
+    SolarFlux(cli::solar_flux::SolarFluxArgs),
     /// Print every subcommand with all its arguments (docs/scene-format.md).
     #[command(hide = true)]
     Synopsis,
@@ -53,6 +54,7 @@ fn main() -> ExitCode {
         Command::Compare(a) => cli::compare::run(a),
         Command::FitFigureError(a) => cli::fit_figure_error::run(a),
         Command::Render(a) => cli::render::run(a),
+        Command::SolarFlux(a) => cli::solar_flux::run(a),
         Command::Synopsis => cli::synopsis::run(&Cli::command()),
     };
     match result {

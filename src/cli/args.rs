@@ -99,3 +99,37 @@ pub struct QuietArg {
     #[arg(short, long)]
     pub quiet: bool,
 }
+
+/// Parses "a,b,c" or "start:stop:step" (inclusive of stop).
+pub fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, super::InputError> {
+    let bad = || {
+        super::InputError(format!(
+            "--{what} {s}: expected numbers a,b,c or a range start:stop:step"
+        ))
+    };
+    let parts: Vec<&str> = s.split(':').collect();
+    let values = if parts.len() == 3 {
+        let n: Vec<f64> = parts
+            .iter()
+            .map(|p| p.trim().parse().map_err(|_| bad()))
+            .collect::<Result<_, _>>()?;
+        let (a, b, step) = (n[0], n[1], n[2]);
+        if !(step > 0.0 && b >= a) || (b - a) / step > 1e6 {
+            return Err(super::InputError(format!(
+                "--{what} {s}: need stop ≥ start, step > 0 and at most a million values"
+            )));
+        }
+        let count = ((b - a) / step + 1e-9).floor() as usize;
+        (0..=count).map(|i| a + step * i as f64).collect()
+    } else if parts.len() == 1 {
+        s.split(',')
+            .map(|p| p.trim().parse().map_err(|_| bad()))
+            .collect::<Result<Vec<f64>, _>>()?
+    } else {
+        return Err(bad());
+    };
+    if values.is_empty() || values.iter().any(|v| !v.is_finite()) {
+        return Err(bad());
+    }
+    Ok(values)
+}

@@ -31,6 +31,7 @@ pub mod inspect;
 pub mod progress;
 pub mod reflectivity;
 pub mod render;
+pub mod solar_flux;
 pub mod synopsis;
 pub mod tessellate;
 pub mod trace;
@@ -56,6 +57,7 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<InputError>()
             || c.is::<NpyError>()
             || c.is::<OutputLocationError>()
+            || c.is::<traxer::source::sun::SolarDataError>()
             || c.downcast_ref::<StudyError>()
                 .is_some_and(StudyError::is_bad_input)
     })

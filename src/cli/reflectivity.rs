@@ -1,6 +1,7 @@
 //! `traxer reflectivity`: R of a coating versus grazing angle or energy, as CSV on
 //! stdout and a PNG plot.
 
+use super::args::parse_values;
 use super::InputError;
 use anyhow::Context;
 use serde_json::json;
@@ -36,40 +37,6 @@ pub struct ReflectivityArgs {
     /// Also write the CSV to this file (atomically) instead of only printing it.
     #[arg(value_name = "FILE", long)]
     pub csv: Option<PathBuf>,
-}
-
-/// Parses "a,b,c" or "start:stop:step" (inclusive of stop).
-fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, InputError> {
-    let bad = || {
-        InputError(format!(
-            "--{what} {s}: expected numbers a,b,c or a range start:stop:step"
-        ))
-    };
-    let parts: Vec<&str> = s.split(':').collect();
-    let values = if parts.len() == 3 {
-        let n: Vec<f64> = parts
-            .iter()
-            .map(|p| p.trim().parse().map_err(|_| bad()))
-            .collect::<Result<_, _>>()?;
-        let (a, b, step) = (n[0], n[1], n[2]);
-        if !(step > 0.0 && b >= a) || (b - a) / step > 1e6 {
-            return Err(InputError(format!(
-                "--{what} {s}: need stop ≥ start, step > 0 and at most a million values"
-            )));
-        }
-        let count = ((b - a) / step + 1e-9).floor() as usize;
-        (0..=count).map(|i| a + step * i as f64).collect()
-    } else if parts.len() == 1 {
-        s.split(',')
-            .map(|p| p.trim().parse().map_err(|_| bad()))
-            .collect::<Result<Vec<f64>, _>>()?
-    } else {
-        return Err(bad());
-    };
-    if values.is_empty() || values.iter().any(|v| !v.is_finite()) {
-        return Err(bad());
-    }
-    Ok(values)
 }
 
 fn load_coating(spec: &str) -> Result<Coating, InputError> {

@@ -20,6 +20,7 @@ mod plot;
 mod png;
 mod provenance;
 mod run_files;
+mod solar_flux;
 
 pub use crate::sensor::{file_stem, sensor_file_names};
 pub use colormap::Scale;
@@ -34,3 +35,4 @@ pub use plot::{line_plot, Series};
 pub use png::{write_png, write_rgb_png};
 pub use provenance::{git_hash, sidecar_path, write_sidecar, Provenance};
 pub use run_files::{run_file_names, write_json, write_run};
+pub use solar_flux::{cast2007_flux, write_solar_flux, SolarFluxInfo, SOLAR_FLUX_FILES};

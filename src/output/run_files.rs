@@ -32,7 +32,13 @@ pub fn write_run(
     crate::files::create_dir_all(dir)?;
     let mut written = Vec::new();
     let stats = statistics_json(scene, result);
-    let sources = sources_json(scene);
+    let photons = result.stats.photons_emitted;
+    let sources = sources_json(scene, photons);
+    // A Sun makes images in axions per second (it is then the only source).
+    let absolute = scene.sources.iter().find_map(|s| match s {
+        Source::Sun(sun) => Some(sun.rate_per_unit_weight(photons)),
+        _ => None,
+    });
     let mut sensor_summaries = Vec::new();
     for (spec, image) in scene.sensors.iter().zip(&result.images) {
         let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
@@ -41,10 +47,18 @@ pub fn write_run(
             Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
             None => vec![ny as u64, nx as u64],
         };
-        let summed = image.flux_summed(spec);
+        let scaled;
+        let flux: &[f64] = match absolute {
+            Some(k) => {
+                scaled = image.flux.iter().map(|f| f * k).collect::<Vec<_>>();
+                &scaled
+            }
+            None => &image.flux,
+        };
+        let summed = crate::sensor::sum_bands(flux, spec.pixel_count());
         let files = sensor_file_names(&spec.name);
         let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
-        write_npy_f64(&paths[0], &shape, &image.flux)?;
+        write_npy_f64(&paths[0], &shape, flux)?;
         write_npy_u64(&paths[1], &shape, &image.counts)?;
         write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
         write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
@@ -69,10 +83,14 @@ pub fn write_run(
             "energy_band_edges_keV": spec.band_edges(),
             "units": {
                 "lengths": "mm",
-                "flux": "sum of photon weights per pixel (see sources[].weight)",
+                "flux": if absolute.is_some() {
+                    "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling"
+                } else {
+                    "sum of photon weights per pixel (see sources[].weight)"
+                },
                 "counts": "number of photons per pixel",
             },
-            "total_flux": image.total_flux(),
+            "total_flux": flux.iter().sum::<f64>(),
             "image_quality": quality.as_ref().map(|(q, _)| q),
             "total_counts": image.total_counts(),
             "files": {
@@ -175,7 +193,7 @@ fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
     })
 }
 
-fn sources_json(scene: &Scene) -> Value {
+fn sources_json(scene: &Scene, photons: u64) -> Value {
     Value::Array(
         scene
             .sources
@@ -194,6 +212,21 @@ fn sources_json(scene: &Scene) -> Value {
                     "radius_mm": p.radius,
                     "target": sector_json(&p.target),
                     "spectrum_keV": p.spectrum,
+                    "weight": s.describe_weight(),
+                }),
+                Source::Sun(sun) => json!({
+                    "type": "sun",
+                    "emission": sun.emission,
+                    "coupling": sun.coupling,
+                    "distance_au": sun.distance_mm / (crate::source::sun::AU_CM * 10.0),
+                    "toward_sun": sun.toward_sun.to_array(),
+                    "offset_arcmin": sun.offset_arcmin,
+                    "target": sector_json(&sun.target),
+                    "energy_range_keV": [sun.energy_range.0, sun.energy_range.1],
+                    "luminosity_per_s": sun.sampler.luminosity,
+                    "flux_at_target_per_cm2_s": sun.flux_per_mm2() * 100.0,
+                    "rate_through_target_per_s": sun.rate_through_target(),
+                    "rate_per_unit_weight_per_s": sun.rate_per_unit_weight(photons),
                     "weight": s.describe_weight(),
                 }),
             })

@@ -81,8 +81,16 @@ pub(super) fn build(
     let sources = desc
         .sources
         .iter()
-        .map(|s| s.get_ref().build().map_err(|m| at.error(s.span(), m)))
+        .map(|s| s.get_ref().build(dir).map_err(|m| at.error(s.span(), m)))
         .collect::<Result<Vec<_>, _>>()?;
+    if sources.len() > 1 {
+        if let Some(k) = sources.iter().position(|s| matches!(s, Source::Sun(_))) {
+            return Err(at.error(
+                desc.sources[k].span(),
+                "a `sun` source must be the scene's only source: its images are in axions per second, which other sources' weights are not",
+            ));
+        }
+    }
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
     check_foils(at, &materials.foils, &sources)?;
     let embree = embree
@@ -123,7 +131,7 @@ pub(super) fn build(
 fn source_energy_range(sources: &[Source]) -> (f64, f64) {
     sources
         .iter()
-        .map(|s| s.spectrum().range())
+        .map(|s| s.energy_range())
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
             (a.min(lo), b.max(hi))
         })

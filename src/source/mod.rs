@@ -10,11 +10,13 @@ mod annulus;
 mod parallel;
 mod point;
 mod spectrum;
+pub mod sun;
 
 pub use annulus::{AnnulusSector, ApertureDesc};
 pub use parallel::{ParallelBeam, ParallelDesc};
 pub use point::{PointDesc, PointSource};
 pub use spectrum::{EnergyDesc, Spectrum};
+pub use sun::{SunDesc, SunSource};
 
 use crate::geometry::{within_world, WORLD_LIMIT_MM};
 use crate::random::PhotonRng;
@@ -44,20 +46,36 @@ message_error!(
 /// target = { center = [0, 0, 300], radius = 110.0, inner_radius = 55.0, azimuth = [-16, 16] }
 ///                                   # disk, annulus or sector the photons are aimed at
 /// energy = { band = [1.48, 1.50] }
+///
+/// [[sources]]
+/// type = "sun"                      # solar axions converted to X-rays (SPEC §3)
+/// emission = "primakoff"            # built in (B16-AGSS09met, g_aγ = 1e-10 GeV⁻¹), or
+///                                   # an emission table CSV (Radius, Energy [keV], emRates)
+/// coupling = "g_ae = 1e-13"         # with a CSV: what it is computed for (reported)
+/// distance_au = 0.989               # Sun–Earth distance (default 0.989)
+/// direction = [0, 0, 1]             # from the target towards the Sun (the bore axis)
+/// offset_arcmin = [0.0, 0.0]        # pointing offset of the Sun's centre
+/// target = { center = [83.6, 0, 9500], radius = 21.5 }   # the bore's Sun-side opening
+/// energy_range = [0.5, 10.0]        # optional, keV: only this part of the emission
 /// ```
+/// A scene with a `sun` source has no other source: its images are in absolute
+/// units (axions per second per pixel).
 #[derive(Debug, Deserialize, Clone)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum SourceDesc {
     Parallel(ParallelDesc),
     Point(PointDesc),
+    Sun(SunDesc),
 }
 
 impl SourceDesc {
-    /// The source, or what is wrong with its parameters.
-    pub fn build(&self) -> Result<Source, InvalidSource> {
+    /// The source, or what is wrong with its parameters; files it names are
+    /// relative to `dir`.
+    pub fn build(&self, dir: &std::path::Path) -> Result<Source, InvalidSource> {
         Ok(match self {
             SourceDesc::Parallel(p) => Source::Parallel(p.build()?),
             SourceDesc::Point(p) => Source::Point(p.build()?),
+            SourceDesc::Sun(s) => Source::Sun(s.build(dir)?),
         })
     }
 }
@@ -89,6 +107,7 @@ pub struct Photon {
 pub enum Source {
     Parallel(ParallelBeam),
     Point(PointSource),
+    Sun(SunSource),
 }
 
 impl Source {
@@ -97,13 +116,16 @@ impl Source {
         match self {
             Source::Parallel(s) => s.emit(rng),
             Source::Point(s) => s.emit(rng),
+            Source::Sun(s) => s.emit(rng),
         }
     }
 
-    pub fn spectrum(&self) -> Spectrum {
+    /// Lowest and highest energy emitted (keV).
+    pub fn energy_range(&self) -> (f64, f64) {
         match self {
-            Source::Parallel(s) => s.spectrum,
-            Source::Point(s) => s.spectrum,
+            Source::Parallel(s) => s.spectrum.range(),
+            Source::Point(s) => s.spectrum.range(),
+            Source::Sun(s) => s.energy_range,
         }
     }
 
@@ -115,6 +137,9 @@ impl Source {
             }
             Source::Point(_) => {
                 "weight = fraction of the full sphere; the image is the expected photons per pixel if the source emitted `photons` photons isotropically"
+            }
+            Source::Sun(_) => {
+                "weight = cos θ · D_min² / |target − emission point|² (≈ 1); images are the summed weights × rate_per_unit_weight: axions per second per pixel, before the conversion probability in the magnet"
             }
         }
     }

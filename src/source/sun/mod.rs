@@ -1,0 +1,236 @@
+//! The Sun as a source of axions converted to X-rays (SPEC §3): a sphere of radius
+//! R_sun at a distance D, whose emission point and energy follow an emission table
+//! (the built-in Primakoff table, or a CSV of the predecessor's format).
+//!
+//! Sampling: an emission cell is drawn in proportion to its axion rate, a point
+//! uniformly in that shell's volume and direction, a point T uniformly on the
+//! target disk (the magnet bore's Sun-side opening); the photon starts at T, aimed
+//! from the emission point P. Everything is in f64 relative to the target centre
+//! (|P| ≈ 1.5e14 mm: the direction is exact to ~1e-16 rad); nothing travels the
+//! astronomical unit in float32.
+//!
+//! Units: the rate through the target is ∫∫ ε(P) cos θ / (4π |T − P|²) dV dA, so
+//! with P drawn from the emission (luminosity L in the energy range) and T uniform
+//! on the area A, each photon carries weight w = cos θ · D_min² / |T − P|² (≤ 1,
+//! D_min = D − R_sun − target radius, w = 1 − O(1e-3)) and stands for
+//! L·A/(4π D_min² N) axions per second, N the photons of the run. Trace outputs
+//! multiply the summed weights by that factor: images are in axions per second
+//! reaching each pixel (before the conversion probability in the magnet).
+//!
+//! Data flow: `SourceDesc::Sun` → [`SunDesc::build`] (reads the table) →
+//! `Source::Sun`; trace outputs ask [`SunSource::rate_per_unit_weight`].
+
+pub mod emission;
+pub mod model;
+pub mod primakoff;
+pub mod sampler;
+
+pub use emission::{EmissionTable, AU_CM, R_SUN_CM};
+pub use model::{SolarDataError, SolarModel};
+pub use sampler::EmissionSampler;
+
+use super::{far_from_origin, frame, AnnulusSector, ApertureDesc, InvalidSource, Photon};
+use crate::random::PhotonRng;
+use glam::DVec3;
+use serde::Deserialize;
+use std::path::Path;
+use std::sync::{Arc, OnceLock};
+
+/// The shipped Primakoff table (see data/solar/README.md for how it was made).
+const BUILTIN_TABLE: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/solar/primakoff_b16_agss09met.csv"
+));
+/// Its name in scene files.
+pub const BUILTIN: &str = "primakoff";
+/// What the built-in table is, for summaries.
+pub const BUILTIN_DESCRIPTION: &str = "Primakoff emission (Raffelt 1986, Debye–Hückel screening) of the B16-AGSS09met standard solar model (Vinyoles et al. 2017), data/solar/primakoff_b16_agss09met.csv";
+/// The coupling of the built-in table.
+pub const BUILTIN_COUPLING: &str = "g_aγ = 1e-10 GeV⁻¹";
+
+/// The built-in emission table, parsed once.
+pub fn builtin_table() -> &'static EmissionTable {
+    static TABLE: OnceLock<EmissionTable> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        EmissionTable::parse_csv(BUILTIN_TABLE, Path::new("data/solar/primakoff_b16_agss09met.csv"))
+            .expect("the shipped emission table is valid (tested)")
+    })
+}
+
+/// The solar radius in mm.
+const R_SUN_MM: f64 = R_SUN_CM * 10.0;
+
+/// `type = "sun"` in a scene file's `[[sources]]`.
+#[derive(Debug, Deserialize, Clone)]
+#[serde(deny_unknown_fields)]
+pub struct SunDesc {
+    /// "primakoff" (built in) or the path of an emission table CSV, relative to
+    /// the scene file.
+    #[serde(default = "default_emission")]
+    pub emission: String,
+    /// What coupling a CSV table is computed for (reported in summaries).
+    #[serde(default)]
+    pub coupling: Option<String>,
+    /// Sun–Earth distance in astronomical units.
+    #[serde(default = "default_distance")]
+    pub distance_au: f64,
+    /// From the target towards the Sun's centre when pointing exactly (the magnet
+    /// bore's axis).
+    #[serde(default = "plus_z")]
+    pub direction: [f64; 3],
+    /// Pointing offset of the Sun's centre from `direction`, arcminutes, along the
+    /// target frame's e1 (the part of +x perpendicular to `direction`) and e2.
+    #[serde(default)]
+    pub offset_arcmin: [f64; 2],
+    /// The disk photons are aimed at and start on: the bore's Sun-side opening.
+    pub target: ApertureDesc,
+    /// Only emission between these energies (keV); default the whole table.
+    #[serde(default)]
+    pub energy_range: Option<[f64; 2]>,
+}
+
+fn default_emission() -> String {
+    BUILTIN.to_string()
+}
+
+fn default_distance() -> f64 {
+    0.989
+}
+
+fn plus_z() -> [f64; 3] {
+    [0.0, 0.0, 1.0]
+}
+
+#[derive(Clone, Debug)]
+pub struct SunSource {
+    pub target: AnnulusSector,
+    /// Unit vector from the target centre to the Sun's centre (offset included).
+    pub toward_sun: DVec3,
+    /// Unit normal of the target (the nominal direction towards the Sun).
+    pub target_normal: DVec3,
+    /// Distance of the Sun's centre from the target centre, mm.
+    pub distance_mm: f64,
+    pub offset_arcmin: [f64; 2],
+    /// The emission, restricted to the energy range.
+    pub sampler: Arc<EmissionSampler>,
+    pub energy_range: (f64, f64),
+    /// What the emission is (built-in or the file read).
+    pub emission: String,
+    pub coupling: String,
+    /// D_min² in mm² (see the module documentation).
+    nearest_mm2: f64,
+}
+
+impl SunDesc {
+    /// The source, its table read relative to `dir`; or what is wrong.
+    pub fn build(&self, dir: &Path) -> Result<SunSource, InvalidSource> {
+        let p = self;
+        if far_from_origin(&[p.target.center], &[p.target.radius]) {
+            return Err(super::far_message());
+        }
+        if !p.target.is_valid() {
+            return Err("sun: target needs finite center, 0 ≤ inner_radius < radius and azimuth = [from, to] with from < to ≤ from + 360".into());
+        }
+        if !(p.distance_au.is_finite() && p.distance_au > 0.1) {
+            return Err(format!("sun: distance_au = {}: expected the Sun–Earth distance in astronomical units (about 0.98 to 1.02)", p.distance_au).into());
+        }
+        let axis = DVec3::from(p.direction);
+        if !axis.is_finite() || axis.length() == 0.0 {
+            return Err("sun: direction must be a non-zero vector (from the target towards the Sun)".into());
+        }
+        let axis = axis.normalize();
+        if !p.offset_arcmin.iter().all(|a| a.is_finite() && a.abs() < 600.0) {
+            return Err("sun: offset_arcmin = [x, y] must be finite and below 600′ (10°)".into());
+        }
+        let (table, emission, coupling) = if p.emission == BUILTIN {
+            (
+                builtin_table().clone(),
+                BUILTIN_DESCRIPTION.to_string(),
+                BUILTIN_COUPLING.to_string(),
+            )
+        } else {
+            let path = dir.join(&p.emission);
+            let table = EmissionTable::read_csv(&path).map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
+            let coupling = p.coupling.clone().unwrap_or_else(|| "the coupling the table was computed for".into());
+            (table, path.display().to_string(), coupling)
+        };
+        if p.emission == BUILTIN && p.coupling.is_some() {
+            return Err(format!("sun: coupling is fixed for the built-in table ({BUILTIN_COUPLING}); give it only with an emission table file").into());
+        }
+        let (t_min, t_max) = (table.energy_edges()[0], *table.energy_edges().last().unwrap());
+        let (e_min, e_max) = match p.energy_range {
+            None => (t_min, t_max),
+            Some([a, b]) if a.is_finite() && b.is_finite() && a < b => (a.max(t_min), b.min(t_max)),
+            Some(_) => return Err("sun: energy_range = [min, max] with min < max (keV)".into()),
+        };
+        let sampler = EmissionSampler::new(&table, e_min, e_max).ok_or_else(|| {
+            InvalidSource(format!("sun: the emission table emits nothing between {e_min} and {e_max} keV"))
+        })?;
+        let (e1, e2) = frame(axis);
+        let [ox, oy] = p.offset_arcmin.map(|a| (a / 60.0).to_radians().tan());
+        let toward_sun = (axis + e1 * ox + e2 * oy).normalize();
+        let distance_mm = p.distance_au * AU_CM * 10.0;
+        let nearest = distance_mm - R_SUN_MM - p.target.radius;
+        Ok(SunSource {
+            target: AnnulusSector::new(
+                DVec3::from(p.target.center),
+                -axis,
+                p.target.inner_radius,
+                p.target.radius,
+                p.target.azimuth,
+            ),
+            toward_sun,
+            target_normal: axis,
+            distance_mm,
+            offset_arcmin: p.offset_arcmin,
+            sampler: Arc::new(sampler),
+            energy_range: (e_min, e_max),
+            emission,
+            coupling,
+            nearest_mm2: nearest * nearest,
+        })
+    }
+}
+
+impl SunSource {
+    #[inline]
+    pub fn emit(&self, rng: &mut PhotonRng) -> Photon {
+        let (r, energy) = self.sampler.sample(rng);
+        // A uniform direction from the Sun's centre.
+        let z = 2.0 * rng.uniform() - 1.0;
+        let phi = std::f64::consts::TAU * rng.uniform();
+        let s = (1.0 - z * z).max(0.0).sqrt();
+        let radial = DVec3::new(s * phi.cos(), s * phi.sin(), z);
+        // Relative to the target centre.
+        let emission = self.toward_sun * self.distance_mm + radial * (r * R_SUN_MM);
+        let on_target = self.target.sample(rng);
+        let v = (on_target - self.target.center) - emission;
+        let d2 = v.length_squared();
+        let dir = v / d2.sqrt();
+        Photon {
+            origin: on_target,
+            dir,
+            energy,
+            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2,
+        }
+    }
+
+    /// Axions per second that one unit of weight stands for, summed over a run of
+    /// `photons` photons: L·A / (4π D_min²) / photons.
+    pub fn rate_per_unit_weight(&self, photons: u64) -> f64 {
+        self.sampler.luminosity * self.target.area()
+            / (4.0 * std::f64::consts::PI * self.nearest_mm2)
+            / photons.max(1) as f64
+    }
+
+    /// Axions per second through the target (energy range only): L·A·cos θ/(4πD²)
+    /// for the distant Sun, θ its angle from the target's normal.
+    pub fn rate_through_target(&self) -> f64 {
+        self.flux_per_mm2() * self.target.area() * self.toward_sun.dot(self.target_normal)
+    }
+
+    /// Axion flux at the target, per mm² and second, facing the Sun.
+    pub fn flux_per_mm2(&self) -> f64 {
+        self.sampler.luminosity / (4.0 * std::f64::consts::PI * self.distance_mm.powi(2))
+    }
+}
