@@ -9,7 +9,9 @@ use std::path::PathBuf;
 use traxer::files::{sha256_hex, OutputFolder};
 use traxer::output::{write_solar_flux, Provenance, SolarFluxInfo, SOLAR_FLUX_FILES};
 use traxer::source::sun::primakoff::emission_table;
-use traxer::source::sun::{builtin_table, EmissionTable, SolarModel, BUILTIN_COUPLING, BUILTIN_DESCRIPTION};
+use traxer::source::sun::{
+    builtin_table, EmissionTable, SolarModel, BUILTIN_COUPLING, BUILTIN_DESCRIPTION,
+};
 
 /// Solar axion emission: the table, the spectrum at Earth and where it comes from.
 ///
@@ -34,10 +36,20 @@ pub struct SolarFluxArgs {
     pub table: Option<PathBuf>,
     /// With --model: radii (fractions of R_sun) as a,b,c or start:stop:step, or
     /// "model" for every row of the model file.
-    #[arg(value_name = "LIST", long, default_value = "0.0025:0.6975:0.005", requires = "model")]
+    #[arg(
+        value_name = "LIST",
+        long,
+        default_value = "0.0025:0.6975:0.005",
+        requires = "model"
+    )]
     pub radii: String,
     /// With --model: energies (keV) as a,b,c or start:stop:step.
-    #[arg(value_name = "KEV_LIST", long, default_value = "0.1:15:0.1", requires = "model")]
+    #[arg(
+        value_name = "KEV_LIST",
+        long,
+        default_value = "0.1:15:0.1",
+        requires = "model"
+    )]
     pub energies: String,
     /// Sun–Earth distance for the spectrum, astronomical units.
     #[arg(value_name = "AU", long, default_value_t = 1.0)]
@@ -48,12 +60,17 @@ pub struct SolarFluxArgs {
 
 pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     if !(a.distance_au.is_finite() && a.distance_au > 0.0) {
-        return Err(InputError(format!("--distance-au {}: expected a positive distance", a.distance_au)).into());
+        return Err(InputError(format!(
+            "--distance-au {}: expected a positive distance",
+            a.distance_au
+        ))
+        .into());
     }
     let folder = OutputFolder::prepare(&a.output.out, &SOLAR_FLUX_FILES)?;
     let version = env!("CARGO_PKG_VERSION");
     let (table, description, coupling, origin, csv) = if let Some(path) = &a.model {
-        let bytes = std::fs::read(path).map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
+        let bytes = std::fs::read(path)
+            .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
         let model = SolarModel::parse(&String::from_utf8_lossy(&bytes), path)?;
         let radii = if a.radii == "model" {
             model.shells.iter().map(|s| s.radius).collect()
@@ -64,7 +81,10 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         EmissionTable::check_grid(&radii, &energies)
             .map_err(|e| InputError(format!("--radii/--energies: {e}")))?;
         let table = emission_table(&model, &radii, &energies);
-        let name = path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned());
+        let name = path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
         let sha = sha256_hex(&bytes);
         let comment = format!(
             "Primakoff axion emission (rate per axion phase-space mode w = 2 Γ_γ→a f_B, keV) for g_aγ = 1e-10 GeV⁻¹,\n\
@@ -77,16 +97,37 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         );
         let csv = table.to_csv(&comment);
         let origin = json!({"model": path.display().to_string(), "model_sha256": sha, "radii": a.radii, "energies_keV": a.energies});
-        (table, format!("Primakoff emission of {name}"), BUILTIN_COUPLING.to_string(), origin, csv)
+        (
+            table,
+            format!("Primakoff emission of {name}"),
+            BUILTIN_COUPLING.to_string(),
+            origin,
+            csv,
+        )
     } else if let Some(path) = &a.table {
-        let text = std::fs::read_to_string(path).map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
         let table = EmissionTable::parse_csv(&text, path)?;
         let origin = json!({"table": path.display().to_string(), "table_sha256": sha256_hex(text.as_bytes())});
-        (table, path.display().to_string(), "the table's coupling".to_string(), origin, text)
+        (
+            table,
+            path.display().to_string(),
+            "the table's coupling".to_string(),
+            origin,
+            text,
+        )
     } else {
         let table = builtin_table().clone();
-        let csv = table.to_csv(&format!("The built-in table of traxer {version}: {BUILTIN_DESCRIPTION}"));
-        (table, BUILTIN_DESCRIPTION.to_string(), BUILTIN_COUPLING.to_string(), json!({"builtin": true}), csv)
+        let csv = table.to_csv(&format!(
+            "The built-in table of traxer {version}: {BUILTIN_DESCRIPTION}"
+        ));
+        (
+            table,
+            BUILTIN_DESCRIPTION.to_string(),
+            BUILTIN_COUPLING.to_string(),
+            json!({"builtin": true}),
+            csv,
+        )
     };
     let info = SolarFluxInfo {
         description: &description,
@@ -98,8 +139,12 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     write_solar_flux(folder.path(), &table, &info, &Provenance::new(None))?;
     folder.commit()?;
     let d_cm = a.distance_au * traxer::source::sun::AU_CM;
-    let total: f64 = table.luminosity(0.0, f64::INFINITY) / (4.0 * std::f64::consts::PI * d_cm * d_cm);
-    say!("{description}: {total:.4e} axions cm⁻² s⁻¹ at {} AU ({coupling})", a.distance_au);
+    let total: f64 =
+        table.luminosity(0.0, f64::INFINITY) / (4.0 * std::f64::consts::PI * d_cm * d_cm);
+    say!(
+        "{description}: {total:.4e} axions cm⁻² s⁻¹ at {} AU ({coupling})",
+        a.distance_au
+    );
     say!("wrote {}", a.output.out.display());
     Ok(())
 }

@@ -49,9 +49,17 @@ pub fn write_solar_flux(
     let at_1au = 1.0 / (info.distance_au * info.distance_au);
     write_csv(
         &dir.join(SOLAR_FLUX_FILES[1]),
-        &["energy_keV", "flux_per_cm2_s_keV", "cast2007_at_this_distance_per_cm2_s_keV"],
+        &[
+            "energy_keV",
+            "flux_per_cm2_s_keV",
+            "cast2007_at_this_distance_per_cm2_s_keV",
+        ],
         table.energies.iter().zip(&spectrum).map(|(e, f)| {
-            vec![e.to_string(), format!("{f:.6e}"), format!("{:.6e}", cast2007_flux(*e) * at_1au)]
+            vec![
+                e.to_string(),
+                format!("{f:.6e}"),
+                format!("{:.6e}", cast2007_flux(*e) * at_1au),
+            ]
         }),
     )?;
     line_plot(
@@ -60,35 +68,70 @@ pub fn write_solar_flux(
         "energy [keV]",
         "dΦ/dE [cm⁻² s⁻¹ keV⁻¹]",
         &[
-            Series::line(info.coupling, table.energies.iter().copied().zip(spectrum.iter().copied()).collect()),
+            Series::line(
+                info.coupling,
+                table
+                    .energies
+                    .iter()
+                    .copied()
+                    .zip(spectrum.iter().copied())
+                    .collect(),
+            ),
             Series::line(
                 "CAST 2007 parameterisation (g_aγ = 1e-10 GeV⁻¹)",
-                table.energies.iter().map(|&e| (e, cast2007_flux(e) * at_1au)).collect(),
+                table
+                    .energies
+                    .iter()
+                    .map(|&e| (e, cast2007_flux(e) * at_1au))
+                    .collect(),
             ),
         ],
         (900, 560),
     )?;
-    let (e_lo, e_hi) = (table.energy_edges()[0], *table.energy_edges().last().unwrap());
+    let (e_lo, e_hi) = (
+        table.energy_edges()[0],
+        *table.energy_edges().last().unwrap(),
+    );
     let sampler = EmissionSampler::new(table, e_lo, e_hi)
         .ok_or_else(|| std::io::Error::other("the table emits nothing"))?;
     let re = table.radius_edges();
     write_csv(
         &dir.join(SOLAR_FLUX_FILES[3]),
-        &["radius_from", "radius_to", "fraction_of_emission", "enclosed_fraction"],
+        &[
+            "radius_from",
+            "radius_to",
+            "fraction_of_emission",
+            "enclosed_fraction",
+        ],
         (0..table.radii.len()).map(|i| {
             let f = sampler.enclosed_3d(re[i + 1]) - sampler.enclosed_3d(re[i]);
-            vec![re[i].to_string(), re[i + 1].to_string(), format!("{f:.6e}"), format!("{:.6}", sampler.enclosed_3d(re[i + 1]))]
+            vec![
+                re[i].to_string(),
+                re[i + 1].to_string(),
+                format!("{f:.6e}"),
+                format!("{:.6}", sampler.enclosed_3d(re[i + 1])),
+            ]
         }),
     )?;
     let rhos: Vec<f64> = (0..=400).map(|k| k as f64 / 400.0).collect();
     write_csv(
         &dir.join(SOLAR_FLUX_FILES[4]),
-        &["projected_radius", "arcmin", "enclosed_fraction", "surface_brightness_per_rsun2"],
+        &[
+            "projected_radius",
+            "arcmin",
+            "enclosed_fraction",
+            "surface_brightness_per_rsun2",
+        ],
         rhos.windows(2).map(|w| {
             let (a, b) = (w[0], w[1]);
             let ring = sampler.enclosed_projected(b) - sampler.enclosed_projected(a);
             let brightness = ring / (std::f64::consts::PI * (b * b - a * a));
-            vec![b.to_string(), format!("{:.4}", b * arcmin_per_rsun), format!("{:.6}", sampler.enclosed_projected(b)), format!("{brightness:.6e}")]
+            vec![
+                b.to_string(),
+                format!("{:.4}", b * arcmin_per_rsun),
+                format!("{:.6}", sampler.enclosed_projected(b)),
+                format!("{brightness:.6e}"),
+            ]
         }),
     )?;
     line_plot(
@@ -97,8 +140,16 @@ pub fn write_solar_flux(
         "radius [R_sun]",
         "enclosed fraction of the emission",
         &[
-            Series::line("within radius r (3D)", rhos.iter().map(|&r| (r, sampler.enclosed_3d(r))).collect()),
-            Series::line("within projected radius on the disk", rhos.iter().map(|&r| (r, sampler.enclosed_projected(r))).collect()),
+            Series::line(
+                "within radius r (3D)",
+                rhos.iter().map(|&r| (r, sampler.enclosed_3d(r))).collect(),
+            ),
+            Series::line(
+                "within projected radius on the disk",
+                rhos.iter()
+                    .map(|&r| (r, sampler.enclosed_projected(r)))
+                    .collect(),
+            ),
         ],
         (900, 560),
     )?;
@@ -107,7 +158,11 @@ pub fn write_solar_flux(
         let (mut lo, mut hi) = (0.0, 1.0);
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
-            if f(mid) < q { lo = mid } else { hi = mid }
+            if f(mid) < q {
+                lo = mid
+            } else {
+                hi = mid
+            }
         }
         hi
     };
@@ -116,7 +171,10 @@ pub fn write_solar_flux(
             "50%": radius_of(f, 0.5), "90%": radius_of(f, 0.9), "99%": radius_of(f, 0.99),
         })
     };
-    let cast_total: f64 = (0..20000).map(|k| cast2007_flux(0.001 * (k as f64 + 0.5)) * 0.001).sum::<f64>() * at_1au;
+    let cast_total: f64 = (0..20000)
+        .map(|k| cast2007_flux(0.001 * (k as f64 + 0.5)) * 0.001)
+        .sum::<f64>()
+        * at_1au;
     let doc = json!({
         "provenance": provenance,
         "emission": info.description,

@@ -27,6 +27,7 @@ mod photon_loop;
 mod render;
 mod results_folder;
 mod scenes;
+mod solar;
 mod sources;
 mod streams;
 mod toolchain;

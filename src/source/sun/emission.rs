@@ -127,14 +127,16 @@ impl EmissionTable {
             .comment(Some(b'#'))
             .trim(csv::Trim::All)
             .from_reader(text.as_bytes());
-        let fail = |line: u64, what: String| {
-            SolarDataError(format!("{}:{line}: {what}", path.display()))
-        };
+        let fail =
+            |line: u64, what: String| SolarDataError(format!("{}:{line}: {what}", path.display()));
         let headers = reader
             .headers()
             .map_err(|e| fail(1, format!("cannot read the header: {e}")))?
             .clone();
-        let header_line = reader.position().line().max(1);
+        let header_line = text
+            .lines()
+            .position(|l| !l.trim().is_empty() && !l.starts_with('#'))
+            .map_or(1, |k| k as u64 + 1);
         let column = |name: &str| {
             headers.iter().position(|h| h == name).ok_or_else(|| {
                 fail(
@@ -143,7 +145,11 @@ impl EmissionTable {
                 )
             })
         };
-        let (ir, ie, iw) = (column(RADIUS_COLUMN)?, column(ENERGY_COLUMN)?, column(RATE_COLUMN)?);
+        let (ir, ie, iw) = (
+            column(RADIUS_COLUMN)?,
+            column(ENERGY_COLUMN)?,
+            column(RATE_COLUMN)?,
+        );
         let mut radii: Vec<f64> = Vec::new();
         let mut energies: Vec<f64> = Vec::new();
         let mut rates = Vec::new();
@@ -168,7 +174,10 @@ impl EmissionTable {
                 number(iw, RATE_COLUMN)?,
             );
             if !(r > 0.0 && r <= 1.0) {
-                return Err(fail(line, format!("radius {r}: expected a fraction of the solar radius in (0, 1]")));
+                return Err(fail(
+                    line,
+                    format!("radius {r}: expected a fraction of the solar radius in (0, 1]"),
+                ));
             }
             if !(HENKE_MIN_KEV..=HENKE_MAX_KEV).contains(&e) {
                 return Err(fail(line, format!("energy {e} keV: outside the Henke range {HENKE_MIN_KEV}–{HENKE_MAX_KEV} keV that traxer can trace")));
@@ -198,7 +207,10 @@ impl EmissionTable {
             rates.push(w);
         }
         let Some(&last) = radii.last() else {
-            return Err(fail(header_line, "no rows: an emission table needs rows of radius, energy and rate".into()));
+            return Err(fail(
+                header_line,
+                "no rows: an emission table needs rows of radius, energy and rate".into(),
+            ));
         };
         let end = text.lines().count() as u64;
         check_energy_grid(&mut energies, &row_energies, last).map_err(|m| fail(end, m))?;
@@ -217,7 +229,12 @@ impl EmissionTable {
             for (j, e) in self.energies.iter().enumerate() {
                 // Grid values to 1e-9: no float noise from a start:stop:step grid.
                 let tidy = |x: f64| (x * 1e9).round() / 1e9;
-                out.push_str(&format!("{},{},{:.6e}\n", tidy(*r), tidy(*e), self.rate(i, j)));
+                out.push_str(&format!(
+                    "{},{},{:.6e}\n",
+                    tidy(*r),
+                    tidy(*e),
+                    self.rate(i, j)
+                ));
             }
         }
         out

@@ -52,8 +52,11 @@ pub const BUILTIN_COUPLING: &str = "g_aγ = 1e-10 GeV⁻¹";
 pub fn builtin_table() -> &'static EmissionTable {
     static TABLE: OnceLock<EmissionTable> = OnceLock::new();
     TABLE.get_or_init(|| {
-        EmissionTable::parse_csv(BUILTIN_TABLE, Path::new("data/solar/primakoff_b16_agss09met.csv"))
-            .expect("the shipped emission table is valid (tested)")
+        EmissionTable::parse_csv(
+            BUILTIN_TABLE,
+            Path::new("data/solar/primakoff_b16_agss09met.csv"),
+        )
+        .expect("the shipped emission table is valid (tested)")
     })
 }
 
@@ -136,10 +139,16 @@ impl SunDesc {
         }
         let axis = DVec3::from(p.direction);
         if !axis.is_finite() || axis.length() == 0.0 {
-            return Err("sun: direction must be a non-zero vector (from the target towards the Sun)".into());
+            return Err(
+                "sun: direction must be a non-zero vector (from the target towards the Sun)".into(),
+            );
         }
         let axis = axis.normalize();
-        if !p.offset_arcmin.iter().all(|a| a.is_finite() && a.abs() < 600.0) {
+        if !p
+            .offset_arcmin
+            .iter()
+            .all(|a| a.is_finite() && a.abs() < 600.0)
+        {
             return Err("sun: offset_arcmin = [x, y] must be finite and below 600′ (10°)".into());
         }
         let (table, emission, coupling) = if p.emission == BUILTIN {
@@ -150,21 +159,30 @@ impl SunDesc {
             )
         } else {
             let path = dir.join(&p.emission);
-            let table = EmissionTable::read_csv(&path).map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
-            let coupling = p.coupling.clone().unwrap_or_else(|| "the coupling the table was computed for".into());
+            let table = EmissionTable::read_csv(&path)
+                .map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
+            let coupling = p
+                .coupling
+                .clone()
+                .unwrap_or_else(|| "the coupling the table was computed for".into());
             (table, path.display().to_string(), coupling)
         };
         if p.emission == BUILTIN && p.coupling.is_some() {
             return Err(format!("sun: coupling is fixed for the built-in table ({BUILTIN_COUPLING}); give it only with an emission table file").into());
         }
-        let (t_min, t_max) = (table.energy_edges()[0], *table.energy_edges().last().unwrap());
+        let (t_min, t_max) = (
+            table.energy_edges()[0],
+            *table.energy_edges().last().unwrap(),
+        );
         let (e_min, e_max) = match p.energy_range {
             None => (t_min, t_max),
             Some([a, b]) if a.is_finite() && b.is_finite() && a < b => (a.max(t_min), b.min(t_max)),
             Some(_) => return Err("sun: energy_range = [min, max] with min < max (keV)".into()),
         };
         let sampler = EmissionSampler::new(&table, e_min, e_max).ok_or_else(|| {
-            InvalidSource(format!("sun: the emission table emits nothing between {e_min} and {e_max} keV"))
+            InvalidSource(format!(
+                "sun: the emission table emits nothing between {e_min} and {e_max} keV"
+            ))
         })?;
         let (e1, e2) = frame(axis);
         let [ox, oy] = p.offset_arcmin.map(|a| (a / 60.0).to_radians().tan());

@@ -16,7 +16,10 @@ message_error!(
     SolarDataError
 );
 
-const SPECIES: &str = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/data/solar/species.csv"));
+const SPECIES: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/solar/species.csv"
+));
 
 /// Columns before the mass fractions: mass, radius, T, ρ, P, L.
 const LEADING_COLUMNS: usize = 6;
@@ -109,13 +112,15 @@ impl SolarModel {
                     shell.radius
                 )));
             }
-            if !(shell.temperature_k > 0.0 && shell.density_g_cm3 > 0.0)
-                || !shell.temperature_k.is_finite()
-                || !shell.density_g_cm3.is_finite()
-            {
+            let positive = |x: f64| x > 0.0 && x.is_finite();
+            if !positive(shell.temperature_k) || !positive(shell.density_g_cm3) {
                 return Err(at("temperature and density must be positive".into()));
             }
-            if shell.mass_fractions.iter().any(|x| !(0.0..=1.0).contains(x)) {
+            if shell
+                .mass_fractions
+                .iter()
+                .any(|x| !(0.0..=1.0).contains(x))
+            {
                 return Err(at("mass fractions must lie in [0, 1]".into()));
             }
             shells.push(shell);
@@ -169,20 +174,30 @@ mod tests {
         assert_eq!((s[0].name.as_str(), s[0].charge), ("H1", 1.0));
         assert_eq!((s[28].name.as_str(), s[28].charge), ("Ni", 28.0));
         // Masses within 1 u of A for every species: no shifted column.
-        assert!(s.iter().all(|x| x.mass_u > 2.0 * x.charge - 1.0 || x.charge == 1.0));
+        assert!(s
+            .iter()
+            .all(|x| x.mass_u > 2.0 * x.charge - 1.0 || x.charge == 1.0));
     }
 
     #[test]
     fn rows_out_of_order_are_refused_with_their_line() {
         let row = |r: f64| {
-            let mut v = vec!["0.1".to_string(), r.to_string(), "1.5e7".into(), "150".into()];
+            let mut v = vec![
+                "0.1".to_string(),
+                r.to_string(),
+                "1.5e7".into(),
+                "150".into(),
+            ];
             v.extend(["1e17".into(), "0.1".into()]);
             v.extend(std::iter::repeat_n("0.01".to_string(), 29));
             v.join(" ")
         };
         let text = format!("# header\n{}\n{}\n", row(0.2), row(0.1));
         let e = SolarModel::parse(&text, Path::new("m.dat")).unwrap_err();
-        assert!(e.0.starts_with("m.dat:3: radius 0.1 does not increase"), "{e}");
+        assert!(
+            e.0.starts_with("m.dat:3: radius 0.1 does not increase"),
+            "{e}"
+        );
         let ok = SolarModel::parse(&format!("{}\n{}\n", row(0.1), row(0.3)), Path::new("m"));
         let m = ok.unwrap();
         assert!((m.at(0.2).temperature_k - 1.5e7).abs() < 1e-6);

@@ -153,6 +153,10 @@ mod tests {
         let k2 = 8.0 * std::f64::consts::PI * ALPHA * n / t;
         assert!((p.kappa2_kev2 / k2 - 1.0).abs() < 1e-12);
         // ω_pl = 28.7 eV at n_e = 6.0e23 cm⁻³ (ħω_pl = ħ·sqrt(4π e² n_e / m_e)).
-        assert!((p.omega_pl2_kev2.sqrt() - 0.0287).abs() < 0.001, "{}", p.omega_pl2_kev2.sqrt());
+        assert!(
+            (p.omega_pl2_kev2.sqrt() - 0.0287).abs() < 0.001,
+            "{}",
+            p.omega_pl2_kev2.sqrt()
+        );
     }
 }

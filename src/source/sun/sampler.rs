@@ -39,7 +39,10 @@ impl EmissionSampler {
             })
             .collect();
         // Cells with no rate at the end must never be drawn.
-        let last = cumulative.iter().rposition(|&c| c < 1.0).map_or(0, |k| k + 1);
+        let last = cumulative
+            .iter()
+            .rposition(|&c| c < 1.0)
+            .map_or(0, |k| k + 1);
         for c in &mut cumulative[last.min(cells.len() - 1)..] {
             *c = 1.0;
         }
