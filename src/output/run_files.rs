@@ -17,7 +17,7 @@ pub fn run_file_names(scene: &Scene) -> Vec<String> {
     scene
         .sensors
         .iter()
-        .flat_map(|s| sensor_file_names(&s.name))
+        .flat_map(|s| s.file_names())
         .chain([SUMMARY_FILE.to_string()])
         .collect()
 }
@@ -73,6 +73,22 @@ pub fn write_run(
             )?;
         }
         write_projections(&paths[6], &summed, &geometry)?;
+        let grid = match &spec.pixel_grid {
+            Some(g) => {
+                let names = crate::sensor::grid_file_names(&spec.name);
+                let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
+                let r = write_grid(&grid_paths, &summed, spec, g)?;
+                written.extend(grid_paths);
+                json!({
+                    "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
+                    "center_mm": g.center_mm,
+                    "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
+                    "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
+                    "files": {"grid_npy": names[0], "grid_csv": names[1]},
+                })
+            }
+            None => Value::Null,
+        };
         let sensor = json!({
             "name": spec.name,
             "object": spec.object,
@@ -93,6 +109,7 @@ pub fn write_run(
             "total_flux": flux.iter().sum::<f64>(),
             "image_quality": quality.as_ref().map(|(q, _)| q),
             "total_counts": image.total_counts(),
+            "pixel_grid": grid,
             "files": {
                 "flux_npy": files[0], "counts_npy": files[1],
                 "png_linear": files[2], "png_log": files[3],
@@ -148,6 +165,35 @@ fn write_projections(path: &Path, image: &[f64], g: &ImageGeometry) -> std::io::
             vec![i.to_string(), xm, fx, ym, fy]
         }),
     )
+}
+
+/// The image rebinned to the sensor's detector grid, as `.npy` [iy][ix] and as CSV
+/// (pixel indices, pixel-centre positions on the sensor, flux).
+fn write_grid(
+    paths: &[PathBuf; 2],
+    summed: &[f64],
+    spec: &crate::sensor::SensorSpec,
+    g: &crate::sensor::PixelGrid,
+) -> std::io::Result<crate::sensor::Rebinned> {
+    let r = crate::sensor::rebin(summed, spec.size, spec.pixels, g);
+    let (gx, gy) = (g.pixels[0] as usize, g.pixels[1] as usize);
+    write_npy_f64(&paths[0], &[gy as u64, gx as u64], &r.flux)?;
+    write_csv(
+        &paths[1],
+        &["ix", "iy", "x_mm", "y_mm", "flux"],
+        (0..gx * gy).map(|k| {
+            let (ix, iy) = (k % gx, k / gx);
+            let [x, y] = g.pixel_center(ix, iy);
+            vec![
+                ix.to_string(),
+                iy.to_string(),
+                format!("{x:.6}"),
+                format!("{y:.6}"),
+                r.flux[k].to_string(),
+            ]
+        }),
+    )?;
+    Ok(r)
 }
 
 /// Pretty JSON, written atomically.

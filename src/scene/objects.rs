@@ -16,9 +16,7 @@ use crate::geometry::{
 };
 use crate::material::Material;
 use crate::mesh::{self, MeshPart};
-use crate::sensor::{
-    check_file_names, sensor_file_names, SensorSpec, MAX_TOTAL_PIXELS, SUMMARY_FILE,
-};
+use crate::sensor::{check_file_names, SensorSpec, MAX_TOTAL_PIXELS, SUMMARY_FILE};
 use glam::DVec3;
 use std::collections::{HashMap, HashSet};
 use std::ops::Range;
@@ -109,7 +107,7 @@ impl<'a> ObjectBuilder<'a> {
     fn check_sensor(&mut self, spec: &SensorSpec, span: Range<usize>) -> Result<(), SceneError> {
         let name = &spec.name;
         check_file_names(name).map_err(|m| self.at.error(span.clone(), m))?;
-        for file in sensor_file_names(name) {
+        for file in spec.file_names() {
             let other = if file == SUMMARY_FILE {
                 Some("the run's summary".to_string())
             } else {

@@ -30,6 +30,10 @@ pub struct SensorDesc {
     /// diameters are then also given in arcseconds, 2·atan(r/f).
     #[serde(default)]
     pub focal_length: Option<f64>,
+    /// A detector pixel grid (default: the GridPix, 256 × 256 pixels of 55 µm)
+    /// the image is also written on, flux conserved: NAME_grid.npy, NAME_grid.csv.
+    #[serde(default)]
+    pub pixel_grid: Option<super::rebin::PixelGridDesc>,
 }
 
 impl SensorDesc {
@@ -61,6 +65,10 @@ impl SensorDesc {
                 return Err(InvalidSensor::from("energy_bins = [min, max, count] needs min < max (keV), count ≥ 1, and at most 2^26 pixels × bands"));
             }
         }
+        let pixel_grid = match &self.pixel_grid {
+            None => None,
+            Some(g) => Some(g.grid().map_err(InvalidSensor)?),
+        };
         Ok(SensorSpec {
             name: name.to_string(),
             object,
@@ -68,6 +76,7 @@ impl SensorDesc {
             pixels: self.pixels,
             energy_bins: self.energy_bins,
             focal_length: self.focal_length,
+            pixel_grid,
         })
     }
 }

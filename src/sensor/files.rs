@@ -37,6 +37,13 @@ pub fn sensor_file_names(name: &str) -> [String; 7] {
     ]
 }
 
+/// The files of a sensor's image on its detector pixel grid: flux as `.npy` and
+/// as CSV for the limit code.
+pub fn grid_file_names(name: &str) -> [String; 2] {
+    let stem = file_stem(name);
+    [format!("{stem}_grid.npy"), format!("{stem}_grid.csv")]
+}
+
 /// Why a sensor's name cannot name its files.
 pub fn check_file_names(name: &str) -> Result<(), String> {
     let stem = file_stem(name);

@@ -8,11 +8,14 @@
 
 mod desc;
 mod files;
+pub mod rebin;
 
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use files::{
-    check_file_names, file_stem, sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    check_file_names, file_stem, grid_file_names, sensor_file_names, MAX_FILE_NAME_BYTES,
+    SUMMARY_FILE,
 };
+pub use rebin::{rebin, PixelGrid, Rebinned};
 
 use glam::DVec3;
 
@@ -32,9 +35,20 @@ pub struct SensorSpec {
     pub energy_bins: Option<(f64, f64, u32)>,
     /// Focal length (mm) for angular image-quality numbers.
     pub focal_length: Option<f64>,
+    /// A detector pixel grid the image is also rebinned to.
+    pub pixel_grid: Option<PixelGrid>,
 }
 
 impl SensorSpec {
+    /// Every file a trace writes for this sensor.
+    pub fn file_names(&self) -> Vec<String> {
+        let mut names = sensor_file_names(&self.name).to_vec();
+        if self.pixel_grid.is_some() {
+            names.extend(grid_file_names(&self.name));
+        }
+        names
+    }
+
     /// Linear pixel index of a local-frame point, or `None` outside the active area.
     #[inline]
     pub fn pixel(&self, local: DVec3) -> Option<u32> {

@@ -24,6 +24,7 @@ mod obj_faces;
 mod output_location;
 mod outputs;
 mod photon_loop;
+mod rebin;
 mod render;
 mod results_folder;
 mod scenes;
