@@ -82,12 +82,20 @@ fn report(scene: &traxer::scene::Scene, result: &RunResult) {
         s.absorbed, s.absorbed_mirror_back, s.scattered_below_surface, s.escaped, s.sensor_outside_area, s.max_interactions_reached
     );
     for (spec, img) in scene.sensors.iter().zip(&result.images) {
-        say!(
-            "  sensor {}: {} photons, flux {:.6e}",
-            spec.name,
-            img.total_counts(),
-            img.total_flux()
-        );
+        match scene.rate_per_unit_weight(s.photons_emitted) {
+            Some(k) => say!(
+                "  sensor {}: {} photons, {:.4e} axions/s",
+                spec.name,
+                img.total_counts(),
+                img.total_flux() * k
+            ),
+            None => say!(
+                "  sensor {}: {} photons, flux {:.6e}",
+                spec.name,
+                img.total_counts(),
+                img.total_flux()
+            ),
+        }
         let g = ImageGeometry::of_sensor(spec);
         if let Some((q, _)) = analyse(&img.flux_summed(spec), &g, spec.focal_length) {
             let arc = |a: Option<f64>| a.map(|v| format!(" ({v:.1}″)")).unwrap_or_default();

@@ -35,10 +35,7 @@ pub fn write_run(
     let photons = result.stats.photons_emitted;
     let sources = sources_json(scene, photons);
     // A Sun makes images in axions per second (it is then the only source).
-    let absolute = scene.sources.iter().find_map(|s| match s {
-        Source::Sun(sun) => Some(sun.rate_per_unit_weight(photons)),
-        _ => None,
-    });
+    let absolute = scene.rate_per_unit_weight(photons);
     let mut sensor_summaries = Vec::new();
     for (spec, image) in scene.sensors.iter().zip(&result.images) {
         let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);

@@ -166,6 +166,16 @@ impl Scene {
         build::build(device, path, load::read(path, overrides)?, representation)
     }
 
+    /// With a `sun` source (then the only source), the axions per second that one
+    /// unit of summed weight stands for in a run of `photons` photons: images are
+    /// in absolute units. `None` for other sources.
+    pub fn rate_per_unit_weight(&self, photons: u64) -> Option<f64> {
+        self.sources.iter().find_map(|s| match s {
+            Source::Sun(sun) => Some(sun.rate_per_unit_weight(photons)),
+            _ => None,
+        })
+    }
+
     /// Index of the object with this name.
     pub fn object_index(&self, name: &str) -> Option<usize> {
         self.objects.iter().position(|o| o.name == name)
