@@ -45,49 +45,8 @@ pub fn write_solar_flux(
     let d_cm = info.distance_au * AU_CM;
     let arcmin_per_rsun = (R_SUN_CM / d_cm).atan().to_degrees() * 60.0;
     crate::files::atomic_write(&dir.join(SOLAR_FLUX_FILES[0]), info.table_csv.as_bytes())?;
-    let spectrum = table.spectrum_at(d_cm);
+    write_spectrum(dir, table, info)?;
     let at_1au = 1.0 / (info.distance_au * info.distance_au);
-    write_csv(
-        &dir.join(SOLAR_FLUX_FILES[1]),
-        &[
-            "energy_keV",
-            "flux_per_cm2_s_keV",
-            "cast2007_at_this_distance_per_cm2_s_keV",
-        ],
-        table.energies.iter().zip(&spectrum).map(|(e, f)| {
-            vec![
-                e.to_string(),
-                format!("{f:.6e}"),
-                format!("{:.6e}", cast2007_flux(*e) * at_1au),
-            ]
-        }),
-    )?;
-    line_plot(
-        &dir.join(SOLAR_FLUX_FILES[2]),
-        &format!("Axion flux at {} AU", info.distance_au),
-        "energy [keV]",
-        "dΦ/dE [cm⁻² s⁻¹ keV⁻¹]",
-        &[
-            Series::line(
-                info.coupling,
-                table
-                    .energies
-                    .iter()
-                    .copied()
-                    .zip(spectrum.iter().copied())
-                    .collect(),
-            ),
-            Series::line(
-                "CAST 2007 parameterisation (g_aγ = 1e-10 GeV⁻¹)",
-                table
-                    .energies
-                    .iter()
-                    .map(|&e| (e, cast2007_flux(e) * at_1au))
-                    .collect(),
-            ),
-        ],
-        (900, 560),
-    )?;
     let (e_lo, e_hi) = (
         table.energy_edges()[0],
         *table.energy_edges().last().unwrap(),
@@ -192,4 +151,53 @@ pub fn write_solar_flux(
         "files": SOLAR_FLUX_FILES,
     });
     write_json(&dir.join(SOLAR_FLUX_FILES[6]), &doc)
+}
+
+/// spectrum.csv and spectrum.png: dΦ/dE at the distance, with CAST 2007.
+fn write_spectrum(dir: &Path, table: &EmissionTable, info: &SolarFluxInfo) -> std::io::Result<()> {
+    let d_cm = info.distance_au * AU_CM;
+    let spectrum = table.spectrum_at(d_cm);
+    let at_1au = 1.0 / (info.distance_au * info.distance_au);
+    write_csv(
+        &dir.join(SOLAR_FLUX_FILES[1]),
+        &[
+            "energy_keV",
+            "flux_per_cm2_s_keV",
+            "cast2007_at_this_distance_per_cm2_s_keV",
+        ],
+        table.energies.iter().zip(&spectrum).map(|(e, f)| {
+            vec![
+                e.to_string(),
+                format!("{f:.6e}"),
+                format!("{:.6e}", cast2007_flux(*e) * at_1au),
+            ]
+        }),
+    )?;
+    line_plot(
+        &dir.join(SOLAR_FLUX_FILES[2]),
+        &format!("Axion flux at {} AU", info.distance_au),
+        "energy [keV]",
+        "dΦ/dE [cm⁻² s⁻¹ keV⁻¹]",
+        &[
+            Series::line(
+                info.coupling,
+                table
+                    .energies
+                    .iter()
+                    .copied()
+                    .zip(spectrum.iter().copied())
+                    .collect(),
+            ),
+            Series::line(
+                "CAST 2007 parameterisation (g_aγ = 1e-10 GeV⁻¹)",
+                table
+                    .energies
+                    .iter()
+                    .map(|&e| (e, cast2007_flux(e) * at_1au))
+                    .collect(),
+            ),
+        ],
+        (900, 560),
+    )?;
+    Ok(())
 }
