@@ -25,6 +25,7 @@ use toml::Spanned;
 /// coating = "perfect"            # optional: one coating for every shell
 ///                                # ("as_built", the default: each shell's own)
 /// figure_error = "llnl_panter"   # optional: figure errors of every mirror
+/// shell_axes = "coaxial"         # or "traxer": each shell's axis where TrAXer puts it
 /// tessellate = { segments = 500, rings = 20 }   # optional: meshes with smooth normals
 /// mesh = "../meshes/llnl_telescope.glb"          # optional: the parts from a mesh file
 /// transform = [ { translate = [0, 0, 0] } ]     # placement of the telescope frame
@@ -49,6 +50,9 @@ pub struct LlnlTelescopeDesc {
     /// Figure errors of every mirror (preset name or inline parameters).
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
+    /// Where each shell's cone axis lies (see [`ShellAxes`]).
+    #[serde(default)]
+    pub shell_axes: ShellAxes,
     #[serde(default)]
     pub tessellate: Option<TessellateDesc>,
     /// A mesh file holding the parts, named `<name>_<part>` as `traxer tessellate`
@@ -57,6 +61,19 @@ pub struct LlnlTelescopeDesc {
     pub mesh: Option<String>,
     #[serde(default)]
     pub transform: Vec<TransformStep>,
+}
+
+/// Where the shells' cone axes lie.
+#[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
+#[serde(rename_all = "snake_case")]
+pub enum ShellAxes {
+    /// On one common optical axis, as designed.
+    #[default]
+    Coaxial,
+    /// As the predecessor TrAXer built the telescope: shell i's axis moved by
+    /// [`LlnlTelescope::traxer_axis_offset`] along the segment centre, so the
+    /// shells' foci no longer coincide. For comparing with TrAXer's images.
+    Traxer,
 }
 
 fn llnl_name() -> String {
@@ -156,8 +173,19 @@ fn expand_llnl(
         };
         let is_mirror = matches!(part.material, PartMaterial::Mirror(_));
         let name = format!("{}_{}", t.name, part.name);
+        let axis_offset = match t.shell_axes {
+            ShellAxes::Coaxial => 0.0,
+            ShellAxes::Traxer => data.traxer_axis_offset(part.shell),
+        };
+        let shift = |azimuth: f64| {
+            let a = azimuth.to_radians();
+            TransformStep::Translate([axis_offset * a.cos(), axis_offset * a.sin(), 0.0])
+        };
         let (shape, own_transform) = match &t.mesh {
-            None => (part.shape, part.transform),
+            None => (
+                part.shape,
+                part.transform.into_iter().chain([shift(azimuth)]).collect(),
+            ),
             // The file holds the part already placed in the telescope frame,
             // with the segments centred on azimuth 0.
             Some(file) => (
@@ -165,10 +193,13 @@ fn expand_llnl(
                     file: file.clone(),
                     part: Some(name.clone()),
                 }),
-                vec![TransformStep::Rotate(RotateDesc {
-                    axis: [0.0, 0.0, 1.0],
-                    angle: t.azimuth_center,
-                })],
+                vec![
+                    shift(0.0),
+                    TransformStep::Rotate(RotateDesc {
+                        axis: [0.0, 0.0, 1.0],
+                        angle: t.azimuth_center,
+                    }),
+                ],
             ),
         };
         let transform = own_transform
