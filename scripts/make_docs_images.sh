@@ -24,3 +24,14 @@ $T render scenes/panter_al_ka.toml --camera telescope --width 480 --height 300 -
 $T render scenes/panter_al_ka.toml --camera sensor --width 480 --height 300 --spp 16 \
   --sensor-image "$tmp" --log-decades 3 --out docs/img/llnl_sensor_view.png
 rm -rf "$tmp"
+# The solar axion image at CAST (10 million photons, as the README's numbers) and
+# the overview: the chip glowing with it, the telescope, the bore and the Sun.
+tmp=$(mktemp -d)
+$T trace scenes/cast_axion_image.toml -n 10000000 --out "$tmp" -q
+cp "$tmp/chip.png" docs/img/cast_axion_image.png
+cp "$tmp/chip_log.png" docs/img/cast_axion_image_log.png
+$T render scenes/cast_axion_image.toml --camera overview --width 720 --height 450 --spp 64 \
+  --sensor-image "$tmp" --log-decades 3 --out docs/img/cast_overview.png
+rm -rf "$tmp"
+# The renders' provenance files are not shown in the README.
+rm -f docs/img/*.json

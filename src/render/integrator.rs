@@ -144,8 +144,10 @@ fn radiance(
         };
         let object = &scene.objects[hit.object];
         let front = dir.dot(hit.geometric_normal) < 0.0;
-        // An X-ray image glows on its sensor's face; the back looks as it is.
-        if let (Material::Sensor { .. }, true) = (object.material, front) {
+        // An X-ray image glows on its sensor, on both faces: seen from behind
+        // (looking past the detector towards the telescope and the Sun) it shows
+        // mirrored, as through a translucent screen.
+        if let Material::Sensor { .. } = object.material {
             if let Some(t) = textures.iter().find(|t| t.object == hit.object) {
                 let local = object.transform.to_local.transform_point3(hit.point);
                 return throughput * t.at(local);

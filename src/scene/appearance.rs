@@ -114,12 +114,24 @@ impl AppearanceDesc {
 }
 
 /// Light from directions where nothing is hit: a blend from `horizon` to `zenith`
-/// with the direction's component along `up` (equal colours: a uniform sky).
+/// with the direction's component along `up` (equal colours: a uniform sky), and
+/// the disk of a scene's Sun source where it stands.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Sky {
     pub zenith: DVec3,
     pub horizon: DVec3,
     pub up: DVec3,
+    pub sun: Option<SunDisk>,
+}
+
+/// The Sun as the sky shows it: a disk at infinity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SunDisk {
+    /// Unit vector towards the Sun's centre.
+    pub direction: DVec3,
+    /// Cosine of the disk's angular radius.
+    pub cos_radius: f64,
+    pub radiance: DVec3,
 }
 
 impl Default for Sky {
@@ -129,20 +141,44 @@ impl Default for Sky {
             zenith: DVec3::new(0.5, 0.7, 1.0),
             horizon: DVec3::ONE,
             up: DVec3::Y,
+            sun: None,
         }
     }
 }
 
 impl Sky {
+    /// Light arriving from direction `-dir` (`dir` a unit vector).
     #[inline]
     pub fn radiance(&self, dir: DVec3) -> DVec3 {
+        if let Some(sun) = &self.sun {
+            if dir.dot(sun.direction) >= sun.cos_radius {
+                return sun.radiance;
+            }
+        }
         let t = 0.5 * (dir.dot(self.up) + 1.0);
         self.horizon.lerp(self.zenith, t)
+    }
+
+    /// The sky with the disk of a Sun `angular_radius` (radians) wide towards
+    /// `direction`, drawn `scale` times larger (a true Sun is 0.27° across: a
+    /// few pixels in a wide view) in the `[sky]`'s sun colour.
+    pub fn with_sun(self, direction: DVec3, angular_radius: f64, desc: &SkyDesc) -> Sky {
+        let radius = (angular_radius * desc.sun_scale).min(std::f64::consts::FRAC_PI_2);
+        Sky {
+            sun: Some(SunDisk {
+                direction: direction.normalize(),
+                cos_radius: radius.cos(),
+                radiance: DVec3::from(desc.sun_color),
+            }),
+            ..self
+        }
     }
 }
 
 /// The sky of visible-light renders: `zenith` colour along `up`, `horizon`
-/// colour below, blended linearly (the same colour twice: a uniform sky).
+/// colour below, blended linearly (the same colour twice: a uniform sky). A scene
+/// with a Sun source shows the Sun's disk in `sun_color`, `sun_scale` times its
+/// true angular size.
 #[derive(Debug, Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SkyDesc {
@@ -152,6 +188,31 @@ pub struct SkyDesc {
     pub horizon: [f64; 3],
     #[serde(default = "super::camera::y_up")]
     pub up: [f64; 3],
+    #[serde(default = "sun_color")]
+    pub sun_color: [f64; 3],
+    #[serde(default = "one")]
+    pub sun_scale: f64,
+}
+
+impl Default for SkyDesc {
+    fn default() -> SkyDesc {
+        SkyDesc {
+            zenith: sky_zenith(),
+            horizon: sky_horizon(),
+            up: super::camera::y_up(),
+            sun_color: sun_color(),
+            sun_scale: one(),
+        }
+    }
+}
+
+/// Linear RGB: a saturated yellow that stays yellow on the PNG's 0–1 scale.
+fn sun_color() -> [f64; 3] {
+    [1.0, 0.8, 0.12]
+}
+
+fn one() -> f64 {
+    1.0
 }
 
 fn sky_zenith() -> [f64; 3] {
@@ -164,20 +225,27 @@ fn sky_horizon() -> [f64; 3] {
 
 impl SkyDesc {
     pub fn build(&self) -> Result<Sky, InvalidAppearance> {
-        let colours_ok = [self.zenith, self.horizon]
+        let colours_ok = [self.zenith, self.horizon, self.sun_color]
             .iter()
             .flatten()
             .all(|v| v.is_finite() && *v >= 0.0);
         let up = DVec3::from(self.up);
         if !colours_ok || !up.is_finite() || up.length() == 0.0 {
             return Err(InvalidAppearance::from(
-                "sky: zenith and horizon are colours (≥ 0), up a non-zero direction",
+                "sky: zenith, horizon and sun_color are colours (≥ 0), up a non-zero direction",
             ));
+        }
+        if !(self.sun_scale.is_finite() && self.sun_scale > 0.0) {
+            return Err(InvalidAppearance::from(format!(
+                "sky: sun_scale = {}: expected a number > 0",
+                self.sun_scale
+            )));
         }
         Ok(Sky {
             zenith: DVec3::from(self.zenith),
             horizon: DVec3::from(self.horizon),
             up: up.normalize(),
+            sun: None,
         })
     }
 }

@@ -104,10 +104,21 @@ pub(super) fn build(
             .map_err(|m| at.error(c.span(), format!("camera `{name}`: {m}")))?;
         cameras.insert(name.clone(), camera);
     }
-    let sky = match &desc.sky {
+    let sky_desc = desc
+        .sky
+        .as_ref()
+        .map(|k| k.get_ref().clone())
+        .unwrap_or_default();
+    let mut sky = match &desc.sky {
         None => Default::default(),
         Some(k) => k.get_ref().build().map_err(|m| at.error(k.span(), m))?,
     };
+    // A Sun source shows in the sky where it stands, as large as it looks.
+    for source in &sources {
+        if let Source::Sun(sun) = source {
+            sky = sky.with_sun(sun.toward_sun, sun.angular_radius(), &sky_desc);
+        }
+    }
     Ok(Scene {
         path: path.to_path_buf(),
         text_sha256: sha256,

@@ -299,3 +299,66 @@ fn render_command_writes_a_png_and_refuses_bad_cameras() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("does not match sensor"));
 }
+
+/// A scene with only a Sun source (0.989 AU, offset and sun_scale as given) under
+/// a uniform white sky.
+fn sun_in_the_sky(offset_arcmin: [f64; 2], sun_scale: f64) -> Scene {
+    crate::common::scene(&format!(
+        r#"
+[sky]
+zenith = [1.0, 1.0, 1.0]
+horizon = [1.0, 1.0, 1.0]
+sun_scale = {sun_scale}
+
+[[sources]]
+type = "sun"
+offset_arcmin = {offset_arcmin:?}
+target = {{ center = [0.0, 0.0, 0.0], radius = 21.5 }}
+"#
+    ))
+}
+
+#[test]
+fn the_sun_shows_as_a_disk_of_its_true_angular_size_where_it_stands() {
+    // The solar disk seen from 0.989 AU has an angular radius
+    // ρ = asin(R_sun / d) = asin(6.96342e8 m / (0.989 × 1.495978707e11 m)) = 0.2697°.
+    // A pinhole camera looking along it (vfov 2°, 240 px high) maps the cone to a
+    // circle of tan ρ / tan 1° × 120 px radius. Each pixel's blue channel mixes the
+    // white sky (1) and the default sun colour (0.12), so summing the mixing
+    // fractions gives the disk's area in pixels; 16 random samples per pixel leave
+    // an edge noise of a few pixels in ≈ 2300, so 1 % is ample.
+    let rho = (6.963_42e8 / (0.989 * 1.495_978_707e11_f64)).asin();
+    let (w, h) = (240usize, 240usize);
+    let camera = Camera {
+        look_from: DVec3::ZERO,
+        look_at: DVec3::new(0.0, 0.0, 1000.0),
+        up: DVec3::Y,
+        vfov: 2.0,
+    };
+    let px = |angle: f64| angle.tan() / 1f64.to_radians().tan() * 0.5 * h as f64;
+    for (offset, scale) in [([0.0, 0.0], 1.0), ([20.0, 0.0], 2.0)] {
+        let s = sun_in_the_sky(offset, scale);
+        let img = render(&s, &camera, &s.sky, &[], &settings((w, h), 16, 4, 3));
+        let (mut area, mut cx, mut cy) = (0.0, 0.0, 0.0);
+        for (k, c) in img.iter().enumerate() {
+            let f = (1.0 - c.z) / (1.0 - 0.12);
+            area += f;
+            cx += f * ((k % w) as f64 + 0.5);
+            cy += f * ((k / w) as f64 + 0.5);
+        }
+        let (cx, cy) = (cx / area, cy / area);
+        let expected = std::f64::consts::PI * px(rho * scale).powi(2);
+        assert!(
+            (area / expected - 1.0).abs() < 0.01,
+            "offset {offset:?}: area {area} px, expected {expected}"
+        );
+        // Looking along +z with +y up, +x is on the left. A 20′ offset in x moves
+        // the disk by tan(20′)/tan(1°) × 120 px.
+        let dx = px((offset[0] / 60.0f64).to_radians());
+        assert!(
+            (cx - (0.5 * w as f64 - dx)).abs() < 0.5,
+            "centre x {cx}, dx {dx}"
+        );
+        assert!((cy - 0.5 * h as f64).abs() < 0.5, "centre y {cy}");
+    }
+}

@@ -233,6 +233,11 @@ impl SunSource {
         }
     }
 
+    /// Angular radius of the solar disk seen from the target, radians.
+    pub fn angular_radius(&self) -> f64 {
+        (emission::R_SUN_CM * 10.0 / self.distance_mm).asin()
+    }
+
     /// Axions per second that one unit of weight stands for, summed over a run of
     /// `photons` photons: L·A / (4π D_min²) / photons.
     pub fn rate_per_unit_weight(&self, photons: u64) -> f64 {
