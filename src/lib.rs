@@ -33,6 +33,7 @@ pub mod bench;
 pub mod embree;
 pub mod files;
 pub mod geometry;
+pub mod history;
 pub mod material;
 pub mod mesh;
 pub mod output;

@@ -29,6 +29,11 @@ pub struct TraceArgs {
     /// (for splitting one run into shards on a cluster).
     #[arg(value_name = "K", long, default_value_t = 0)]
     pub first_photon: u64,
+    /// Also write photons.npy (a NumPy structured array) and photons.csv: the first
+    /// N photons recorded on any sensor, with position, direction, energy, weight
+    /// and history (reflections, first and last mirror, path class).
+    #[arg(value_name = "N", long, default_value_t = 0)]
+    pub photon_list: usize,
 }
 
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
@@ -41,8 +46,19 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         .into());
     }
     cfg.first_photon = a.first_photon;
+    // About 100 bytes each in memory: a list is for looking at photons, not all.
+    const MAX_LIST: usize = 20_000_000;
+    if a.photon_list > MAX_LIST {
+        return Err(InputError(format!(
+            "--photon-list {}: at most {MAX_LIST} photons are listed",
+            a.photon_list
+        ))
+        .into());
+    }
+    cfg.photon_list = a.photon_list;
     let (device, scene) = load_xray_scene(&a.scene)?;
-    let folder = OutputFolder::prepare(&a.output.out, &traxer::output::run_file_names(&scene))?;
+    let names = traxer::output::run_file_names(&scene, a.photon_list > 0);
+    let folder = OutputFolder::prepare(&a.output.out, &names)?;
     if scene.sensors.is_empty() {
         tell!("warning: the scene has no sensor; only statistics will be written");
     }

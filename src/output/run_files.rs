@@ -1,6 +1,7 @@
 //! The files of a trace run: per sensor `NAME.npy` (flux), `NAME_counts.npy`,
 //! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
 
+use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
 use super::write_eef_plot;
 use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
 use crate::analysis::{analyse, projections, ImageGeometry};
@@ -12,13 +13,19 @@ use crate::trace::RunResult;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-/// Every file a trace of `scene` writes: each sensor's and summary.json.
-pub fn run_file_names(scene: &Scene) -> Vec<String> {
+/// Every file a trace of `scene` writes: each sensor's and summary.json, and the
+/// photon list if one is asked for.
+pub fn run_file_names(scene: &Scene, photon_list: bool) -> Vec<String> {
+    let list = photon_list
+        .then_some(PHOTON_LIST_FILES)
+        .into_iter()
+        .flatten();
     scene
         .sensors
         .iter()
         .flat_map(|s| s.file_names())
         .chain([SUMMARY_FILE.to_string()])
+        .chain(list.map(String::from))
         .collect()
 }
 
@@ -86,6 +93,12 @@ pub fn write_run(
             }
             None => Value::Null,
         };
+        written.extend(write_class_images(
+            dir,
+            spec,
+            image,
+            absolute.unwrap_or(1.0),
+        )?);
         let sensor = json!({
             "name": spec.name,
             "object": spec.object,
@@ -107,11 +120,13 @@ pub fn write_run(
             "image_quality": quality.as_ref().map(|(q, _)| q),
             "total_counts": image.total_counts(),
             "pixel_grid": grid,
+            "history": history_json(scene, image, absolute.unwrap_or(1.0)),
             "files": {
                 "flux_npy": files[0], "counts_npy": files[1],
                 "png_linear": files[2], "png_log": files[3],
                 "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
                 "projections_csv": files[6],
+                "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
             },
         });
         let doc = json!({
@@ -129,6 +144,14 @@ pub fn write_run(
                 .filter(|(i, _)| *i != 5 || quality.is_some())
                 .map(|(_, p)| p),
         );
+    }
+    if result.photon_list > 0 {
+        written.extend(write_photon_list(
+            dir,
+            scene,
+            &result.photons,
+            absolute.unwrap_or(1.0),
+        )?);
     }
     let summary = json!({
         "provenance": provenance,

@@ -2,7 +2,7 @@
 //! ordinary objects and the mirror materials they need, before objects are built.
 //! Today the CAST LLNL telescope (`llnl`).
 
-use super::desc::{ObjectDesc, SceneDesc, TessellateDesc};
+use super::desc::{ObjectDesc, SceneDesc, ShellLabel, TessellateDesc};
 use super::error::{SceneError, SceneText};
 use super::llnl::{LlnlTelescope, PartMaterial};
 use super::materials::{MaterialDesc, MirrorDesc, SideDesc};
@@ -26,6 +26,8 @@ use toml::Spanned;
 ///                                # ("as_built", the default: each shell's own)
 /// figure_error = "llnl_panter"   # optional: figure errors of every mirror
 /// shell_axes = "coaxial"         # or "traxer": each shell's axis where TrAXer puts it
+/// omit = ["rear_7"]              # optional: parts left out (stray-light studies):
+///                                # a mirror with its glass, or one part ("rear_7_back")
 /// tessellate = { segments = 500, rings = 20 }   # optional: meshes with smooth normals
 /// mesh = "../meshes/llnl_telescope.glb"          # optional: the parts from a mesh file
 /// transform = [ { translate = [0, 0, 0] } ]     # placement of the telescope frame
@@ -53,6 +55,10 @@ pub struct LlnlTelescopeDesc {
     /// Where each shell's cone axis lies (see [`ShellAxes`]).
     #[serde(default)]
     pub shell_axes: ShellAxes,
+    /// Parts left out, by their name without the assembly's prefix: "rear_7" is
+    /// that mirror with its glass (back and edges), "rear_7_back" that part alone.
+    #[serde(default)]
+    pub omit: Vec<String>,
     #[serde(default)]
     pub tessellate: Option<TessellateDesc>,
     /// A mesh file holding the parts, named `<name>_<part>` as `traxer tessellate`
@@ -152,7 +158,20 @@ fn expand_llnl(
         t.azimuth_center
     };
     let spanned = |v| Spanned::new(span.clone(), v);
-    for part in data.parts(azimuth, coating) {
+    let parts = data.parts(azimuth, coating);
+    let omitted = |part: &str| {
+        t.omit.iter().any(|o| {
+            part.strip_prefix(o.as_str())
+                .is_some_and(|rest| rest.is_empty() || rest.starts_with('_'))
+        })
+    };
+    if let Some(unknown) = t.omit.iter().find(|o| !parts.iter().any(|p| &p.name == *o)) {
+        return Err(err(format!(
+            "llnl_telescope: omit names `{unknown}`, which is no part of the telescope (parts are front_1, front_1_back, front_1_edge_far, front_1_edge_near, rear_1, …, rear_{}_edge_near)",
+            data.shells.len()
+        )));
+    }
+    for part in parts.into_iter().filter(|p| !omitted(&p.name)) {
         let material = match &part.material {
             PartMaterial::Absorber => "absorber".to_string(),
             PartMaterial::Mirror(coating) => {
@@ -218,6 +237,8 @@ fn expand_llnl(
                 tessellate: t.tessellate.map(|r| Spanned::new(span.clone(), r)),
                 smooth_normals: meshed && is_mirror,
                 appearance: None,
+                stage: part.stage,
+                shell: Some(ShellLabel::Number(part.shell as i64 + 1)),
             },
         ));
     }

@@ -14,6 +14,7 @@ use super::camera::CameraDesc;
 use super::materials::MaterialDesc;
 use super::placement::TransformStep;
 use super::shapes::ShapeDesc;
+use crate::history::MirrorStage;
 use crate::source::SourceDesc;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -103,6 +104,29 @@ pub struct ObjectDesc {
     /// Visible-light look (renders only); default from the material.
     #[serde(default)]
     pub appearance: Option<Spanned<AppearanceDesc>>,
+    /// Photon histories: `stage = "front"` or `"rear"` (primary or secondary
+    /// mirror), `shell = 7` or `"outer"` (fluxes are summed per shell).
+    #[serde(default)]
+    pub stage: Option<MirrorStage>,
+    #[serde(default)]
+    pub shell: Option<ShellLabel>,
+}
+
+/// A shell's number or name.
+#[derive(Debug, Deserialize, Clone)]
+#[serde(untagged)]
+pub enum ShellLabel {
+    Number(i64),
+    Name(String),
+}
+
+impl ShellLabel {
+    pub fn text(&self) -> String {
+        match self {
+            ShellLabel::Number(n) => n.to_string(),
+            ShellLabel::Name(s) => s.clone(),
+        }
+    }
 }
 
 /// Tessellation resolution of an analytic shape.

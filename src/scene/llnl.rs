@@ -11,6 +11,7 @@
 
 use super::placement::TransformStep;
 use super::shapes::{ConeDesc, DiskDesc, ShapeDesc};
+use crate::history::MirrorStage;
 use serde::Deserialize;
 
 const SHIPPED: &str = include_str!(concat!(
@@ -65,6 +66,8 @@ pub struct Part {
     pub transform: Vec<TransformStep>,
     /// The shell the part belongs to (0 = innermost).
     pub shell: usize,
+    /// For a mirror face: front (primary) or rear (secondary).
+    pub stage: Option<MirrorStage>,
 }
 
 impl LlnlTelescope {
@@ -144,10 +147,26 @@ impl LlnlTelescope {
             let (a, ar) = (self.alpha(i), self.alpha_rear(i));
             let z0 = 0.5 * self.gap_mm;
             let mirrors = [
-                (format!("front_{n}"), s.r2, s.r1, z0, z0 + l * a.cos(), a),
-                (format!("rear_{n}"), s.r4, s.r5, -z0, -z0 - l * ar.cos(), ar),
+                (
+                    format!("front_{n}"),
+                    s.r2,
+                    s.r1,
+                    z0,
+                    z0 + l * a.cos(),
+                    a,
+                    MirrorStage::Front,
+                ),
+                (
+                    format!("rear_{n}"),
+                    s.r4,
+                    s.r5,
+                    -z0,
+                    -z0 - l * ar.cos(),
+                    ar,
+                    MirrorStage::Rear,
+                ),
             ];
-            for (name, r_near, r_far, z_near, z_far, angle) in mirrors {
+            for (name, r_near, r_far, z_near, z_far, angle, stage) in mirrors {
                 // The glass lies outside the reflecting face; its thickness measured
                 // perpendicular to the face is t, radially t / cos(angle).
                 let dr = t / angle.cos();
@@ -166,6 +185,7 @@ impl LlnlTelescope {
                     material: PartMaterial::Mirror(coat.clone()),
                     transform: vec![],
                     shell: i,
+                    stage: Some(stage),
                 });
                 parts.push(Part {
                     name: format!("{name}_back"),
@@ -173,6 +193,7 @@ impl LlnlTelescope {
                     material: PartMaterial::Absorber,
                     transform: vec![],
                     shell: i,
+                    stage: None,
                 });
                 for (edge, r, z) in [("edge_far", r_far, z_far), ("edge_near", r_near, z_near)] {
                     parts.push(Part {
@@ -185,6 +206,7 @@ impl LlnlTelescope {
                         material: PartMaterial::Absorber,
                         transform: vec![TransformStep::Translate([0.0, 0.0, z])],
                         shell: i,
+                        stage: None,
                     });
                 }
             }

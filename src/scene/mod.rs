@@ -35,6 +35,7 @@ pub use shapes::ShapeDesc;
 
 use crate::embree::{CommittedScene, Device};
 use crate::geometry::{AnalyticObject, Resolution, Transform, TriangleMesh};
+use crate::history::MirrorStage;
 use crate::material::Material;
 use crate::sensor::SensorSpec;
 use crate::source::Source;
@@ -80,6 +81,10 @@ pub struct Object {
     pub geometry: ObjectGeometry,
     /// How it looks in visible-light renders.
     pub appearance: Appearance,
+    /// For photon histories: which mirror of a two-reflection telescope it is,
+    /// and the shell (or part) it belongs to.
+    pub stage: Option<MirrorStage>,
+    pub shell: Option<String>,
 }
 
 // Few objects per scene: keeping the analytic shape inline costs nothing.

@@ -98,6 +98,8 @@ impl<'a> ObjectBuilder<'a> {
             transform,
             geometry,
             appearance,
+            stage: od.stage,
+            shell: od.shell.as_ref().map(|s| s.text()),
         })
     }
 

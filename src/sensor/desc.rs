@@ -34,6 +34,10 @@ pub struct SensorDesc {
     /// the image is also written on, flux conserved: NAME_grid.npy, NAME_grid.csv.
     #[serde(default)]
     pub pixel_grid: Option<super::rebin::PixelGridDesc>,
+    /// Also write one image per photon path class: NAME_direct.npy,
+    /// NAME_front_rear.npy, NAME_front_only.npy, NAME_rear_only.npy, NAME_other.npy.
+    #[serde(default)]
+    pub history_images: bool,
 }
 
 impl SensorDesc {
@@ -77,6 +81,7 @@ impl SensorDesc {
             energy_bins: self.energy_bins,
             focal_length: self.focal_length,
             pixel_grid,
+            history_images: self.history_images,
         })
     }
 }

@@ -8,6 +8,7 @@
 
 mod desc;
 mod files;
+pub mod paths;
 pub mod rebin;
 
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
@@ -15,8 +16,10 @@ pub use files::{
     check_file_names, file_stem, grid_file_names, sensor_file_names, MAX_FILE_NAME_BYTES,
     SUMMARY_FILE,
 };
+pub use paths::PathTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};
 
+use crate::history::PathClass;
 use glam::DVec3;
 
 /// Geometry of one sensor. Pixel (0, 0) is at local (−w/2, −h/2); ix grows with
@@ -37,6 +40,8 @@ pub struct SensorSpec {
     pub focal_length: Option<f64>,
     /// A detector pixel grid the image is also rebinned to.
     pub pixel_grid: Option<PixelGrid>,
+    /// Write one image per photon path class (NAME_front_rear.npy, ...).
+    pub history_images: bool,
 }
 
 impl SensorSpec {
@@ -45,6 +50,9 @@ impl SensorSpec {
         let mut names = sensor_file_names(&self.name).to_vec();
         if self.pixel_grid.is_some() {
             names.extend(grid_file_names(&self.name));
+        }
+        if self.history_images {
+            names.extend(class_file_names(&self.name));
         }
         names
     }
@@ -117,6 +125,14 @@ pub fn sum_bands(stack: &[f64], plane: usize) -> Vec<f64> {
     out
 }
 
+/// The per-class image files of sensor `name`, in [`PathClass::ALL`] order.
+pub fn class_file_names(name: &str) -> Vec<String> {
+    PathClass::ALL
+        .iter()
+        .map(|c| format!("{name}_{}.npy", c.name()))
+        .collect()
+}
+
 /// Accumulated image of one sensor.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SensorImage {
@@ -124,6 +140,10 @@ pub struct SensorImage {
     pub flux: Vec<f64>,
     /// Number of photons per pixel.
     pub counts: Vec<u64>,
+    /// The flux by photon path.
+    pub paths: PathTally,
+    /// Pixels per band plane.
+    plane: usize,
 }
 
 impl SensorImage {
@@ -133,6 +153,8 @@ impl SensorImage {
         SensorImage {
             flux: vec![0.0; n],
             counts: vec![0; n],
+            paths: PathTally::new(spec.history_images, spec.pixel_count()),
+            plane: spec.pixel_count(),
         }
     }
 
@@ -141,10 +163,18 @@ impl SensorImage {
         sum_bands(&self.flux, spec.pixel_count())
     }
 
+    /// One photon: its pixel (band included), weight, path class and first and
+    /// last mirror.
     #[inline]
-    pub fn record(&mut self, pixel: u32, weight: f64) {
+    pub fn record(&mut self, pixel: u32, weight: f64, class: PathClass, first: u32, last: u32) {
         self.flux[pixel as usize] += weight;
         self.counts[pixel as usize] += 1;
+        self.paths.record(
+            pixel as usize % self.plane.max(1),
+            weight,
+            class,
+            (first, last),
+        );
     }
 
     pub fn total_flux(&self) -> f64 {

@@ -8,7 +8,7 @@
 mod photon;
 mod stats;
 
-pub use photon::{trace_photon, Record};
+pub use photon::{trace_photon, Record, RecordedPhoton};
 pub use stats::Statistics;
 
 use crate::progress::Progress;
@@ -35,6 +35,8 @@ pub struct RunConfig {
     /// Trace photon indices [first_photon, first_photon + photons): a shard of a
     /// larger run gives exactly its part of that run.
     pub first_photon: u64,
+    /// Keep the details of the first this many recorded photons (photon list).
+    pub photon_list: usize,
 }
 
 impl RunConfig {
@@ -45,6 +47,7 @@ impl RunConfig {
             seed,
             threads: 0,
             first_photon: 0,
+            photon_list: 0,
         }
     }
 }
@@ -52,6 +55,10 @@ impl RunConfig {
 /// Images and statistics of a finished run.
 pub struct RunResult {
     pub images: Vec<SensorImage>,
+    /// The first `photon_list` recorded photons, in photon order.
+    pub photons: Vec<RecordedPhoton>,
+    /// How many were asked for (0: no photon list).
+    pub photon_list: usize,
     pub stats: Statistics,
     pub seconds: f64,
     pub threads: usize,
@@ -75,41 +82,59 @@ pub fn run_with_progress(
     let start = Instant::now();
     let mut images: Vec<SensorImage> = scene.sensors.iter().map(SensorImage::new).collect();
     let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
+    let mut photons = Vec::new();
     let n_chunks = cfg.photons.div_ceil(CHUNK);
     let mut next = 0;
     while next < n_chunks {
         let end = (next + CHUNKS_PER_BATCH).min(n_chunks);
-        let results: Vec<(Vec<Record>, Statistics)> = pool.install(|| {
+        // Each chunk keeps up to as many photon details as the list still needs.
+        let list_cap = cfg.photon_list - photons.len();
+        let results: Vec<Chunk> = pool.install(|| {
             (next..end)
                 .into_par_iter()
                 .map(|c| {
                     let lo = c * CHUNK;
                     let hi = (lo + CHUNK).min(cfg.photons);
-                    let r = trace_range(
-                        scene,
-                        cfg.seed,
-                        cfg.first_photon + lo,
-                        cfg.first_photon + hi,
-                    );
+                    let range = cfg.first_photon + lo..cfg.first_photon + hi;
+                    let r = trace_chunk(scene, cfg.seed, range, list_cap, &mut ());
                     progress.advance(hi - lo);
                     r
                 })
                 .collect()
         });
-        for (records, s) in results {
-            for r in records {
-                images[r.sensor as usize].record(r.pixel, r.weight);
+        for chunk in results {
+            for r in chunk.records {
+                let h = &r.history;
+                images[r.sensor as usize].record(
+                    r.pixel,
+                    r.weight,
+                    h.class(),
+                    h.first_mirror,
+                    h.last_mirror,
+                );
             }
-            stats.add(&s);
+            let room = cfg.photon_list - photons.len();
+            photons.extend(chunk.listed.into_iter().take(room));
+            stats.add(&chunk.stats);
         }
         next = end;
     }
     Ok(RunResult {
         images,
+        photons,
+        photon_list: cfg.photon_list,
         stats,
         seconds: start.elapsed().as_secs_f64(),
         threads,
     })
+}
+
+/// What one chunk of photons gave.
+pub struct Chunk {
+    pub records: Vec<Record>,
+    /// Details of the first recorded photons (at most the cap asked for).
+    pub listed: Vec<RecordedPhoton>,
+    pub stats: Statistics,
 }
 
 /// Traces photons [lo, hi) on this thread.
@@ -125,22 +150,50 @@ pub fn trace_range_with<H: QueryHook>(
     hi: u64,
     hook: &mut H,
 ) -> (Vec<Record>, Statistics) {
+    let c = trace_chunk(scene, seed, lo..hi, 0, hook);
+    (c.records, c.stats)
+}
+
+/// Traces the photons of `range`, keeping the details of the first `list_cap`
+/// recorded ones.
+pub fn trace_chunk<H: QueryHook>(
+    scene: &Scene,
+    seed: u64,
+    range: std::ops::Range<u64>,
+    list_cap: usize,
+    hook: &mut H,
+) -> Chunk {
     let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
     let mut records = Vec::new();
+    let mut listed = Vec::new();
     let n_sources = scene.sources.len() as u64;
     if n_sources == 0 {
         // A scene for visible-light renders only: nothing is emitted.
-        return (
-            Vec::new(),
-            Statistics::new(scene.objects.len(), scene.sensors.len()),
-        );
+        return Chunk {
+            records,
+            listed,
+            stats,
+        };
     }
-    for i in lo..hi {
+    for i in range {
         let mut rng = PhotonRng::new(seed, i);
         let photon = scene.sources[(i % n_sources) as usize].emit(&mut rng);
-        if let Some(r) = trace_photon(scene, photon, &mut rng, &mut stats, hook) {
-            records.push(r);
+        if let Some((record, local, dir)) = trace_photon(scene, photon, &mut rng, &mut stats, hook)
+        {
+            if listed.len() < list_cap {
+                listed.push(RecordedPhoton {
+                    index: i,
+                    record,
+                    local,
+                    dir,
+                });
+            }
+            records.push(record);
         }
     }
-    (records, stats)
+    Chunk {
+        records,
+        listed,
+        stats,
+    }
 }

@@ -1,12 +1,14 @@
 //! The life of one photon: emit, intersect, interact, repeat.
 
 use super::stats::Statistics;
+use crate::history::History;
 use crate::material::Material;
 use crate::random::PhotonRng;
 use crate::raycast::{intersect_query, query_leaving, reflect, QueryHook, SurfaceHit};
 use crate::scene::Scene;
 use crate::source::Photon;
 use crate::xray::figure_error::Perturbed;
+use glam::DVec3;
 
 /// A photon recorded by a sensor.
 #[derive(Clone, Copy, Debug)]
@@ -15,9 +17,23 @@ pub struct Record {
     pub pixel: u32,
     pub weight: f64,
     pub energy: f64,
+    pub history: History,
 }
 
-/// Traces one photon to its end, updating `stats` and reporting a sensor record.
+/// Everything known about a recorded photon, for photon lists.
+#[derive(Clone, Copy, Debug)]
+pub struct RecordedPhoton {
+    /// The photon's index in the run (its random stream).
+    pub index: u64,
+    pub record: Record,
+    /// Where it hit, in the sensor's local frame (mm).
+    pub local: DVec3,
+    /// Its direction of travel (world frame, unit vector).
+    pub dir: DVec3,
+}
+
+/// Traces one photon to its end, updating `stats` and reporting a sensor record
+/// with the photon's local position on the sensor and final direction.
 #[inline]
 pub fn trace_photon<H: QueryHook>(
     scene: &Scene,
@@ -25,8 +41,9 @@ pub fn trace_photon<H: QueryHook>(
     rng: &mut PhotonRng,
     stats: &mut Statistics,
     hook: &mut H,
-) -> Option<Record> {
+) -> Option<(Record, DVec3, DVec3)> {
     stats.photons_emitted += 1;
+    let mut history = History::default();
     let mut start: Option<SurfaceHit> = None;
     for _ in 0..scene.max_interactions {
         let q = query_leaving(photon.origin, photon.dir, start.as_ref());
@@ -69,6 +86,7 @@ pub fn trace_photon<H: QueryHook>(
                     stats.reflected_into_surface += 1;
                     return None;
                 }
+                history.reflect(hit.object, object.stage);
                 photon.origin = hit.point;
                 photon.dir = out;
                 start = Some(hit);
@@ -96,12 +114,14 @@ pub fn trace_photon<H: QueryHook>(
                         let pixel = pixel + band * spec.pixel_count() as u32;
                         stats.reached_sensor += 1;
                         stats.recorded_per_sensor[sensor] += 1;
-                        Some(Record {
+                        let record = Record {
                             sensor: sensor as u32,
                             pixel,
                             weight: photon.weight,
                             energy: photon.energy,
-                        })
+                            history,
+                        };
+                        Some((record, local, photon.dir))
                     }
                     None => {
                         stats.sensor_outside_area += 1;

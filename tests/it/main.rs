@@ -12,6 +12,7 @@ mod files;
 mod focusing;
 mod foil;
 mod geometry;
+mod history;
 mod inspect;
 mod layout;
 mod limits;
