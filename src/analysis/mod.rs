@@ -1,13 +1,17 @@
 //! Image analysis that physicists quote: flux-weighted centroid, encircled-energy
-//! function (EEF), and the diameters holding 50 % (HPD), 80 % and 90 % of the flux,
-//! in mm and in arcseconds (2·atan(r/f)); x and y projections.
+//! function (EEF, each pixel's flux spread over its area: [`eef`]), and the
+//! diameters holding 50 % (HPD), 80 % and 90 % of the flux, in mm and in
+//! arcseconds (2·atan(r/f)); x and y projections.
 //!
 //! Data flow: `output` calls [`analyse`] on every sensor image after a trace (and
 //! plots the EEF);
 //! `traxer eef` calls it on any `.npy` image; `traxer focus` on a sweep of
 //! sensor positions, whose diameters [`focus::fit_defocus`] fits.
 
+pub mod eef;
 pub mod focus;
+
+use eef::EncircledFlux;
 
 /// The angle (arcseconds) under which a radius of `r_mm` on the sensor is seen
 /// from the optics at focal length `focal_length_mm`: atan(r/f).
@@ -113,27 +117,32 @@ pub fn analyse(
         }
     }
     let (cx, cy) = (sx / total, sy / total);
-    let mut pixels: Vec<(f64, f64)> = image
+    // Each pixel's flux spread over its area (see `eef`): no lattice bias.
+    let encircled = EncircledFlux::new(
+        image
+            .iter()
+            .enumerate()
+            .filter(|(_, &v)| v > 0.0)
+            .map(|(k, &v)| {
+                let (x, y) = g.center(k % g.nx, k / g.nx);
+                (x - 0.5 * g.pitch[0] - cx, y - 0.5 * g.pitch[1] - cy, v)
+            }),
+        g.pitch,
+    );
+    // The curve for plots: steps of half a pixel, at most 4000 points.
+    let outer = encircled.outer_radius();
+    let step = (0.5 * g.pitch[0].min(g.pitch[1])).max(outer / 4000.0);
+    let n = (outer / step).ceil() as usize;
+    let radius_mm: Vec<f64> = (0..=n).map(|i| (i as f64 * step).min(outer)).collect();
+    let fraction = radius_mm
         .iter()
-        .enumerate()
-        .filter(|(_, &v)| v > 0.0)
-        .map(|(k, &v)| {
-            let (x, y) = g.center(k % g.nx, k / g.nx);
-            ((x - cx).hypot(y - cy), v)
-        })
+        .map(|&r| encircled.fraction_within(r))
         .collect();
-    pixels.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut acc = 0.0;
-    let mut eef = Eef {
-        radius_mm: Vec::with_capacity(pixels.len()),
-        fraction: Vec::with_capacity(pixels.len()),
+    let eef = Eef {
+        radius_mm,
+        fraction,
     };
-    for (r, v) in pixels {
-        acc += v;
-        eef.radius_mm.push(r);
-        eef.fraction.push(acc / total);
-    }
-    let d = |f: f64| 2.0 * eef.radius_at(f);
+    let d = |f: f64| 2.0 * encircled.radius_at(f);
     let arcsec = |diam: f64| focal_length_mm.map(|fl| arcsec_of_diameter(diam, fl));
     let (hpd, d80, d90) = (d(0.5), d(0.8), d(0.9));
     Some((
