@@ -24,6 +24,7 @@ pub mod args;
 pub mod bench;
 pub mod compare;
 pub mod eef;
+pub mod effective_area;
 pub mod fit_figure_error;
 pub mod focus;
 pub mod info;

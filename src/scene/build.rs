@@ -20,7 +20,8 @@ use std::path::Path;
 
 /// Largest grazing angle (rad) kept in reflectivity tables (X-ray telescopes work
 /// below ~3°); steeper reflections are evaluated directly.
-const TABLE_THETA_MAX: f64 = 4.0 * std::f64::consts::PI / 180.0;
+/// Grazing angles up to which reflectivity is tabulated (beyond: evaluated).
+pub const TABLE_THETA_MAX: f64 = 4.0 * std::f64::consts::PI / 180.0;
 
 /// Builds the scene read from `path` with the analytic objects represented as
 /// `representation` says.

@@ -26,7 +26,7 @@ mod vars;
 
 pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
 pub use assemblies::{AssemblyDesc, LlnlTelescopeDesc};
-pub use build::{analytic_shapes, inline_shape, NamedShape};
+pub use build::{analytic_shapes, inline_shape, NamedShape, TABLE_THETA_MAX};
 pub use camera::{Camera, CameraDesc};
 pub use error::SceneError;
 pub use materials::{AbsorberDesc, FoilDesc, MaterialDesc, MirrorDesc, SideDesc};

@@ -17,6 +17,8 @@ pub struct ParallelBeam {
     pub axis: DVec3,
     /// Unit direction of every photon: `axis` tilted by the off-axis angle.
     pub direction: DVec3,
+    /// Direction of the tilt (degrees, see [`ParallelBeam::new`]).
+    pub off_axis_azimuth: f64,
     pub spectrum: Spectrum,
 }
 
@@ -38,8 +40,26 @@ impl ParallelBeam {
             aperture,
             axis,
             direction,
+            off_axis_azimuth: azimuth,
             spectrum,
         }
+    }
+
+    /// The same beam tilted by `off_axis` degrees (in the same direction).
+    pub fn tilted(&self, off_axis: f64) -> ParallelBeam {
+        ParallelBeam::new(
+            self.aperture.clone(),
+            self.axis,
+            off_axis,
+            self.off_axis_azimuth,
+            self.spectrum,
+        )
+    }
+
+    /// The beam's cross-section through the aperture (mm²): the aperture's area
+    /// projected on the plane perpendicular to the photons.
+    pub fn cross_section(&self) -> f64 {
+        self.area() * self.direction.dot(self.axis).abs()
     }
 
     /// Area of the aperture (mm²): each of N photons stands for area / N.

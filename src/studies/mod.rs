@@ -5,6 +5,7 @@
 //! `output` writes them and the binary prints them.
 
 pub mod compare;
+pub mod effective_area;
 pub mod fit;
 pub mod focus;
 mod measure;

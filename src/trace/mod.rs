@@ -8,7 +8,7 @@
 mod photon;
 mod stats;
 
-pub use photon::{trace_photon, Record, RecordedPhoton};
+pub use photon::{trace_photon, AtItsEnergy, Attenuation, Record, RecordedPhoton};
 pub use stats::Statistics;
 
 use crate::progress::Progress;
@@ -178,7 +178,8 @@ pub fn trace_chunk<H: QueryHook>(
     for i in range {
         let mut rng = PhotonRng::new(seed, i);
         let photon = scene.sources[(i % n_sources) as usize].emit(&mut rng);
-        if let Some((record, local, dir)) = trace_photon(scene, photon, &mut rng, &mut stats, hook)
+        if let Some((record, local, dir)) =
+            trace_photon(scene, photon, &mut rng, &mut stats, hook, &mut AtItsEnergy)
         {
             if listed.len() < list_cap {
                 listed.push(RecordedPhoton {

@@ -32,15 +32,42 @@ pub struct RecordedPhoton {
     pub dir: DVec3,
 }
 
+/// How reflections and foils change a photon's weight: at once, at the photon's
+/// energy ([`AtItsEnergy`], a trace), or written down to be evaluated later at
+/// many energies (the effective area: the path does not depend on the energy).
+pub trait Attenuation {
+    /// A reflection on a mirror with reflectivity table `table` at grazing angle
+    /// `theta` (rad).
+    fn mirror(&mut self, scene: &Scene, table: usize, photon: &mut Photon, theta: f64);
+    /// A passage through foil `foil` at cos θ = `cos` to its normal.
+    fn foil(&mut self, scene: &Scene, foil: usize, photon: &mut Photon, cos: f64);
+}
+
+/// Weights multiplied at the photon's own energy.
+pub struct AtItsEnergy;
+
+impl Attenuation for AtItsEnergy {
+    #[inline]
+    fn mirror(&mut self, scene: &Scene, table: usize, photon: &mut Photon, theta: f64) {
+        photon.weight *= scene.reflectivity[table].reflectivity(photon.energy, theta);
+    }
+
+    #[inline]
+    fn foil(&mut self, scene: &Scene, foil: usize, photon: &mut Photon, cos: f64) {
+        photon.weight *= scene.foils[foil].transmission(photon.energy, cos);
+    }
+}
+
 /// Traces one photon to its end, updating `stats` and reporting a sensor record
 /// with the photon's local position on the sensor and final direction.
 #[inline]
-pub fn trace_photon<H: QueryHook>(
+pub fn trace_photon<H: QueryHook, A: Attenuation>(
     scene: &Scene,
     mut photon: Photon,
     rng: &mut PhotonRng,
     stats: &mut Statistics,
     hook: &mut H,
+    att: &mut A,
 ) -> Option<(Record, DVec3, DVec3)> {
     stats.photons_emitted += 1;
     let mut history = History::default();
@@ -68,7 +95,7 @@ pub fn trace_photon<H: QueryHook>(
                 if let Some(table) = reflectivity {
                     // Grazing angle between the ray and the (refined) surface.
                     let theta = photon.dir.dot(hit.shading_normal).abs().min(1.0).asin();
-                    photon.weight *= scene.reflectivity[table].reflectivity(photon.energy, theta);
+                    att.mirror(scene, table, &mut photon, theta);
                 }
                 let mut out = reflect(photon.dir, hit.shading_normal).normalize();
                 if let Some(fe) = &figure_error {
@@ -97,7 +124,7 @@ pub fn trace_photon<H: QueryHook>(
             }
             Material::Foil { foil } => {
                 let cos = photon.dir.dot(hit.geometric_normal);
-                photon.weight *= scene.foils[foil].transmission(photon.energy, cos);
+                att.foil(scene, foil, &mut photon, cos);
                 // Straight on, leaving the foil's surface behind.
                 photon.origin = hit.point;
                 start = Some(hit);

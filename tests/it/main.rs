@@ -5,6 +5,7 @@ mod analysis;
 mod common;
 mod determinism;
 mod docs;
+mod effective_area;
 mod embree_parity;
 mod errors;
 mod figure_error;

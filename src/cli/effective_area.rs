@@ -1,0 +1,124 @@
+//! `traxer effective-area`: the telescope's effective area against energy and
+//! off-axis angle, and its off-axis image quality
+//! (`traxer::studies::effective_area`).
+
+use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
+use super::{load_xray_scene, progress};
+use anyhow::Context;
+use traxer::files::OutputFolder;
+use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
+use traxer::studies::effective_area::{sweep, AreaSweep};
+use traxer::trace::RunConfig;
+
+/// Effective area A_eff(E, θ) in cm² and off-axis image quality.
+///
+/// The scene's only source must be a parallel beam whose aperture covers the
+/// telescope's entrance; it is tilted to each of --angles (arcminutes, in the
+/// direction of its off_axis_azimuth). At each angle --photons photons are traced
+/// once, and each photon's weight is evaluated at every energy of --energies from
+/// the reflections and foils on its path (exact: the path does not depend on the
+/// energy). The area counts the flux on --sensor, or within --radius mm of the
+/// image's centroid (the area within the PSF), with its Monte Carlo error and split
+/// by photon path class. Writes effective_area.csv, off_axis.csv,
+/// effective_area.json and the plots effective_area.png, vignetting.png and
+/// off_axis.png into --out. Example (the LLNL telescope, 1–10 keV, on and off axis):
+///   traxer effective-area scenes/llnl_effective_area.toml --energies 1:10:0.1 --angles 0,2,4,6,8
+#[derive(clap::Args)]
+pub struct EffectiveAreaArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Energies (keV): a,b,c or start:stop:step.
+    #[arg(value_name = "E", long, default_value = "1:10:0.1")]
+    pub energies: String,
+    /// Off-axis angles (arcmin): a,b,c or start:stop:step.
+    #[arg(
+        value_name = "ARCMIN",
+        long,
+        default_value = "0",
+        allow_hyphen_values = true
+    )]
+    pub angles: String,
+    /// Photons traced per angle.
+    #[arg(short = 'n', long, value_name = "N", default_value_t = 200_000)]
+    pub photons: u64,
+    /// Sensor to count on (default: the scene's only sensor).
+    #[arg(value_name = "NAME", long)]
+    pub sensor: Option<String>,
+    /// Count only within this radius (mm) of the image centre.
+    #[arg(value_name = "MM", long)]
+    pub radius: Option<f64>,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
+    let s = AreaSweep {
+        energies: parse_values("energies", &a.energies)?,
+        angles_arcmin: parse_values("angles", &a.angles)?,
+        photons: a.photons,
+        seed: a.sampling.seed,
+        threads: a.sampling.threads,
+        sensor: a.sensor.clone(),
+        radius_mm: a.radius,
+    };
+    let (device, scene) = load_xray_scene(&a.scene)?;
+    let folder = OutputFolder::prepare(&a.output.out, &EFFECTIVE_AREA_FILES)?;
+    let quiet = a.output.quiet.quiet;
+    let total = a.photons.saturating_mul(s.angles_arcmin.len() as u64);
+    let bar = progress::bar(total, "photons", quiet);
+    let result = sweep(&scene, &s, &|n| bar.inc(n));
+    bar.finish_and_clear();
+    let result = result?;
+    let cfg = RunConfig {
+        threads: a.sampling.threads,
+        ..RunConfig::new(a.photons, a.sampling.seed)
+    };
+    let provenance = Provenance::new(Some(device.info().version))
+        .scene(&scene)
+        .run(&cfg, result.threads);
+    let out = &a.output.out;
+    write_effective_area(folder.path(), &result, a.radius, &provenance)
+        .and_then(|_| folder.commit())
+        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    if !quiet {
+        say!(
+            "{} energies × {} angles, {} photons per angle, in {:.2} s with {} threads",
+            s.energies.len(),
+            s.angles_arcmin.len(),
+            a.photons,
+            result.seconds,
+            result.threads
+        );
+        for ang in &result.angles {
+            let (lo, hi) = (ang.points.first().unwrap(), ang.points.last().unwrap());
+            let peak = ang
+                .points
+                .iter()
+                .max_by(|x, y| x.area_cm2.total_cmp(&y.area_cm2))
+                .unwrap();
+            let hpd = ang
+                .quality
+                .as_ref()
+                .map_or(String::new(), |q| match q.hpd_arcsec {
+                    Some(v) => format!(", HPD {v:.1}″"),
+                    None => format!(", HPD {:.4} mm", q.hpd_mm),
+                });
+            say!(
+                "  {}′: {:.3} ± {:.3} cm² at {} keV, {:.3} at {} keV (peak), {:.3} at {} keV; geometric {:.3} cm²{hpd}",
+                ang.off_axis_arcmin,
+                lo.area_cm2, lo.error_cm2, lo.energy_kev,
+                peak.area_cm2, peak.energy_kev,
+                hi.area_cm2, hi.energy_kev,
+                ang.geometric_area_cm2,
+            );
+        }
+        say!(
+            "wrote {} files to {}",
+            EFFECTIVE_AREA_FILES.len(),
+            out.display()
+        );
+    }
+    Ok(())
+}

@@ -1,0 +1,210 @@
+//! The files of an effective-area sweep: effective_area.csv (one row per angle and
+//! energy, with errors and the area by path class), off_axis.csv (image quality
+//! per angle), effective_area.json (provenance, settings, results) and the plots
+//! effective_area.png (area against energy, one curve per angle), vignetting.png
+//! (area against angle, a few energies) and off_axis.png (HPD, 80 %, 90 % against
+//! angle).
+
+use super::{line_plot, write_csv, write_json, Provenance, Series};
+use crate::history::PathClass;
+use crate::studies::effective_area::AreaResult;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// The files of a sweep.
+pub const EFFECTIVE_AREA_FILES: [&str; 6] = [
+    "effective_area.csv",
+    "off_axis.csv",
+    "effective_area.json",
+    "effective_area.png",
+    "vignetting.png",
+    "off_axis.png",
+];
+
+/// Writes every file of the sweep into `dir`; returns their paths.
+pub fn write_effective_area(
+    dir: &Path,
+    r: &AreaResult,
+    radius_mm: Option<f64>,
+    provenance: &Provenance,
+) -> std::io::Result<Vec<PathBuf>> {
+    crate::files::create_dir_all(dir)?;
+    let paths: Vec<PathBuf> = EFFECTIVE_AREA_FILES.iter().map(|f| dir.join(f)).collect();
+    let mut header = vec![
+        "off_axis_arcmin".to_string(),
+        "energy_keV".into(),
+        "area_cm2".into(),
+        "error_cm2".into(),
+    ];
+    header.extend(
+        PathClass::ALL
+            .iter()
+            .map(|c| format!("area_{}_cm2", c.name())),
+    );
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    write_csv(
+        &paths[0],
+        &header,
+        r.angles.iter().flat_map(|a| {
+            a.points.iter().map(move |p| {
+                let mut row = vec![
+                    a.off_axis_arcmin.to_string(),
+                    p.energy_kev.to_string(),
+                    p.area_cm2.to_string(),
+                    p.error_cm2.to_string(),
+                ];
+                row.extend(p.by_class_cm2.iter().map(|v| v.to_string()));
+                row
+            })
+        }),
+    )?;
+    let q = |a: &crate::studies::effective_area::AngleResult,
+             f: fn(&crate::analysis::ImageQuality) -> Option<f64>| {
+        a.quality
+            .as_ref()
+            .and_then(f)
+            .map_or(String::new(), |v| v.to_string())
+    };
+    write_csv(
+        &paths[1],
+        &[
+            "off_axis_arcmin",
+            "centroid_x_mm",
+            "centroid_y_mm",
+            "hpd_mm",
+            "d80_mm",
+            "d90_mm",
+            "hpd_arcsec",
+            "d80_arcsec",
+            "d90_arcsec",
+            "photons_on_sensor",
+            "geometric_area_cm2",
+        ],
+        r.angles.iter().map(|a| {
+            vec![
+                a.off_axis_arcmin.to_string(),
+                q(a, |q| Some(q.centroid_mm[0])),
+                q(a, |q| Some(q.centroid_mm[1])),
+                q(a, |q| Some(q.hpd_mm)),
+                q(a, |q| Some(q.d80_mm)),
+                q(a, |q| Some(q.d90_mm)),
+                q(a, |q| q.hpd_arcsec),
+                q(a, |q| q.d80_arcsec),
+                q(a, |q| q.d90_arcsec),
+                a.on_sensor.to_string(),
+                a.geometric_area_cm2.to_string(),
+            ]
+        }),
+    )?;
+    write_json(
+        &paths[2],
+        &json!({
+            "provenance": provenance,
+            "sensor": r.sensor,
+            "radius_mm": radius_mm,
+            "aperture_cm2": r.aperture_cm2,
+            "photons_per_angle": provenance.photons,
+            "method": "each photon traced once per angle; its weight at every energy is the product of R(E, θ) and T(E, θ) along its path; area = beam cross-section × Σw / N, error = cross-section × s/√N",
+            "image_weights": "off-axis image quality from the image weighted by each photon's mean weight over the energies (a flat spectrum over them); the counting region's centre is the photons' centroid",
+            "seconds": r.seconds,
+            "threads": r.threads,
+            "angles": r.angles,
+        }),
+    )?;
+    write_plots(&paths[3..6], r)?;
+    Ok(paths)
+}
+
+fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
+    let by_energy: Vec<Series> = r
+        .angles
+        .iter()
+        .map(|a| {
+            Series::line(
+                format!("{}′ off axis", a.off_axis_arcmin),
+                a.points
+                    .iter()
+                    .map(|p| (p.energy_kev, p.area_cm2))
+                    .collect(),
+            )
+        })
+        .collect();
+    let title = format!("effective area on {}", r.sensor);
+    line_plot(
+        &paths[0],
+        &title,
+        "energy (keV)",
+        "area (cm²)",
+        &by_energy,
+        (800, 500),
+    )?;
+    // At most six energies, evenly picked from the sweep.
+    let n_e = r.angles[0].points.len();
+    let picks: Vec<usize> = if n_e <= 6 {
+        (0..n_e).collect()
+    } else {
+        (0..6).map(|i| i * (n_e - 1) / 5).collect()
+    };
+    let by_angle: Vec<Series> = picks
+        .iter()
+        .map(|&k| {
+            Series::line(
+                format!("{} keV", r.angles[0].points[k].energy_kev),
+                r.angles
+                    .iter()
+                    .map(|a| (a.off_axis_arcmin, a.points[k].area_cm2))
+                    .collect(),
+            )
+        })
+        .collect();
+    let title = format!("vignetting on {}", r.sensor);
+    line_plot(
+        &paths[1],
+        &title,
+        "off-axis angle (arcmin)",
+        "area (cm²)",
+        &by_angle,
+        (800, 500),
+    )?;
+    let arcsec = r
+        .angles
+        .iter()
+        .any(|a| a.quality.as_ref().is_some_and(|q| q.hpd_arcsec.is_some()));
+    let diameters: Vec<Series> = [("HPD", 0), ("80 %", 1), ("90 %", 2)]
+        .iter()
+        .map(|&(label, i)| {
+            Series::line(
+                label,
+                r.angles
+                    .iter()
+                    .filter_map(|a| {
+                        let q = a.quality.as_ref()?;
+                        let v = match (i, arcsec) {
+                            (0, true) => q.hpd_arcsec?,
+                            (1, true) => q.d80_arcsec?,
+                            (2, true) => q.d90_arcsec?,
+                            (0, false) => q.hpd_mm,
+                            (1, false) => q.d80_mm,
+                            _ => q.d90_mm,
+                        };
+                        Some((a.off_axis_arcmin, v))
+                    })
+                    .collect(),
+            )
+        })
+        .collect();
+    let unit = if arcsec {
+        "diameter (arcsec)"
+    } else {
+        "diameter (mm)"
+    };
+    let title = format!("off-axis image quality on {}", r.sensor);
+    line_plot(
+        &paths[2],
+        &title,
+        "off-axis angle (arcmin)",
+        unit,
+        &diameters,
+        (800, 500),
+    )
+}

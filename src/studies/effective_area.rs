@@ -1,0 +1,386 @@
+//! The telescope's effective area A_eff(E, θ) and its off-axis image quality.
+//!
+//! A parallel beam (the scene's only source, of type `parallel`, whose aperture
+//! must fill the telescope's entrance) is tilted to each off-axis angle. At each
+//! angle N photons are traced once: the path a photon takes (reflections, figure
+//! errors, which objects it meets) does not depend on its energy, only its weight
+//! does. So the loop writes down each photon's reflections (coating table, grazing
+//! angle) and foil passages (foil, cos θ) — [`Attenuation`] — and the weight at
+//! every energy of the sweep is the product of R(E, θᵢ) and T(E, θⱼ) along that
+//! path. This is exact (the same estimator as tracing each energy on its own, with
+//! the same photons at every energy, so the curve is smooth) and costs one trace
+//! per angle instead of one per energy and angle.
+//!
+//! A_eff(E) = A_beam · Σ w(E) / N, with A_beam the beam's cross-section through
+//! the aperture and the sum over photons recorded on the sensor (or within a
+//! radius of the image centre); its standard error is A_beam · s/√N with s the
+//! standard deviation of the N per-photon contributions (zeros included).
+//!
+//! Data flow: the CLI loads the scene; [`sweep`] traces through
+//! `trace::trace_photon`, measures with `analysis`, and returns an
+//! [`AreaResult`] that `output::write_effective_area` writes.
+
+use super::{pick_sensor, StudyError};
+use crate::analysis::{analyse, ImageGeometry, ImageQuality};
+use crate::history::PathClass;
+use crate::progress::Progress;
+use crate::random::PhotonRng;
+use crate::scene::{Scene, TABLE_THETA_MAX};
+use crate::source::{ParallelBeam, Photon, Source};
+use crate::trace::{trace_photon, Attenuation, Statistics, CHUNK};
+use crate::xray::ReflectivityTable;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// What to sweep.
+#[derive(Clone, Debug)]
+pub struct AreaSweep {
+    /// Energies (keV).
+    pub energies: Vec<f64>,
+    /// Off-axis angles (arcminutes), tilting the beam in the source's
+    /// `off_axis_azimuth` direction.
+    pub angles_arcmin: Vec<f64>,
+    /// Photons per angle.
+    pub photons: u64,
+    pub seed: u64,
+    /// Worker threads (0 = one per core).
+    pub threads: usize,
+    /// The sensor to count on (default: the scene's only one).
+    pub sensor: Option<String>,
+    /// Count only within this radius (mm) of the image centre (the centroid of
+    /// the photons on the sensor at that angle).
+    pub radius_mm: Option<f64>,
+}
+
+/// The area at one energy and angle.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct AreaPoint {
+    pub energy_kev: f64,
+    pub area_cm2: f64,
+    /// Standard error (Monte Carlo) of `area_cm2`.
+    pub error_cm2: f64,
+    /// The area by path class, in [`PathClass::ALL`] order.
+    pub by_class_cm2: [f64; 5],
+}
+
+/// Everything at one off-axis angle.
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct AngleResult {
+    pub off_axis_arcmin: f64,
+    pub points: Vec<AreaPoint>,
+    /// Image quality of the image weighted by the mean weight over the sweep's
+    /// energies (a flat spectrum over them); `None` without flux.
+    pub quality: Option<ImageQuality>,
+    /// Photons recorded on the sensor, and within the radius.
+    pub on_sensor: u64,
+    pub counted: u64,
+    /// Centre of the counting region (mm, sensor frame): the photons' centroid.
+    pub centre_mm: [f64; 2],
+    /// The area with every reflectivity and transmission 1 (geometry only).
+    pub geometric_area_cm2: f64,
+}
+
+/// A finished sweep.
+#[derive(Clone, Debug)]
+pub struct AreaResult {
+    pub sensor: String,
+    /// The beam's cross-section on axis (cm²).
+    pub aperture_cm2: f64,
+    pub angles: Vec<AngleResult>,
+    pub seconds: f64,
+    pub threads: usize,
+}
+
+/// A reflection or foil passage written down for later evaluation.
+#[derive(Clone, Copy, Debug)]
+enum Step {
+    /// Reflectivity table index, grazing angle (rad).
+    Mirror(u32, f64),
+    /// Foil index, cos θ to the foil's normal.
+    Foil(u32, f64),
+}
+
+/// The attenuation of the photon being traced, written down.
+struct Recorder(Vec<Step>);
+
+impl Attenuation for Recorder {
+    fn mirror(&mut self, _: &Scene, table: usize, _: &mut Photon, theta: f64) {
+        self.0.push(Step::Mirror(table as u32, theta));
+    }
+
+    fn foil(&mut self, _: &Scene, foil: usize, _: &mut Photon, cos: f64) {
+        self.0.push(Step::Foil(foil as u32, cos));
+    }
+}
+
+/// A photon recorded on the sensor: where, its class, and its steps
+/// (`steps[start..end]` of the angle's step list).
+struct Hit {
+    pixel: u32,
+    x: f64,
+    y: f64,
+    class: PathClass,
+    start: u32,
+    end: u32,
+}
+
+/// The photons one angle's trace put on the sensor.
+struct Hits {
+    hits: Vec<Hit>,
+    steps: Vec<Step>,
+}
+
+/// The beam of the scene, checked: the only source, parallel.
+fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
+    match scene.sources.as_slice() {
+        [Source::Parallel(b)] => Ok(b),
+        _ => Err(StudyError::Input(format!(
+            "{}: effective-area needs exactly one source, of type \"parallel\", whose aperture covers the telescope's entrance (the beam is tilted to each --angles value)",
+            scene.path.display()
+        ))),
+    }
+}
+
+/// Checks the sweep's numbers.
+fn check(s: &AreaSweep) -> Result<(), StudyError> {
+    let bad = |m: String| Err(StudyError::Input(m));
+    if s.energies.is_empty() || s.energies.iter().any(|e| !(0.03..=30.0).contains(e)) {
+        return bad("--energies must lie within 0.03–30 keV (the Henke tables)".into());
+    }
+    if s.angles_arcmin.is_empty()
+        || s.angles_arcmin
+            .iter()
+            .any(|a| !a.is_finite() || a.abs() >= 5400.0)
+    {
+        return bad("--angles are off-axis angles in arcminutes, below 90°".into());
+    }
+    if s.photons < 2 {
+        return bad("--photons must be at least 2 per angle".into());
+    }
+    if s.radius_mm.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
+        return bad("--radius must be a positive length (mm)".into());
+    }
+    Ok(())
+}
+
+/// Traces the sweep. `progress` hears of every chunk of photons.
+pub fn sweep(
+    scene: &Scene,
+    s: &AreaSweep,
+    progress: &dyn Progress,
+) -> Result<AreaResult, StudyError> {
+    check(s)?;
+    let base = beam(scene)?;
+    let sensor = pick_sensor(scene, s.sensor.as_deref())?;
+    let spec = &scene.sensors[sensor];
+    if spec.energy_bins.is_some() {
+        return Err(StudyError::Input(format!(
+            "sensor `{}` has energy_bins: effective-area counts every energy of the sweep on the whole sensor; use a sensor without bins",
+            spec.name
+        )));
+    }
+    // Reflectivity over the sweep's energies, table for table as the scene's.
+    let (e_min, e_max) = s
+        .energies
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), &e| (a.min(e), b.max(e)));
+    let tables = scene
+        .reflectivity
+        .iter()
+        .map(|t| ReflectivityTable::new(&t.coating, e_min, e_max, TABLE_THETA_MAX))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| StudyError::Input(format!("--energies: {e}")))?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(s.threads)
+        .build()?;
+    let start = Instant::now();
+    let mut angles = Vec::new();
+    for &angle in &s.angles_arcmin {
+        let beam = base.tilted(angle / 60.0);
+        let hits = pool.install(|| trace_angle(scene, &beam, sensor, s, progress));
+        let result = pool.install(|| evaluate(scene, &tables, &beam, sensor, s, &hits));
+        angles.push(AngleResult {
+            off_axis_arcmin: angle,
+            ..result
+        });
+    }
+    Ok(AreaResult {
+        sensor: spec.name.clone(),
+        aperture_cm2: base.tilted(0.0).cross_section() / 100.0,
+        angles,
+        seconds: start.elapsed().as_secs_f64(),
+        threads: pool.current_num_threads(),
+    })
+}
+
+/// Traces one angle's photons (photon i with the stream (seed, i), whatever the
+/// angle, so the angles share their random numbers) and keeps those on the sensor.
+fn trace_angle(
+    scene: &Scene,
+    beam: &ParallelBeam,
+    sensor: usize,
+    s: &AreaSweep,
+    progress: &dyn Progress,
+) -> Hits {
+    let chunks: Vec<Hits> = (0..s.photons.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(s.photons));
+            let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
+            let mut out = Hits {
+                hits: Vec::new(),
+                steps: Vec::new(),
+            };
+            let mut rec = Recorder(Vec::new());
+            for i in lo..hi {
+                let mut rng = PhotonRng::new(s.seed, i);
+                let photon = beam.emit(&mut rng);
+                rec.0.clear();
+                let traced = trace_photon(scene, photon, &mut rng, &mut stats, &mut (), &mut rec);
+                if let Some((r, local, _)) = traced.filter(|t| t.0.sensor as usize == sensor) {
+                    let start = out.steps.len() as u32;
+                    out.steps.extend_from_slice(&rec.0);
+                    out.hits.push(Hit {
+                        pixel: r.pixel,
+                        x: local.x,
+                        y: local.y,
+                        class: r.history.class(),
+                        start,
+                        end: out.steps.len() as u32,
+                    });
+                }
+            }
+            progress.advance(hi - lo);
+            out
+        })
+        .collect();
+    // In chunk order, with step ranges moved to the joined list.
+    let mut all = Hits {
+        hits: Vec::new(),
+        steps: Vec::new(),
+    };
+    for c in chunks {
+        let offset = all.steps.len() as u32;
+        all.steps.extend(c.steps);
+        all.hits.extend(c.hits.into_iter().map(|h| Hit {
+            start: h.start + offset,
+            end: h.end + offset,
+            ..h
+        }));
+    }
+    all
+}
+
+/// Sums of one group of photons: per energy Σw, Σw², Σw per class; the image of
+/// the mean weight over the energies.
+struct Sums {
+    w: Vec<f64>,
+    w2: Vec<f64>,
+    class: Vec<[f64; 5]>,
+    image: Vec<f64>,
+}
+
+impl Sums {
+    fn new(energies: usize, pixels: usize) -> Sums {
+        Sums {
+            w: vec![0.0; energies],
+            w2: vec![0.0; energies],
+            class: vec![[0.0; 5]; energies],
+            image: vec![0.0; pixels],
+        }
+    }
+
+    fn add(&mut self, o: &Sums) {
+        for k in 0..self.w.len() {
+            self.w[k] += o.w[k];
+            self.w2[k] += o.w2[k];
+            for c in 0..5 {
+                self.class[k][c] += o.class[k][c];
+            }
+        }
+        for (a, b) in self.image.iter_mut().zip(&o.image) {
+            *a += b;
+        }
+    }
+}
+
+/// The areas and the image of one angle from its recorded photons.
+fn evaluate(
+    scene: &Scene,
+    tables: &[ReflectivityTable],
+    beam: &ParallelBeam,
+    sensor: usize,
+    s: &AreaSweep,
+    hits: &Hits,
+) -> AngleResult {
+    let spec = &scene.sensors[sensor];
+    let n_hits = hits.hits.len().max(1) as f64;
+    let centre = hits.hits.iter().fold([0.0, 0.0], |c, h| {
+        [c[0] + h.x / n_hits, c[1] + h.y / n_hits]
+    });
+    let inside = |h: &Hit| {
+        s.radius_mm
+            .is_none_or(|r| (h.x - centre[0]).hypot(h.y - centre[1]) <= r)
+    };
+    let n_e = s.energies.len();
+    // Fixed groups summed in order: the same result on any number of threads.
+    let groups: Vec<Sums> = hits
+        .hits
+        .par_chunks(1024)
+        .map(|group| {
+            let mut sums = Sums::new(n_e, spec.pixel_count());
+            for h in group {
+                // The image shows every photon; the areas count the region's.
+                let counts = inside(h);
+                let steps = &hits.steps[h.start as usize..h.end as usize];
+                let mut mean = 0.0;
+                for (k, &e) in s.energies.iter().enumerate() {
+                    let w = steps.iter().fold(1.0, |w, st| match *st {
+                        Step::Mirror(t, theta) => w * tables[t as usize].reflectivity(e, theta),
+                        Step::Foil(f, cos) => w * scene.foils[f as usize].transmission(e, cos),
+                    });
+                    if counts {
+                        sums.w[k] += w;
+                        sums.w2[k] += w * w;
+                        sums.class[k][h.class as usize] += w;
+                    }
+                    mean += w;
+                }
+                sums.image[h.pixel as usize] += mean / n_e as f64;
+            }
+            sums
+        })
+        .collect();
+    let mut total = Sums::new(n_e, spec.pixel_count());
+    for g in &groups {
+        total.add(g);
+    }
+    let n = s.photons as f64;
+    let a_beam = beam.cross_section() / 100.0;
+    let points = s
+        .energies
+        .iter()
+        .enumerate()
+        .map(|(k, &e)| {
+            let mean = total.w[k] / n;
+            let var = (total.w2[k] / n - mean * mean).max(0.0) * n / (n - 1.0);
+            AreaPoint {
+                energy_kev: e,
+                area_cm2: a_beam * mean,
+                error_cm2: a_beam * (var / n).sqrt(),
+                by_class_cm2: total.class[k].map(|c| a_beam * c / n),
+            }
+        })
+        .collect();
+    let counted = hits.hits.iter().filter(|h| inside(h)).count();
+    let geometry = ImageGeometry::of_sensor(spec);
+    AngleResult {
+        off_axis_arcmin: 0.0,
+        points,
+        quality: analyse(&total.image, &geometry, spec.focal_length).map(|(q, _)| q),
+        on_sensor: hits.hits.len() as u64,
+        counted: counted as u64,
+        centre_mm: centre,
+        geometric_area_cm2: a_beam * counted as f64 / n,
+    }
+}
