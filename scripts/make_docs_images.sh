@@ -33,5 +33,12 @@ cp "$tmp/chip_log.png" docs/img/cast_axion_image_log.png
 $T render scenes/cast_axion_image.toml --camera overview --width 720 --height 450 --spp 64 \
   --sensor-image "$tmp" --log-decades 3 --out docs/img/cast_overview.png
 rm -rf "$tmp"
+# The LLNL telescope's effective area, vignetting and off-axis image quality.
+tmp=$(mktemp -d)
+$T effective-area scenes/llnl_effective_area.toml --energies 1:10:0.1 --angles 0:10:2.5 --out "$tmp" -q
+cp "$tmp/effective_area.png" docs/img/llnl_effective_area.png
+cp "$tmp/vignetting.png" docs/img/llnl_vignetting.png
+cp "$tmp/off_axis.png" docs/img/llnl_off_axis.png
+rm -rf "$tmp"
 # The renders' provenance files are not shown in the README.
 rm -f docs/img/*.json

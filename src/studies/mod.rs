@@ -1,8 +1,9 @@
 //! Studies: scene parameters → trace → measure, repeated — focus scans
 //! ([`focus`]), analytic-versus-mesh comparisons ([`compare`]) and the
-//! figure-error fit ([`fit`]). Each traces through `trace`, measures with
-//! `analysis`, reports progress through a callback and returns plain results;
-//! `output` writes them and the binary prints them.
+//! figure-error fit ([`fit`]), the effective area ([`effective_area`]). Each
+//! traces through `trace`, measures with `analysis`, reports progress through a
+//! callback and returns plain results; `output` writes them and the binary
+//! prints them.
 
 pub mod compare;
 pub mod effective_area;
