@@ -58,6 +58,33 @@ fn cone_angles_radii_and_focal_length_follow_from_the_data() {
     }
 }
 
+/// An axial ray (travelling −z) from `o` through shell i (0-based): it must meet
+/// front_{i+1} at grazing angle α, then rear_{i+1}; returns the rear hit point and
+/// the direction leaving it.
+fn through_shell(
+    scene: &traxer::scene::Scene,
+    t: &LlnlTelescope,
+    i: usize,
+    o: DVec3,
+) -> (traxer::raycast::SurfaceHit, DVec3) {
+    let d = DVec3::NEG_Z;
+    let h1 = intersect(scene, o, d, None).expect("front mirror");
+    assert_eq!(
+        scene.objects[h1.object].name,
+        format!("llnl_front_{}", i + 1)
+    );
+    // Grazing angle at the front mirror = α.
+    assert!((d.dot(h1.shading_normal).abs().asin() - t.alpha(i)).abs() < 1e-9);
+    let d1 = reflect(d, h1.shading_normal);
+    let h2 = intersect(scene, h1.point, d1, Some(&h1)).expect("rear mirror");
+    assert_eq!(
+        scene.objects[h2.object].name,
+        format!("llnl_rear_{}", i + 1)
+    );
+    let d2 = reflect(d1, h2.shading_normal);
+    (h2, d2)
+}
+
 #[test]
 fn a_ray_through_the_middle_of_each_front_shell_reaches_the_axis_near_the_focus() {
     let scene = crate::common::scene(
@@ -78,22 +105,7 @@ coating = "perfect"
         // centre (azimuth 0).
         let a = t.alpha(i);
         let r_mid = s.r1 - 0.5 * t.mirror_length_mm * a.sin();
-        let o = DVec3::new(r_mid, 0.0, 400.0);
-        let d = DVec3::NEG_Z;
-        let h1 = intersect(&scene, o, d, None).expect("front mirror");
-        assert_eq!(
-            scene.objects[h1.object].name,
-            format!("llnl_front_{}", i + 1)
-        );
-        // Grazing angle at the front mirror = α.
-        assert!((d.dot(h1.shading_normal).abs().asin() - a).abs() < 1e-9);
-        let d1 = reflect(d, h1.shading_normal);
-        let h2 = intersect(&scene, h1.point, d1, Some(&h1)).expect("rear mirror");
-        assert_eq!(
-            scene.objects[h2.object].name,
-            format!("llnl_rear_{}", i + 1)
-        );
-        let d2 = reflect(d1, h2.shading_normal);
+        let (h2, d2) = through_shell(&scene, &t, i, DVec3::new(r_mid, 0.0, 400.0));
         assert!(
             intersect(&scene, h2.point, d2, Some(&h2)).is_none(),
             "shell {}: nothing else in the way",
@@ -214,21 +226,7 @@ shell_axes = "traxer"
         // (moved) axis: grazing at α, then the rear mirror, then it crosses that
         // axis (y = shift) near the focal plane, as a coaxial shell crosses y = 0.
         let r_mid = s.r1 - 0.5 * t.mirror_length_mm * a.sin();
-        let o = DVec3::new(0.0, r_mid + shift, 400.0);
-        let d = DVec3::NEG_Z;
-        let h1 = intersect(&scene, o, d, None).expect("front mirror");
-        assert_eq!(
-            scene.objects[h1.object].name,
-            format!("llnl_front_{}", i + 1)
-        );
-        assert!((d.dot(h1.shading_normal).abs().asin() - a).abs() < 1e-9);
-        let d1 = reflect(d, h1.shading_normal);
-        let h2 = intersect(&scene, h1.point, d1, Some(&h1)).expect("rear mirror");
-        assert_eq!(
-            scene.objects[h2.object].name,
-            format!("llnl_rear_{}", i + 1)
-        );
-        let d2 = reflect(d1, h2.shading_normal);
+        let (h2, d2) = through_shell(&scene, &t, i, DVec3::new(0.0, r_mid + shift, 400.0));
         let z = h2.point.z - (h2.point.y - shift) / d2.y * d2.z;
         assert!((z + 1500.1).abs() < 3.5, "shell {}: z = {z}", i + 1);
     }
