@@ -45,105 +45,14 @@ pub fn write_run(
     let absolute = scene.rate_per_unit_weight(photons);
     let mut sensor_summaries = Vec::new();
     for (spec, image) in scene.sensors.iter().zip(&result.images) {
-        let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
-        // [band][iy][ix] with energy bins, [iy][ix] without.
-        let shape: Vec<u64> = match spec.energy_bins {
-            Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
-            None => vec![ny as u64, nx as u64],
+        let run = RunJson {
+            provenance,
+            sources: &sources,
+            stats: &stats,
         };
-        let scaled;
-        let flux: &[f64] = match absolute {
-            Some(k) => {
-                scaled = image.flux.iter().map(|f| f * k).collect::<Vec<_>>();
-                &scaled
-            }
-            None => &image.flux,
-        };
-        let summed = crate::sensor::sum_bands(flux, spec.pixel_count());
-        let files = sensor_file_names(&spec.name);
-        let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
-        write_npy_f64(&paths[0], &shape, flux)?;
-        write_npy_u64(&paths[1], &shape, &image.counts)?;
-        write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
-        write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
-        let geometry = ImageGeometry::of_sensor(spec);
-        let quality = analyse(&summed, &geometry, spec.focal_length);
-        if let Some((q, eef)) = &quality {
-            write_eef_plot(
-                &paths[5],
-                &format!("{}: encircled energy", spec.name),
-                q,
-                eef,
-            )?;
-        }
-        write_projections(&paths[6], &summed, &geometry)?;
-        let grid = match &spec.pixel_grid {
-            Some(g) => {
-                let names = crate::sensor::grid_file_names(&spec.name);
-                let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
-                let r = write_grid(&grid_paths, &summed, spec, g)?;
-                written.extend(grid_paths);
-                json!({
-                    "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
-                    "center_mm": g.center_mm,
-                    "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
-                    "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
-                    "files": {"grid_npy": names[0], "grid_csv": names[1]},
-                })
-            }
-            None => Value::Null,
-        };
-        written.extend(write_class_images(
-            dir,
-            spec,
-            image,
-            absolute.unwrap_or(1.0),
-        )?);
-        let sensor = json!({
-            "name": spec.name,
-            "object": spec.object,
-            "size_mm": spec.size,
-            "pixels": spec.pixels,
-            "pixel_pitch_mm": spec.pitch(),
-            "layout": "image[iy, ix] (numpy row-major), or image[band, iy, ix] with energy bins; ix along the sensor's local x, iy along local y; pixel (0, 0) has its corner at local (-size_x/2, -size_y/2); PNGs show the sum over bands, +y up",
-            "energy_band_edges_keV": spec.band_edges(),
-            "units": {
-                "lengths": "mm",
-                "flux": if absolute.is_some() {
-                    "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling"
-                } else {
-                    "sum of photon weights per pixel (see sources[].weight)"
-                },
-                "counts": "number of photons per pixel",
-            },
-            "total_flux": flux.iter().sum::<f64>(),
-            "image_quality": quality.as_ref().map(|(q, _)| q),
-            "total_counts": image.total_counts(),
-            "pixel_grid": grid,
-            "history": history_json(scene, image, absolute.unwrap_or(1.0)),
-            "files": {
-                "flux_npy": files[0], "counts_npy": files[1],
-                "png_linear": files[2], "png_log": files[3],
-                "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
-                "projections_csv": files[6],
-                "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
-            },
-        });
-        let doc = json!({
-            "provenance": provenance,
-            "sensor": sensor,
-            "sources": sources,
-            "statistics": stats,
-        });
-        write_json(&paths[4], &doc)?;
-        sensor_summaries.push(sensor);
-        written.extend(
-            paths
-                .into_iter()
-                .enumerate()
-                .filter(|(i, _)| *i != 5 || quality.is_some())
-                .map(|(_, p)| p),
-        );
+        let (summary, files) = write_sensor(dir, scene, spec, image, absolute, &run)?;
+        sensor_summaries.push(summary);
+        written.extend(files);
     }
     if result.photon_list > 0 {
         written.extend(write_photon_list(
@@ -164,6 +73,126 @@ pub fn write_run(
     write_json(&p, &summary)?;
     written.push(p);
     Ok(written)
+}
+
+/// What every sensor's JSON repeats about the run.
+struct RunJson<'a> {
+    provenance: &'a Provenance,
+    sources: &'a Value,
+    stats: &'a Value,
+}
+
+/// Writes one sensor's files (flux and counts `.npy`, PNGs, EEF plot,
+/// projections, grid, per-class images, `NAME.json`); returns its summary entry
+/// and the paths written. `absolute` converts weights to axions/s (a Sun).
+fn write_sensor(
+    dir: &Path,
+    scene: &Scene,
+    spec: &crate::sensor::SensorSpec,
+    image: &crate::sensor::SensorImage,
+    absolute: Option<f64>,
+    run: &RunJson,
+) -> std::io::Result<(Value, Vec<PathBuf>)> {
+    let mut written = Vec::new();
+    let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
+    // [band][iy][ix] with energy bins, [iy][ix] without.
+    let shape: Vec<u64> = match spec.energy_bins {
+        Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
+        None => vec![ny as u64, nx as u64],
+    };
+    let scaled;
+    let flux: &[f64] = match absolute {
+        Some(k) => {
+            scaled = image.flux.iter().map(|f| f * k).collect::<Vec<_>>();
+            &scaled
+        }
+        None => &image.flux,
+    };
+    let summed = crate::sensor::sum_bands(flux, spec.pixel_count());
+    let files = sensor_file_names(&spec.name);
+    let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
+    write_npy_f64(&paths[0], &shape, flux)?;
+    write_npy_u64(&paths[1], &shape, &image.counts)?;
+    write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
+    write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
+    let geometry = ImageGeometry::of_sensor(spec);
+    let quality = analyse(&summed, &geometry, spec.focal_length);
+    if let Some((q, eef)) = &quality {
+        write_eef_plot(
+            &paths[5],
+            &format!("{}: encircled energy", spec.name),
+            q,
+            eef,
+        )?;
+    }
+    write_projections(&paths[6], &summed, &geometry)?;
+    let grid = match &spec.pixel_grid {
+        Some(g) => {
+            let names = crate::sensor::grid_file_names(&spec.name);
+            let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
+            let r = write_grid(&grid_paths, &summed, spec, g)?;
+            written.extend(grid_paths);
+            json!({
+                "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
+                "center_mm": g.center_mm,
+                "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
+                "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
+                "files": {"grid_npy": names[0], "grid_csv": names[1]},
+            })
+        }
+        None => Value::Null,
+    };
+    written.extend(write_class_images(
+        dir,
+        spec,
+        image,
+        absolute.unwrap_or(1.0),
+    )?);
+    let sensor = json!({
+        "name": spec.name,
+        "object": spec.object,
+        "size_mm": spec.size,
+        "pixels": spec.pixels,
+        "pixel_pitch_mm": spec.pitch(),
+        "layout": "image[iy, ix] (numpy row-major), or image[band, iy, ix] with energy bins; ix along the sensor's local x, iy along local y; pixel (0, 0) has its corner at local (-size_x/2, -size_y/2); PNGs show the sum over bands, +y up",
+        "energy_band_edges_keV": spec.band_edges(),
+        "units": {
+            "lengths": "mm",
+            "flux": if absolute.is_some() {
+                "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling"
+            } else {
+                "sum of photon weights per pixel (see sources[].weight)"
+            },
+            "counts": "number of photons per pixel",
+        },
+        "total_flux": flux.iter().sum::<f64>(),
+        "image_quality": quality.as_ref().map(|(q, _)| q),
+        "total_counts": image.total_counts(),
+        "pixel_grid": grid,
+        "history": history_json(scene, image, absolute.unwrap_or(1.0)),
+        "files": {
+            "flux_npy": files[0], "counts_npy": files[1],
+            "png_linear": files[2], "png_log": files[3],
+            "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
+            "projections_csv": files[6],
+            "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
+        },
+    });
+    let doc = json!({
+        "provenance": run.provenance,
+        "sensor": sensor,
+        "sources": run.sources,
+        "statistics": run.stats,
+    });
+    write_json(&paths[4], &doc)?;
+    written.extend(
+        paths
+            .into_iter()
+            .enumerate()
+            .filter(|(i, _)| *i != 5 || quality.is_some())
+            .map(|(_, p)| p),
+    );
+    Ok((sensor, written))
 }
 
 /// The image's x and y projections as CSV (the shorter axis' columns end empty).

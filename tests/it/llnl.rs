@@ -58,6 +58,24 @@ fn cone_angles_radii_and_focal_length_follow_from_the_data() {
     }
 }
 
+/// The LLNL telescope (perfect coating; `extra` lines in its table) in a wide
+/// parallel beam.
+fn telescope_in_a_beam(extra: &str) -> traxer::scene::Scene {
+    crate::common::scene(&format!(
+        r#"
+[[sources]]
+type = "parallel"
+aperture = {{ center = [0, 0, 300], radius = 110.0 }}
+energy = {{ line = 1.49 }}
+
+[[assemblies]]
+type = "llnl_telescope"
+coating = "perfect"
+{extra}
+"#
+    ))
+}
+
 /// An axial ray (travelling −z) from `o` through shell i (0-based): it must meet
 /// front_{i+1} at grazing angle α, then rear_{i+1}; returns the rear hit point and
 /// the direction leaving it.
@@ -87,18 +105,7 @@ fn through_shell(
 
 #[test]
 fn a_ray_through_the_middle_of_each_front_shell_reaches_the_axis_near_the_focus() {
-    let scene = crate::common::scene(
-        r#"
-[[sources]]
-type = "parallel"
-aperture = { center = [0, 0, 300], radius = 110.0 }
-energy = { line = 1.49 }
-
-[[assemblies]]
-type = "llnl_telescope"
-coating = "perfect"
-"#,
-    );
+    let scene = telescope_in_a_beam("");
     let t = LlnlTelescope::shipped();
     for (i, s) in t.shells.iter().enumerate() {
         // Axial ray at the radius of the front mirror's middle, in the segment's
@@ -196,20 +203,7 @@ fn focus_sweep_that_misses_the_focus_says_so() {
 #[test]
 fn traxer_placement_moves_each_shell_axis_outwards_by_half_the_front_height_difference() {
     // Segments centred on azimuth 90°: the axes move along +y.
-    let scene = crate::common::scene(
-        r#"
-[[sources]]
-type = "parallel"
-aperture = { center = [0, 0, 300], radius = 110.0 }
-energy = { line = 1.49 }
-
-[[assemblies]]
-type = "llnl_telescope"
-coating = "perfect"
-azimuth_center = 90.0
-shell_axes = "traxer"
-"#,
-    );
+    let scene = telescope_in_a_beam("azimuth_center = 90.0\nshell_axes = \"traxer\"");
     let t = LlnlTelescope::shipped();
     let (d_first, d_last) = (
         t.shells[0].r1 - t.shells[0].r2,
