@@ -66,7 +66,7 @@ impl PathClass {
 pub const NO_MIRROR: u32 = u32::MAX;
 
 /// One photon's reflections so far.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, Serialize)]
 pub struct History {
     pub reflections: u16,
     /// Object index of the first and the last mirror ([`NO_MIRROR`] if none).

@@ -41,6 +41,7 @@ pub mod progress;
 pub mod random;
 pub mod raycast;
 pub mod render;
+pub mod runstate;
 pub mod scene;
 pub mod sensor;
 pub mod source;

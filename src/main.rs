@@ -1,6 +1,6 @@
 //! The `traxer` command line: parses arguments (clap), dispatches to the
 //! subcommands in `cli/`, and maps failures to exit codes: 0 success, 1 the run
-//! failed, 2 bad input (scene, mesh, arguments).
+//! failed, 2 bad input (scene, mesh, arguments), 130 stopped on a signal.
 
 #![forbid(unsafe_code)]
 
@@ -24,6 +24,7 @@ struct Cli {
 enum Command {
     Trace(cli::trace::TraceArgs),
     Tessellate(cli::tessellate::TessellateArgs),
+    Merge(cli::merge::MergeArgs),
     Info(cli::info::InfoArgs),
     Inspect(cli::inspect::InspectArgs),
     Bench(cli::bench::BenchArgs),
@@ -42,10 +43,11 @@ enum Command {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    cli::stop_cleanly_on_signals();
+    cli::signals::stop_cleanly_on_signals();
     let result = match cli.command {
         Command::Trace(a) => cli::trace::run(a),
         Command::Tessellate(a) => cli::tessellate::run(a),
+        Command::Merge(a) => cli::merge::run(a),
         Command::Info(a) => cli::info::run(a),
         Command::Inspect(a) => cli::inspect::run(a),
         Command::Bench(a) => cli::bench::run(a),
@@ -61,6 +63,10 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<cli::Stopped>() => {
+            cli::tell_line(format_args!("{e}"));
+            ExitCode::from(130)
+        }
         Err(e) => {
             cli::tell_line(format_args!("error: {e:#}"));
             if cli::is_input_error(&e) {

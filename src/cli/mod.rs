@@ -29,9 +29,12 @@ pub mod fit_figure_error;
 pub mod focus;
 pub mod info;
 pub mod inspect;
+pub mod merge;
 pub mod progress;
 pub mod reflectivity;
 pub mod render;
+pub mod resume;
+pub mod signals;
 pub mod solar_flux;
 pub mod synopsis;
 pub mod tessellate;
@@ -50,6 +53,12 @@ use traxer::studies::StudyError;
 #[error("{0}")]
 pub struct InputError(pub String);
 
+/// A run stopped on a signal after writing its checkpoint (exit code 130; the
+/// message says how to continue).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Stopped(pub String);
+
 /// Whether an error is the user's input (exit code 2) rather than a failed run.
 pub fn is_input_error(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {
@@ -59,20 +68,11 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
             || c.is::<NpyError>()
             || c.is::<OutputLocationError>()
             || c.is::<traxer::source::sun::SolarDataError>()
+            || c.is::<traxer::runstate::RunStateError>()
+            || c.is::<traxer::runstate::MergeError>()
             || c.downcast_ref::<StudyError>()
                 .is_some_and(StudyError::is_bad_input)
     })
-}
-
-/// On SIGINT, SIGTERM or SIGHUP: remove the temporary files and staging folders
-/// of results being written (the previous results stay as they were) and exit
-/// with 130, at once.
-pub fn stop_cleanly_on_signals() {
-    let _ = ctrlc::set_handler(|| {
-        traxer::files::temporaries::remove_all();
-        tell!("stopped: no results were written");
-        std::process::exit(130);
-    });
 }
 
 /// Prints a scene's warnings once each, however often it is loaded.

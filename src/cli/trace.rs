@@ -1,12 +1,13 @@
 //! `traxer trace`: run a scene and write the sensor images and summary.
 
-use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::{load_xray_scene, progress, InputError};
-use anyhow::Context;
+use super::args::{DefineArgs, OutputArgs, RunArgs, SceneArgs};
+use super::{load_xray_scene, resume, InputError};
+use std::path::PathBuf;
+use std::time::Duration;
 use traxer::analysis::{analyse, ImageGeometry};
 use traxer::files::OutputFolder;
-use traxer::output::{write_run, Provenance};
-use traxer::trace::{self, RunResult};
+use traxer::runstate::{RunPart, Shard};
+use traxer::trace::{RunResult, Tally};
 
 /// Trace photons through a scene and write every sensor's image.
 ///
@@ -14,38 +15,59 @@ use traxer::trace::{self, RunResult};
 /// shape [ny, nx], or [bands, ny, nx] with energy bins), NAME_counts.npy (photons
 /// per pixel), NAME.png and NAME_log.png (viridis), NAME_eef.png (encircled energy
 /// with the 50/80/90 % diameters), NAME_projections.csv (x and y profiles),
-/// NAME.json (provenance, sensor geometry, image quality, statistics); and
-/// summary.json for the whole run. The same seed gives bit-identical images for any
-/// --threads.
+/// NAME.json (provenance, sensor geometry, image quality, statistics);
+/// summary.json for the whole run; and run_state.bin, the exact sums for `traxer
+/// merge`. The same seed gives bit-identical images for any --threads, for a run
+/// cut into --shard parts and merged, and for a run stopped and resumed.
 #[derive(clap::Args)]
 pub struct TraceArgs {
+    /// Scene file (TOML); see docs/scene-format.md.
+    #[arg(required_unless_present = "resume")]
+    pub scene: Option<PathBuf>,
     #[command(flatten)]
-    pub scene: SceneArgs,
+    pub vars: DefineArgs,
     #[command(flatten)]
     pub run: RunArgs,
     #[command(flatten)]
     pub output: OutputArgs,
-    /// First photon index: trace photons [first, first + photons) of a larger run
-    /// (for splitting one run into shards on a cluster).
-    #[arg(value_name = "K", long, default_value_t = 0)]
-    pub first_photon: u64,
+    /// Trace shard K of N of the run of --photons photons (1 ≤ K ≤ N; e.g.
+    /// --shard $SLURM_ARRAY_TASK_ID/16), for `traxer merge` to add up into the
+    /// bit-identical result of the whole run.
+    #[arg(value_name = "K/N", long)]
+    pub shard: Option<String>,
     /// Also write photons.npy (a NumPy structured array) and photons.csv: the first
     /// N photons recorded on any sensor, with position, direction, energy, weight
     /// and history (reflections, first and last mirror, path class).
     #[arg(value_name = "N", long, default_value_t = 0)]
     pub photon_list: usize,
+    /// Write a checkpoint (DIR/checkpoint.bin) at most every this many seconds
+    /// (0: after every batch of about a million photons), and on SIGINT/SIGTERM
+    /// before stopping; `--resume DIR` continues the run.
+    #[arg(value_name = "SECONDS", long)]
+    pub checkpoint_every: Option<f64>,
+    /// Continue the stopped run whose results folder is DIR, from its checkpoint
+    /// (scene, variables, seed, photons and shard come from it).
+    #[arg(value_name = "DIR", long, conflicts_with_all = ["scene", "define", "photons", "seed", "shard", "photon_list", "out"])]
+    pub resume: Option<PathBuf>,
 }
 
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
-    let mut cfg = a.run.config()?;
-    if a.first_photon.checked_add(cfg.photons).is_none() {
-        return Err(InputError(format!(
-            "--first-photon {} + --photons {} runs past the last photon index (2^64 - 1)",
-            a.first_photon, cfg.photons
-        ))
-        .into());
+    let every = checkpoint_interval(a.checkpoint_every)?;
+    if let Some(dir) = &a.resume {
+        let settings = resume::Settings {
+            threads: a.run.sampling.threads,
+            quiet: a.output.quiet.quiet,
+            every,
+        };
+        return resume::resume(dir, &settings);
     }
-    cfg.first_photon = a.first_photon;
+    let mut cfg = a.run.config()?;
+    let shard = match &a.shard {
+        Some(text) => Shard::parse(text, cfg.photons).map_err(InputError)?,
+        None => Shard::whole(cfg.photons),
+    };
+    cfg.first_photon = shard.range().start;
+    cfg.photons = shard.photons();
     // About 100 bytes each in memory: a list is for looking at photons, not all.
     const MAX_LIST: usize = 20_000_000;
     if a.photon_list > MAX_LIST {
@@ -56,33 +78,43 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         .into());
     }
     cfg.photon_list = a.photon_list;
-    let (device, scene) = load_xray_scene(&a.scene)?;
-    let names = traxer::output::run_file_names(&scene, a.photon_list > 0);
-    let folder = OutputFolder::prepare(&a.output.out, &names)?;
+    let scene_args = SceneArgs {
+        scene: a
+            .scene
+            .clone()
+            .expect("clap requires a scene without --resume"),
+        vars: a.vars.clone(),
+    };
+    let (device, scene) = load_xray_scene(&scene_args)?;
+    let out = &a.output.out;
+    let folder = OutputFolder::prepare(out, &resume::file_names(&scene, a.photon_list > 0))?;
+    resume::refuse_unfinished_run(out)?;
     if scene.sensors.is_empty() {
         tell!("warning: the scene has no sensor; only statistics will be written");
     }
-    let quiet = a.output.quiet.quiet;
-    let bar = progress::bar(cfg.photons, "photons", quiet);
-    let result = trace::run_with_progress(&scene, &cfg, &|n| bar.inc(n))
-        .context("cannot start the worker threads")?;
-    bar.finish_and_clear();
-    let provenance = Provenance::new(Some(device.info().version))
-        .scene(&scene)
-        .run(&cfg, result.threads);
-    let out = &a.output.out;
-    let files = write_run(folder.path(), &scene, &result, &provenance)
-        .and_then(|files| folder.commit().map(|_| files))
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
-    if !quiet {
-        report(&scene, &result);
-        say!("wrote {} files to {}", files.len(), out.display());
+    let part = RunPart::new(&scene, &cfg, shard);
+    let settings = resume::Settings {
+        threads: cfg.threads,
+        quiet: a.output.quiet.quiet,
+        every,
+    };
+    let tally = Tally::new(&scene);
+    resume::trace_into(&device, &scene, &cfg, part, tally, folder, &settings)
+}
+
+/// `--checkpoint-every` checked: a finite number of seconds ≥ 0.
+fn checkpoint_interval(s: Option<f64>) -> Result<Option<Duration>, InputError> {
+    match s {
+        None => Ok(None),
+        Some(v) if (0.0..1e9).contains(&v) => Ok(Some(Duration::from_secs_f64(v))),
+        Some(v) => Err(InputError(format!(
+            "--checkpoint-every {v}: expected seconds between checkpoints, 0 or more"
+        ))),
     }
-    Ok(())
 }
 
 /// The run's statistics and each sensor's image quality on stdout.
-fn report(scene: &traxer::scene::Scene, result: &RunResult) {
+pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
     let s = &result.stats;
     say!(
         "traced {} photons in {:.2} s with {} threads ({:.0} photons/s)",

@@ -84,6 +84,29 @@ fn kept_entries(dir: &Path) -> Vec<OsString> {
         .collect()
 }
 
+/// Whether `file` is a temporary file [`super::atomic_write`] makes for one of
+/// `names` (`.NAME.XXXXXX.tmp`): files written straight into a results folder
+/// (a run's checkpoint) leave one behind when the process is killed mid-write.
+fn is_temporary_of<S: AsRef<str>>(file: &str, names: &[S]) -> bool {
+    names.iter().any(|n| {
+        file.strip_prefix(&format!(".{}.", n.as_ref()))
+            .is_some_and(|rest| rest.ends_with(".tmp"))
+    })
+}
+
+/// Removes the temporary files of killed writers of `names` in `dir` (call with
+/// the folder's lock held: no live traxer writes there then).
+fn remove_stale_temporaries<S: AsRef<str>>(dir: &Path, names: &[S]) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        if is_temporary_of(&e.file_name().to_string_lossy(), names) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+}
+
 /// The names in `dir` that no traxer run wrote: not in its manifest, nor among
 /// `names` (what this command writes), nor other traxer results kept in it.
 fn foreign_files<S: AsRef<str>>(dir: &Path, names: &[S]) -> std::io::Result<Vec<String>> {
@@ -101,6 +124,7 @@ fn foreign_files<S: AsRef<str>>(dir: &Path, names: &[S]) -> std::io::Result<Vec<
             && !listed.contains(&name)
             && !names.iter().any(|n| n.as_ref() == name)
             && !kept.contains(&name)
+            && !is_temporary_of(&name, names)
         {
             foreign.push(name);
         }
@@ -125,8 +149,11 @@ impl OutputFolder {
             temporaries::register_new_folder(target);
         }
         let lock = File::open(target).map_err(|e| fail(target, e.to_string()))?;
-        match rustix::fs::flock(&lock, rustix::fs::FlockOperation::NonBlockingLockExclusive) {
-            Ok(()) => {}
+        let locked = match rustix::fs::flock(
+            &lock,
+            rustix::fs::FlockOperation::NonBlockingLockExclusive,
+        ) {
+            Ok(()) => true,
             Err(rustix::io::Errno::WOULDBLOCK) => {
                 return Err(fail(
                     target,
@@ -135,9 +162,13 @@ impl OutputFolder {
             }
             // A file system without locks: the atomic swap still keeps the
             // folder whole, only concurrent runs are not refused.
-            Err(_) => {}
-        }
+            Err(_) => false,
+        };
         let foreign = foreign_files(target, names).map_err(|e| fail(target, e.to_string()))?;
+        // Only if the lock was had: otherwise the file may be a live run's.
+        if foreign.is_empty() && locked {
+            remove_stale_temporaries(target, names);
+        }
         if !foreign.is_empty() {
             let shown = foreign.len().min(5);
             return Err(fail(

@@ -7,7 +7,7 @@ use super::{write_csv, write_npy_f64};
 use crate::files::atomic_write;
 use crate::history::{PathClass, NO_MIRROR};
 use crate::scene::Scene;
-use crate::sensor::{class_file_names, SensorImage, SensorSpec};
+use crate::sensor::{class_file_names, SensorImage, SensorSpec, WeightSum};
 use crate::trace::RecordedPhoton;
 use npyz::WriterBuilder;
 use serde_json::{json, Map, Value};
@@ -40,24 +40,28 @@ fn shell_of(scene: &Scene, first: u32) -> String {
 /// the image's units (axions/s for a Sun).
 pub fn history_json(scene: &Scene, image: &SensorImage, scale: f64) -> Value {
     let t = &image.paths;
-    let total: f64 = t.class_flux.iter().sum();
+    let class_flux = t.class_flux();
+    let total: f64 = class_flux.iter().sum();
     let fraction = |f: f64| if total > 0.0 { f / total } else { 0.0 };
     let classes: Map<String, Value> = PathClass::ALL
         .iter()
         .map(|&c| {
-            let (f, n) = (t.class_flux[c as usize], t.class_counts[c as usize]);
+            let (f, n) = (class_flux[c as usize], t.class_counts[c as usize]);
             let v = json!({"flux": f * scale, "fraction": fraction(f), "photons": n});
             (c.name().to_string(), v)
         })
         .collect();
-    let mut shells: BTreeMap<String, (f64, u64)> = BTreeMap::new();
+    let mut sums: BTreeMap<String, (WeightSum, u64)> = BTreeMap::new();
     for (&(first, _), &(f, n)) in &t.paths {
-        let e = shells.entry(shell_of(scene, first)).or_default();
-        e.0 += f;
+        let e = sums.entry(shell_of(scene, first)).or_default();
+        e.0.add(f);
         e.1 += n;
     }
     // Shell 2 before shell 10: numbers by value, names after them.
-    let mut shells: Vec<(String, (f64, u64))> = shells.into_iter().collect();
+    let mut shells: Vec<(String, (f64, u64))> = sums
+        .into_iter()
+        .map(|(k, (f, n))| (k, (f.value(), n)))
+        .collect();
     shells.sort_by_key(|(k, _)| {
         (
             k.parse::<i64>().map_or(1, |_| 0),
@@ -71,7 +75,11 @@ pub fn history_json(scene: &Scene, image: &SensorImage, scale: f64) -> Value {
             json!({"shell": k, "flux": f * scale, "fraction": fraction(f), "photons": n})
         })
         .collect();
-    let mut paths: Vec<((u32, u32), (f64, u64))> = t.paths.iter().map(|(k, v)| (*k, *v)).collect();
+    let mut paths: Vec<((u32, u32), (f64, u64))> = t
+        .paths
+        .iter()
+        .map(|(k, (f, n))| (*k, (f.value(), *n)))
+        .collect();
     paths.sort_by(|a, b| b.1 .0.total_cmp(&a.1 .0).then(a.0.cmp(&b.0)));
     let paths: Vec<Value> = paths
         .into_iter()
@@ -98,12 +106,12 @@ pub fn write_class_images(
     image: &SensorImage,
     scale: f64,
 ) -> std::io::Result<Vec<PathBuf>> {
-    let Some(images) = &image.paths.class_images else {
+    let Some(images) = image.paths.class_images() else {
         return Ok(Vec::new());
     };
     let shape = [spec.pixels[1] as u64, spec.pixels[0] as u64];
     let mut written = Vec::new();
-    for (name, img) in class_file_names(&spec.name).iter().zip(images) {
+    for (name, img) in class_file_names(&spec.name).iter().zip(&images) {
         let p = dir.join(name);
         let scaled: Vec<f64> = img.iter().map(|v| v * scale).collect();
         write_npy_f64(&p, &shape, &scaled)?;

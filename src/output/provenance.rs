@@ -4,6 +4,7 @@
 //! [`Provenance::run`]) give every command the same record; [`write_sidecar`]
 //! puts it next to outputs that cannot hold it themselves (PNGs, CSVs).
 
+use crate::runstate::StateHeader;
 use crate::scene::Scene;
 use crate::trace::RunConfig;
 use serde_json::{json, Value};
@@ -31,6 +32,12 @@ pub struct Provenance {
     pub threads: Option<usize>,
     /// Index of the first photon (non-zero for a shard of a larger run).
     pub first_photon: Option<u64>,
+    /// For a run cut into shards: the whole run's photons, the number of shards,
+    /// the shards these results hold, those a partial merge left out, and the
+    /// folders merged; null for a run in one piece.
+    pub shards: Option<Value>,
+    /// Tracing time summed over the shards and over the sittings of a resumed run.
+    pub trace_seconds: Option<f64>,
     pub command_line: Vec<String>,
     /// Seconds since the Unix epoch when the record was made (the run finished).
     pub finished_unix_s: u64,
@@ -57,6 +64,8 @@ impl Provenance {
             photons: None,
             threads: None,
             first_photon: None,
+            shards: None,
+            trace_seconds: None,
             command_line: std::env::args().collect(),
             finished_unix_s: std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
@@ -83,6 +92,39 @@ impl Provenance {
             photons: Some(cfg.photons),
             threads: Some(threads),
             first_photon: Some(cfg.first_photon),
+            ..self
+        }
+    }
+
+    /// With the run's parts, as recorded in its run state (a shard, a resumed run
+    /// or a merge of `merged_from`); `photons` is then the photons these results
+    /// hold.
+    pub fn parts(self, header: &StateHeader, merged_from: &[PathBuf]) -> Provenance {
+        let id = &header.identity;
+        let shards = (id.shards > 1).then(|| {
+            json!({
+                "total_photons": id.total_photons,
+                "cut_into": id.shards,
+                "parts": header.parts,
+                "missing": header.missing,
+                "partial": !header.missing.is_empty(),
+                "merged_from": merged_from.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
+            })
+        });
+        Provenance {
+            seed: Some(id.seed),
+            photons: Some(header.photons),
+            shards,
+            trace_seconds: Some(header.seconds),
+            first_photon: (header.parts.len() == 1).then(|| {
+                crate::runstate::Shard {
+                    index: header.parts[0],
+                    count: id.shards,
+                    total: id.total_photons,
+                }
+                .range()
+                .start
+            }),
             ..self
         }
     }

@@ -100,14 +100,11 @@ fn write_sensor(
         Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
         None => vec![ny as u64, nx as u64],
     };
-    let scaled;
-    let flux: &[f64] = match absolute {
-        Some(k) => {
-            scaled = image.flux.iter().map(|f| f * k).collect::<Vec<_>>();
-            &scaled
-        }
-        None => &image.flux,
-    };
+    let mut flux = image.flux();
+    if let Some(k) = absolute {
+        flux.iter_mut().for_each(|f| *f *= k);
+    }
+    let flux = &flux[..];
     let summed = crate::sensor::sum_bands(flux, spec.pixel_count());
     let files = sensor_file_names(&spec.name);
     let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();

@@ -7,11 +7,13 @@
 //! With energy binning the image has an energy axis: [band][iy][ix].
 
 mod desc;
+pub mod exact;
 mod files;
 pub mod paths;
 pub mod rebin;
 
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
+pub use exact::WeightSum;
 pub use files::{
     check_file_names, file_stem, grid_file_names, sensor_file_names, MAX_FILE_NAME_BYTES,
     SUMMARY_FILE,
@@ -134,10 +136,11 @@ pub fn class_file_names(name: &str) -> Vec<String> {
 }
 
 /// Accumulated image of one sensor.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SensorImage {
-    /// Sum of photon weights per pixel.
-    pub flux: Vec<f64>,
+    /// Sum of photon weights per pixel, exact (see [`exact`]); [`SensorImage::flux`]
+    /// gives it as floating-point numbers.
+    pub flux_sum: Vec<WeightSum>,
     /// Number of photons per pixel.
     pub counts: Vec<u64>,
     /// The flux by photon path.
@@ -151,23 +154,29 @@ impl SensorImage {
     pub fn new(spec: &SensorSpec) -> SensorImage {
         let n = spec.pixel_count() * spec.bands();
         SensorImage {
-            flux: vec![0.0; n],
+            flux_sum: vec![WeightSum::ZERO; n],
             counts: vec![0; n],
             paths: PathTally::new(spec.history_images, spec.pixel_count()),
             plane: spec.pixel_count(),
         }
     }
 
+    /// Sum of photon weights per pixel ([band][iy][ix]).
+    pub fn flux(&self) -> Vec<f64> {
+        exact::values(&self.flux_sum)
+    }
+
     /// The image summed over energy bands.
     pub fn flux_summed(&self, spec: &SensorSpec) -> Vec<f64> {
-        sum_bands(&self.flux, spec.pixel_count())
+        sum_bands(&self.flux(), spec.pixel_count())
     }
 
     /// One photon: its pixel (band included), weight, path class and first and
     /// last mirror.
     #[inline]
     pub fn record(&mut self, pixel: u32, weight: f64, class: PathClass, first: u32, last: u32) {
-        self.flux[pixel as usize] += weight;
+        let weight = WeightSum::of(weight);
+        self.flux_sum[pixel as usize].add(weight);
         self.counts[pixel as usize] += 1;
         self.paths.record(
             pixel as usize % self.plane.max(1),
@@ -177,8 +186,22 @@ impl SensorImage {
         );
     }
 
+    /// Adds the image of another part of the same run (exact, in any order).
+    pub fn add(&mut self, other: &SensorImage) {
+        exact::add_all(&mut self.flux_sum, &other.flux_sum);
+        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
+            *a += b;
+        }
+        self.paths.add(&other.paths);
+    }
+
+    /// Total flux, summed exactly.
     pub fn total_flux(&self) -> f64 {
-        self.flux.iter().sum()
+        let mut total = WeightSum::ZERO;
+        for s in &self.flux_sum {
+            total.add(*s);
+        }
+        total.value()
     }
 
     pub fn total_counts(&self) -> u64 {

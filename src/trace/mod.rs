@@ -3,7 +3,10 @@
 //! Data flow: photon indices are cut into fixed chunks; rayon traces chunks in
 //! parallel, photon i with the random stream (seed, i) ([`crate::random`]); each
 //! chunk returns its sensor records and statistics, and the chunks are merged in
-//! index order. The merged images are therefore bit-identical for any thread count.
+//! index order into a [`Tally`]. Sensors add weights exactly (see
+//! [`crate::sensor::exact`]), so the images are bit-identical for any thread
+//! count, and tallies of parts of a run (shards, a run resumed from a checkpoint)
+//! add up to the bit-identical tally of the whole.
 
 mod photon;
 mod stats;
@@ -22,8 +25,11 @@ use std::time::Instant;
 /// Photons per chunk: large enough to amortise scheduling, small enough to balance
 /// two cores and keep progress reports coming.
 pub const CHUNK: u64 = 4096;
-/// Chunks traced between two ordered merges (bounds the memory held in records).
+/// Chunks traced between two ordered merges (bounds the memory held in records;
+/// checkpoints and stops happen between batches).
 const CHUNKS_PER_BATCH: u64 = 256;
+/// Photons per batch.
+pub const BATCH_PHOTONS: u64 = CHUNK * CHUNKS_PER_BATCH;
 
 /// How to run (the I/O-side settings; physics lives in the scene).
 #[derive(Clone, Debug)]
@@ -52,6 +58,64 @@ impl RunConfig {
     }
 }
 
+/// What a run, or a part of one, has accumulated so far: exact sums, so that
+/// parts add up to the whole in any order ([`Tally::add`]).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Tally {
+    pub images: Vec<SensorImage>,
+    /// The first recorded photons, in photon order (at most the list asked for).
+    pub photons: Vec<RecordedPhoton>,
+    pub stats: Statistics,
+    /// Photons traced so far, from the part's first photon on.
+    pub traced: u64,
+}
+
+impl Tally {
+    /// Nothing traced yet.
+    pub fn new(scene: &Scene) -> Tally {
+        Tally {
+            images: scene.sensors.iter().map(SensorImage::new).collect(),
+            photons: Vec::new(),
+            stats: Statistics::new(scene.objects.len(), scene.sensors.len()),
+            traced: 0,
+        }
+    }
+
+    /// Adds the tally of another, disjoint part of the same run; keeps the first
+    /// `photon_list` recorded photons of both (each part holds its own first ones,
+    /// so these are the first ones of the union).
+    pub fn add(&mut self, other: &Tally, photon_list: usize) {
+        for (a, b) in self.images.iter_mut().zip(&other.images) {
+            a.add(b);
+        }
+        self.photons.extend_from_slice(&other.photons);
+        self.photons.sort_by_key(|p| p.index);
+        self.photons.truncate(photon_list);
+        self.stats.add(&other.stats);
+        self.traced += other.traced;
+    }
+
+    /// The same numbers as a run's result.
+    pub fn into_result(self, photon_list: usize, seconds: f64, threads: usize) -> RunResult {
+        RunResult {
+            images: self.images,
+            photons: self.photons,
+            photon_list,
+            stats: self.stats,
+            seconds,
+            threads,
+        }
+    }
+}
+
+/// What to do after a batch of photons (see [`run_part`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Flow {
+    Continue,
+    /// Stop after this batch; the tally so far is returned.
+    Stop,
+}
+
 /// Images and statistics of a finished run.
 pub struct RunResult {
     pub images: Vec<SensorImage>,
@@ -75,20 +139,34 @@ pub fn run_with_progress(
     cfg: &RunConfig,
     progress: &dyn Progress,
 ) -> Result<RunResult, rayon::ThreadPoolBuildError> {
+    let start = Instant::now();
+    let (tally, threads) = run_part(scene, cfg, Tally::new(scene), progress, &mut |_| {
+        Flow::Continue
+    })?;
+    Ok(tally.into_result(cfg.photon_list, start.elapsed().as_secs_f64(), threads))
+}
+
+/// Continues the run `cfg` from `tally` (photons `tally.traced` on, which must be
+/// a multiple of [`CHUNK`] or all of them), calling `after_batch` with the tally
+/// after every batch of [`BATCH_PHOTONS`] photons; stops early when it says so.
+/// Returns the tally and the number of worker threads.
+pub fn run_part(
+    scene: &Scene,
+    cfg: &RunConfig,
+    mut tally: Tally,
+    progress: &dyn Progress,
+    after_batch: &mut dyn FnMut(&Tally) -> Flow,
+) -> Result<(Tally, usize), rayon::ThreadPoolBuildError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.threads)
         .build()?;
     let threads = pool.current_num_threads();
-    let start = Instant::now();
-    let mut images: Vec<SensorImage> = scene.sensors.iter().map(SensorImage::new).collect();
-    let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
-    let mut photons = Vec::new();
     let n_chunks = cfg.photons.div_ceil(CHUNK);
-    let mut next = 0;
+    let mut next = tally.traced.div_ceil(CHUNK);
     while next < n_chunks {
         let end = (next + CHUNKS_PER_BATCH).min(n_chunks);
         // Each chunk keeps up to as many photon details as the list still needs.
-        let list_cap = cfg.photon_list - photons.len();
+        let list_cap = cfg.photon_list.saturating_sub(tally.photons.len());
         let results: Vec<Chunk> = pool.install(|| {
             (next..end)
                 .into_par_iter()
@@ -105,7 +183,7 @@ pub fn run_with_progress(
         for chunk in results {
             for r in chunk.records {
                 let h = &r.history;
-                images[r.sensor as usize].record(
+                tally.images[r.sensor as usize].record(
                     r.pixel,
                     r.weight,
                     h.class(),
@@ -113,20 +191,17 @@ pub fn run_with_progress(
                     h.last_mirror,
                 );
             }
-            let room = cfg.photon_list - photons.len();
-            photons.extend(chunk.listed.into_iter().take(room));
-            stats.add(&chunk.stats);
+            let room = cfg.photon_list.saturating_sub(tally.photons.len());
+            tally.photons.extend(chunk.listed.into_iter().take(room));
+            tally.stats.add(&chunk.stats);
         }
+        tally.traced = (end * CHUNK).min(cfg.photons);
         next = end;
+        if after_batch(&tally) == Flow::Stop {
+            break;
+        }
     }
-    Ok(RunResult {
-        images,
-        photons,
-        photon_list: cfg.photon_list,
-        stats,
-        seconds: start.elapsed().as_secs_f64(),
-        threads,
-    })
+    Ok((tally, threads))
 }
 
 /// What one chunk of photons gave.

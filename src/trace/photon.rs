@@ -11,7 +11,7 @@ use crate::xray::figure_error::Perturbed;
 use glam::DVec3;
 
 /// A photon recorded by a sensor.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Record {
     pub sensor: u32,
     pub pixel: u32,
@@ -21,7 +21,7 @@ pub struct Record {
 }
 
 /// Everything known about a recorded photon, for photon lists.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RecordedPhoton {
     /// The photon's index in the run (its random stream).
     pub index: u64,

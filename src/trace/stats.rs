@@ -2,7 +2,7 @@
 //! statistics is exact and order-independent.
 
 /// Photon fates and interaction counts.
-#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Statistics {
     pub photons_emitted: u64,
     /// Recorded by any sensor.

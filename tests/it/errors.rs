@@ -256,11 +256,7 @@ fn missing_scene_bad_arguments_and_run_failures() {
         &["-j", "100000"],
         &["0 (one per core) to 1024 worker threads"],
     );
-    expect_input_error(
-        GOOD,
-        &["--first-photon", "18446744073709551615"],
-        &["runs past the last photon index"],
-    );
+    expect_input_error(GOOD, &["--shard", "2/0"], &["at least 1 shard"]);
     let err = crate::common::run_fails(
         crate::common::traxer()
             .args([

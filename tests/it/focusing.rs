@@ -146,7 +146,7 @@ fn flat_mirror_deflects_by_twice_the_grazing_angle() {
             // below the mirror centre is at y = −200·tan(2θ).
             let r = trace::run(&s, &RunConfig::new(20_000, 1)).unwrap();
             assert_eq!(r.stats.reached_sensor, 20_000, "tess {tess}, θ {graze}");
-            let (_, cy, _) = centroid_rms(&r.images[0].flux, 1200);
+            let (_, cy, _) = centroid_rms(&r.images[0].flux(), 1200);
             let y_mm = cy * 60.0 / 1200.0 - 30.0;
             let expected = -200.0 * (2.0 * graze.to_radians()).tan();
             assert!(
@@ -242,7 +242,7 @@ transform = [ { translate = [0, 0, -1500] } ]
     assert_eq!(r.stats.max_interactions_reached, 0);
     // All flux in the four pixels around the focus (10 µm pixels): the on-axis
     // Wolter-I image is a point.
-    let img = &r.images[0].flux;
+    let img = &r.images[0].flux();
     let central: f64 = [(99, 99), (99, 100), (100, 99), (100, 100)]
         .iter()
         .map(|&(y, x)| img[y * 200 + x])
@@ -252,7 +252,7 @@ transform = [ { translate = [0, 0, -1500] } ]
     // ≈ 5 mm · tan(4θ) = 5 · r0/f for each shell: 0.167 … 0.267 mm.
     let s = scene(&text.replace("translate = [0, 0, -1500]", "translate = [0, 0, -1495]"));
     let r = trace::run(&s, &RunConfig::new(200_000, 5)).unwrap();
-    let img = &r.images[0].flux;
+    let img = &r.images[0].flux();
     let mut rmin = f64::INFINITY;
     let mut rmax: f64 = 0.0;
     for (k, &v) in img.iter().enumerate() {
@@ -284,7 +284,7 @@ fn point_source_at_finite_distance_focuses_where_the_lens_equation_says() {
         .unwrap();
         let r = trace::run(&s, &RunConfig::new(300_000, 2)).unwrap();
         assert!(r.stats.reached_sensor > 20_000);
-        centroid_rms(&r.images[0].flux, 512).2 * 14.0 / 512.0
+        centroid_rms(&r.images[0].flux(), 512).2 * 14.0 / 512.0
     };
     let f = 1500.0;
     let d = 130_297.0;

@@ -43,9 +43,9 @@ fn on_axis_nearly_all_flux_at_the_focus_has_been_reflected_front_then_rear() {
     let s = crate::common::scene(&llnl_scene(14.0, ""));
     let r = trace::run(&s, &RunConfig::new(200_000, 3)).unwrap();
     let t = &r.images[0].paths;
-    let total: f64 = t.class_flux.iter().sum();
+    let total: f64 = t.class_flux().iter().sum();
     assert!((total - r.images[0].total_flux()).abs() <= 1e-12 * total);
-    let share = t.class_flux[PathClass::FrontRear as usize] / total;
+    let share = t.class_flux()[PathClass::FrontRear as usize] / total;
     // Measured: all of them (569 857 photons of 1 M reach the sensor, every one
     // front then rear). Stray light that lands on the 14 mm sensor would lower
     // it; anything below 0.999 would mean misplaced mirrors.
@@ -56,8 +56,8 @@ fn on_axis_nearly_all_flux_at_the_focus_has_been_reflected_front_then_rear() {
         assert_eq!(a.shell, b.shell, "{} → {}", a.name, b.name);
     }
     // The per-class images add up to the image.
-    let images = t.class_images.as_ref().expect("history_images = true");
-    for (k, v) in r.images[0].flux.iter().enumerate() {
+    let images = t.class_images().expect("history_images = true");
+    for (k, v) in r.images[0].flux().iter().enumerate() {
         let sum: f64 = images.iter().map(|im| im[k]).sum();
         assert!((sum - v).abs() <= 1e-12 * v.abs().max(1e-300), "pixel {k}");
     }

@@ -30,6 +30,7 @@ mod rebin;
 mod render;
 mod results_folder;
 mod scenes;
+mod shards;
 mod solar;
 mod sources;
 mod streams;

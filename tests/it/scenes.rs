@@ -171,8 +171,8 @@ fn meshed_wolter_telescope_matches_the_analytic_one() {
     let (na, nm) = (a.stats.reached_sensor as f64, m.stats.reached_sensor as f64);
     assert!((na - nm).abs() / na < 1e-3, "analytic {na} vs mesh {nm}");
     // 3 mm out of focus the image is a set of rings; their RMS radius agrees to 1 %.
-    let (_, _, ra) = centroid_rms(&a.images[0].flux, 512);
-    let (_, _, rm) = centroid_rms(&m.images[0].flux, 512);
+    let (_, _, ra) = centroid_rms(&a.images[0].flux(), 512);
+    let (_, _, rm) = centroid_rms(&m.images[0].flux(), 512);
     assert!(
         (ra / rm - 1.0).abs() < 0.01,
         "RMS radius analytic {ra} px vs mesh {rm} px"

@@ -207,7 +207,7 @@ fn a_pinhole_image_of_the_sun_has_the_projected_profile_and_the_absolute_rate() 
     // Enclosed fraction within radius R on the film = the table's projection
     // within ρ = atan(R/L)·D/R_sun. Tolerance: binomial noise (σ ≤ 0.0011) plus
     // the pixel edges (0.1 mm pixels) — 0.01.
-    let img = &r.images[0].flux;
+    let img = &r.images[0].flux();
     let total: f64 = img.iter().sum();
     let d_mm = 0.989 * AU_CM * 10.0;
     for radius in [3.0, 6.0, 10.0, 15.0, 25.0] {

@@ -287,11 +287,11 @@ fn sensors_bin_in_energy() {
     let r = trace::run(&s, &RunConfig::new(n, 4)).unwrap();
     let img = &r.images[0];
     let px = 60 * 60;
-    assert_eq!(img.flux.len(), 8 * px);
+    assert_eq!(img.flux().len(), 8 * px);
     let gold = CoatingLibrary::shipped().coating("bare_gold").unwrap();
     for b in 0..8 {
         let counts: u64 = img.counts[b * px..(b + 1) * px].iter().sum();
-        let flux: f64 = img.flux[b * px..(b + 1) * px].iter().sum();
+        let flux: f64 = img.flux()[b * px..(b + 1) * px].iter().sum();
         let expected = n as f64 / 8.0;
         assert!(
             (counts as f64 - expected).abs() < 4.0 * expected.sqrt(),

@@ -1,0 +1,35 @@
+//! What SIGINT, SIGTERM and SIGHUP do. Normally: remove the temporary files and
+//! staging folders of results being written (previous results stay as they
+//! were) and exit with 130 at once. During a trace that keeps a checkpoint
+//! (`--checkpoint-every`): ask the photon loop to stop after its current batch,
+//! write the checkpoint and exit with 130 (a second signal stops at once).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+/// A checkpointing trace is running: signals ask it to stop.
+static CHECKPOINTING: AtomicBool = AtomicBool::new(false);
+/// A signal asked the checkpointing trace to stop.
+static STOP: AtomicBool = AtomicBool::new(false);
+
+/// Installs the handler (once, at start).
+pub fn stop_cleanly_on_signals() {
+    let _ = ctrlc::set_handler(|| {
+        if CHECKPOINTING.load(Ordering::SeqCst) && !STOP.swap(true, Ordering::SeqCst) {
+            tell!("stopping after the current batch of photons to write a checkpoint (signal again to stop at once, losing the photons since the last checkpoint)");
+            return;
+        }
+        traxer::files::temporaries::remove_all();
+        tell!("stopped: no results were written");
+        std::process::exit(130);
+    });
+}
+
+/// Whether signals stop the run gracefully (checkpoint first) from now on.
+pub fn checkpoint_on_signals(on: bool) {
+    CHECKPOINTING.store(on, Ordering::SeqCst);
+}
+
+/// Whether a signal asked the run to stop.
+pub fn stop_requested() -> bool {
+    STOP.load(Ordering::SeqCst)
+}

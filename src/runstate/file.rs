@@ -1,0 +1,91 @@
+//! Reading and writing run-state files (see the module above for the layout).
+
+use super::StateHeader;
+use crate::files::{atomic_write, sha256_hex};
+use crate::trace::Tally;
+use std::path::{Path, PathBuf};
+
+/// The first line of every run-state file; the number is the layout's version.
+const MAGIC: &str = "traxer run state 1";
+
+/// A file that is not a run-state file this traxer can read (exit code 2).
+#[derive(Debug, thiserror::Error)]
+#[error("{}: {message}", path.display())]
+pub struct RunStateError {
+    pub path: PathBuf,
+    pub message: String,
+}
+
+/// The bytes of a run-state file holding `tally` under `header` (whose hash and
+/// length of the tally are set here).
+pub fn state_bytes(mut header: StateHeader, tally: &Tally) -> Vec<u8> {
+    let body = postcard::to_allocvec(tally).expect("a tally of plain numbers encodes");
+    header.tally_sha256 = sha256_hex(&body);
+    header.tally_bytes = body.len() as u64;
+    let head = serde_json::to_string(&header).expect("a header of plain values encodes");
+    let mut bytes = Vec::with_capacity(MAGIC.len() + head.len() + body.len() + 2);
+    bytes.extend_from_slice(MAGIC.as_bytes());
+    bytes.push(b'\n');
+    bytes.extend_from_slice(head.as_bytes());
+    bytes.push(b'\n');
+    bytes.extend_from_slice(&body);
+    bytes
+}
+
+/// Writes a run-state file atomically: a reader (or a run killed at any moment)
+/// finds the previous file whole or the new one whole.
+pub fn write_state(path: &Path, header: StateHeader, tally: &Tally) -> std::io::Result<()> {
+    atomic_write(path, &state_bytes(header, tally))
+}
+
+/// Reads a run-state file: its header and its tally (checked against the hash
+/// in the header).
+pub fn read_state(path: &Path) -> Result<(StateHeader, Tally), RunStateError> {
+    let bytes = read_bytes(path)?;
+    let (header, body) = split(path, &bytes)?;
+    if body.len() as u64 != header.tally_bytes || sha256_hex(body) != header.tally_sha256 {
+        return Err(failure(
+            path,
+            format!(
+                "its tally is damaged: {} bytes where the header says {}, or a different SHA-256",
+                body.len(),
+                header.tally_bytes
+            ),
+        ));
+    }
+    let tally: Tally = postcard::from_bytes(body)
+        .map_err(|e| failure(path, format!("its tally cannot be decoded: {e}")))?;
+    Ok((header, tally))
+}
+
+/// Reads only the header of a run-state file.
+pub fn read_header(path: &Path) -> Result<StateHeader, RunStateError> {
+    let bytes = read_bytes(path)?;
+    split(path, &bytes).map(|(h, _)| h)
+}
+
+fn failure(path: &Path, message: String) -> RunStateError {
+    RunStateError {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+fn read_bytes(path: &Path) -> Result<Vec<u8>, RunStateError> {
+    std::fs::read(path).map_err(|e| failure(path, format!("cannot read it: {e}")))
+}
+
+/// The header and the encoded tally.
+fn split<'a>(path: &Path, bytes: &'a [u8]) -> Result<(StateHeader, &'a [u8]), RunStateError> {
+    let mut lines = bytes.splitn(3, |&b| b == b'\n');
+    if lines.next() != Some(MAGIC.as_bytes()) {
+        return Err(failure(
+            path,
+            format!("is not a traxer run-state file (its first line is not `{MAGIC}`)"),
+        ));
+    }
+    let head = lines.next().unwrap_or_default();
+    let header: StateHeader = serde_json::from_slice(head)
+        .map_err(|e| failure(path, format!("its header (line 2) cannot be read: {e}")))?;
+    Ok((header, lines.next().unwrap_or_default()))
+}

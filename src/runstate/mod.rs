@@ -1,0 +1,206 @@
+//! Runs that outgrow one machine or one sitting: shards, checkpoints and merges.
+//!
+//! Data flow: `trace` accumulates a [`Tally`] (exact sums); this module saves it
+//! with what identifies the run ([`RunIdentity`]) in a *run-state file*: a
+//! finished run or shard leaves `run_state.bin` beside its images, a run in
+//! progress keeps `checkpoint.bin` in its results folder. `traxer merge` reads
+//! the run-state files of shards, checks that they are disjoint parts of one run
+//! ([`merge`]) and adds their tallies; `traxer trace --resume` reads a
+//! checkpoint and continues the photon loop from it. Both then hand the tally to
+//! `output` as a normal run. Because sums are exact and photon i's random stream
+//! depends only on (seed, i), any split, order or interruption gives the
+//! bit-identical tally of one uninterrupted run.
+//!
+//! The file: a first line `traxer run state 1`, a second line with the header as
+//! JSON (readable with `head -2`), then the tally in `postcard`'s compact binary
+//! encoding, whose SHA-256 the header records.
+
+mod file;
+pub mod merge;
+mod shard;
+
+pub use file::{read_header, read_state, state_bytes, write_state, RunStateError};
+pub use merge::{merge, MergeError, Merged};
+pub use shard::Shard;
+
+use crate::scene::Scene;
+use crate::trace::{RunConfig, Tally};
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// Name of a finished run's (or shard's, or merge's) run-state file.
+pub const RUN_STATE_FILE: &str = "run_state.bin";
+/// Name of a run's checkpoint while it runs.
+pub const CHECKPOINT_FILE: &str = "checkpoint.bin";
+
+/// What must be equal for two parts to belong to one run, and for a checkpoint
+/// to be continued by this program.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct RunIdentity {
+    pub traxer_version: String,
+    pub git_hash: String,
+    /// SHA-256 of the scene file's bytes.
+    pub scene_sha256: String,
+    /// Final values of the scene's variables.
+    pub variables: BTreeMap<String, toml::Value>,
+    pub seed: u64,
+    /// Photons of the whole run (all shards).
+    pub total_photons: u64,
+    /// Into how many shards the run is cut (1: not cut).
+    pub shards: u64,
+    /// Photons listed (`--photon-list`).
+    pub photon_list: usize,
+}
+
+impl RunIdentity {
+    /// The identity of a run of `scene` with `total_photons` photons cut into
+    /// `shards` shards.
+    pub fn new(
+        scene: &Scene,
+        seed: u64,
+        total_photons: u64,
+        shards: u64,
+        photon_list: usize,
+    ) -> RunIdentity {
+        RunIdentity {
+            traxer_version: env!("CARGO_PKG_VERSION").into(),
+            git_hash: env!("TRAXER_GIT_HASH").into(),
+            scene_sha256: scene.text_sha256.clone(),
+            variables: scene.vars.clone(),
+            seed,
+            total_photons,
+            shards,
+            photon_list,
+        }
+    }
+
+    /// The first difference from `other`, said for a person ("seed 1, not 2").
+    pub fn difference(&self, other: &RunIdentity) -> Option<String> {
+        let d = |what: &str, a: &dyn std::fmt::Display, b: &dyn std::fmt::Display| {
+            Some(format!("{what} {a}, not {b}"))
+        };
+        if self.traxer_version != other.traxer_version || self.git_hash != other.git_hash {
+            return d(
+                "traxer",
+                &format!("{} ({})", self.traxer_version, self.git_hash),
+                &format!("{} ({})", other.traxer_version, other.git_hash),
+            );
+        }
+        if self.scene_sha256 != other.scene_sha256 {
+            return d(
+                "a scene file with SHA-256",
+                &short(&self.scene_sha256),
+                &short(&other.scene_sha256),
+            );
+        }
+        if self.variables != other.variables {
+            let mut keys: Vec<&String> = self
+                .variables
+                .keys()
+                .chain(other.variables.keys())
+                .collect();
+            keys.sort();
+            keys.dedup();
+            let show = |v: Option<&toml::Value>| v.map_or("(none)".into(), |v| v.to_string());
+            for k in keys {
+                let (a, b) = (self.variables.get(k), other.variables.get(k));
+                if a != b {
+                    return d(&format!("variable {k} ="), &show(a), &show(b));
+                }
+            }
+        }
+        if self.seed != other.seed {
+            return d("seed", &self.seed, &other.seed);
+        }
+        if self.total_photons != other.total_photons {
+            return d(
+                "a run of",
+                &format!("{} photons", self.total_photons),
+                &other.total_photons,
+            );
+        }
+        if self.shards != other.shards {
+            return d(
+                "cut into",
+                &format!("{} shards", self.shards),
+                &other.shards,
+            );
+        }
+        if self.photon_list != other.photon_list {
+            return d("--photon-list", &self.photon_list, &other.photon_list);
+        }
+        None
+    }
+}
+
+fn short(hash: &str) -> String {
+    hash.chars().take(12).collect()
+}
+
+/// The header of a run-state file: whose tally it is and how far it got.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct StateHeader {
+    pub identity: RunIdentity,
+    /// Where the scene file was (absolute), and its `-D` overrides: how
+    /// `--resume` loads it again.
+    pub scene_path: PathBuf,
+    pub overrides: Vec<String>,
+    /// The shards (1..=shards) this tally holds.
+    pub parts: Vec<u64>,
+    /// Photons of those shards, and how many of them are traced.
+    pub photons: u64,
+    pub traced: u64,
+    /// Tracing time so far (summed over shards and sittings).
+    pub seconds: f64,
+    /// Shards a partial merge left out (`traxer merge --partial`).
+    pub missing: Vec<u64>,
+    /// SHA-256 and length of the encoded tally that follows the header.
+    pub tally_sha256: String,
+    pub tally_bytes: u64,
+}
+
+impl StateHeader {
+    /// Every photon of its parts is traced.
+    pub fn complete(&self) -> bool {
+        self.traced == self.photons
+    }
+}
+
+/// A run's identity, parts and progress, before the tally is encoded.
+pub struct RunPart {
+    pub identity: RunIdentity,
+    pub scene_path: PathBuf,
+    pub overrides: Vec<String>,
+    pub shard: Shard,
+    pub seconds: f64,
+}
+
+impl RunPart {
+    /// The part of `scene` that `cfg` traces, as shard `shard`.
+    pub fn new(scene: &Scene, cfg: &RunConfig, shard: Shard) -> RunPart {
+        RunPart {
+            identity: RunIdentity::new(scene, cfg.seed, shard.total, shard.count, cfg.photon_list),
+            scene_path: std::path::absolute(&scene.path).unwrap_or_else(|_| scene.path.clone()),
+            overrides: scene.overrides.clone(),
+            shard,
+            seconds: 0.0,
+        }
+    }
+
+    /// The header for `tally` (its encoding's hash and length are filled in when
+    /// written).
+    pub fn header(&self, tally: &Tally) -> StateHeader {
+        StateHeader {
+            identity: self.identity.clone(),
+            scene_path: self.scene_path.clone(),
+            overrides: self.overrides.clone(),
+            parts: vec![self.shard.index],
+            photons: self.shard.photons(),
+            traced: tally.traced,
+            seconds: self.seconds,
+            missing: Vec::new(),
+            tally_sha256: String::new(),
+            tally_bytes: 0,
+        }
+    }
+}

@@ -1,0 +1,476 @@
+//! Runs cut into shards and merged, and runs stopped (by a signal, or killed at
+//! any moment) and resumed, through the `traxer` binary: the results must be the
+//! bit-identical files of one uninterrupted run.
+
+use crate::common::{repo, run_fails, run_ok, traxer, write};
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+/// The Wolter-I scene with gold mirrors (weights below 1, so that floating-point
+/// sums in another grouping would differ), energy bands, a detector grid, class
+/// images; written into `dir` with absolute mesh paths.
+fn wolter_scene(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repo().join("scenes/wolter1_parallel.toml")).unwrap();
+    let meshes = repo().join("meshes");
+    let text = text
+        .replace("\"../meshes/", &format!("\"{}/", meshes.display()))
+        .replace(
+            "pixels = [512, 512]",
+            "pixels = [300, 300]\nenergy_bins = [1.0, 2.0, 4]\npixel_grid = { pixels = [64, 64], pitch = 0.055, rotation = 10.0, center = [0.0, 0.0] }\nhistory_images = true",
+        );
+    write(dir, "wolter.toml", &text)
+}
+
+/// A point source right in front of a large, finely pixelled sensor: fast to
+/// trace, with big checkpoints (tens of MB, so that a kill can land inside a
+/// write) and weights that differ from photon to photon.
+fn big_sensor_scene(dir: &Path) -> PathBuf {
+    write(
+        dir,
+        "big.toml",
+        r#"
+[materials.detector]
+type = "sensor"
+size = [40.0, 40.0]
+pixels = [1500, 1500]
+
+[[sources]]
+type = "point"
+position = [0.0, 0.0, 60.0]
+target = { center = [0.0, 0.0, 1.0], radius = 20.0 }
+energy = { line = 3.0 }
+
+[[objects]]
+name = "sensor"
+material = "detector"
+shape = { type = "rectangle", size = [40.0, 40.0] }
+"#,
+    )
+}
+
+fn trace(scene: &Path, out: &Path, args: &[&str]) -> std::process::Command {
+    let mut c = traxer();
+    c.arg("trace")
+        .arg(scene)
+        .arg("-o")
+        .arg(out)
+        .arg("-q")
+        .args(args);
+    c
+}
+
+/// A JSON document without what differs between runs of the same numbers:
+/// provenance (command line, time, shards) and timing.
+fn without_run_details(path: &Path) -> serde_json::Value {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let o = v.as_object_mut().unwrap();
+    o.remove("provenance");
+    if let Some(s) = o.get_mut("statistics").and_then(|s| s.as_object_mut()) {
+        for k in [
+            "seconds",
+            "threads",
+            "photons_per_second",
+            "sensor_photons_per_second",
+        ] {
+            s.remove(k);
+        }
+    }
+    v
+}
+
+/// The encoded tally of a run-state file (what follows its two header lines).
+fn tally_bytes(path: &Path) -> Vec<u8> {
+    let bytes = std::fs::read(path).unwrap();
+    let mut lines = bytes.splitn(3, |&b| b == b'\n');
+    lines.nth(2).unwrap().to_vec()
+}
+
+/// Every file of `a` is in `b` with the same bytes, JSON apart from provenance
+/// and timing, the run state apart from its header.
+fn assert_same_results(a: &Path, b: &Path) {
+    let mut names: Vec<String> = std::fs::read_dir(a)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| !n.starts_with('.'))
+        .collect();
+    names.sort();
+    assert!(names.len() >= 9, "{names:?}");
+    for n in &names {
+        let (fa, fb) = (a.join(n), b.join(n));
+        assert!(fb.is_file(), "{} lacks {n}", b.display());
+        if n.ends_with(".json") {
+            assert_eq!(without_run_details(&fa), without_run_details(&fb), "{n}");
+        } else if n == "run_state.bin" {
+            assert!(tally_bytes(&fa) == tally_bytes(&fb), "{n}");
+        } else {
+            assert!(
+                std::fs::read(&fa).unwrap() == std::fs::read(&fb).unwrap(),
+                "{n}"
+            );
+        }
+    }
+}
+
+#[test]
+fn four_shards_merged_in_any_order_give_the_files_of_one_run_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = wolter_scene(dir.path());
+    let common = [
+        "-n",
+        "200000",
+        "-s",
+        "7",
+        "-D",
+        "coating=gold",
+        "-D",
+        "off_axis=0.01",
+        "--photon-list",
+        "3000",
+    ];
+    let one = dir.path().join("one");
+    run_ok(trace(&scene, &one, &common).arg("-j").arg("2"));
+    let shard = |k: u64| {
+        let out = dir.path().join(format!("shard{k}"));
+        // Shards on different thread counts, as on a cluster's mixed nodes.
+        run_ok(trace(&scene, &out, &common).args([
+            "--shard",
+            &format!("{k}/4"),
+            "-j",
+            &(1 + k % 2).to_string(),
+        ]));
+        out
+    };
+    let shards: Vec<PathBuf> = (1..=4).map(shard).collect();
+    for (name, order) in [("merged_a", [2, 0, 3, 1]), ("merged_b", [3, 2, 1, 0])] {
+        let out = dir.path().join(name);
+        let mut c = traxer();
+        c.args(["merge", "-q", "-o"]).arg(&out);
+        for i in order {
+            c.arg(&shards[i]);
+        }
+        run_ok(&mut c);
+        assert_same_results(&one, &out);
+    }
+    // The files hold what they should: the grid, the class images and the list.
+    for f in ["sensor_grid.npy", "sensor_front_rear.npy", "photons.npy"] {
+        assert!(one.join(f).is_file(), "{f}");
+    }
+    // The provenance says what was merged.
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir.path().join("merged_a/summary.json")).unwrap(),
+    )
+    .unwrap();
+    let shards_json = &summary["provenance"]["shards"];
+    assert_eq!(shards_json["cut_into"], 4);
+    assert_eq!(shards_json["parts"], serde_json::json!([1, 2, 3, 4]));
+    assert_eq!(shards_json["partial"], false);
+    assert_eq!(summary["provenance"]["photons"], 200000);
+    // A shard is a part: its image differs from the whole run's.
+    assert!(
+        std::fs::read(one.join("sensor.npy")).unwrap()
+            != std::fs::read(shards[0].join("sensor.npy")).unwrap()
+    );
+}
+
+#[test]
+fn merge_refuses_shards_that_are_not_one_run_and_names_the_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = wolter_scene(dir.path());
+    let d = |n: &str| dir.path().join(n);
+    let shard = |name: &str, args: &[&str]| {
+        let n = if name == "more" { "50000" } else { "40000" };
+        run_ok(&mut trace(&scene, &d(name), &[&["-n", n], args].concat()));
+        d(name)
+    };
+    let s1 = shard("s1", &["--shard", "1/4"]);
+    let s2 = shard("s2", &["--shard", "2/4"]);
+    let s3 = shard("s3", &["--shard", "3/4"]);
+    let seed = shard("seed", &["--shard", "4/4", "-s", "2"]);
+    let energy = shard("energy", &["--shard", "4/4", "-D", "energy=1.5"]);
+    let more = shard("more", &["--shard", "4/4"]);
+    let five = shard("five", &["--shard", "4/5"]);
+    let whole = shard("whole", &[]);
+    let merge = |dirs: &[&PathBuf], extra: &[&str]| {
+        let mut c = traxer();
+        c.args(["merge", "-q", "-o"]).arg(d("merged")).args(extra);
+        for x in dirs {
+            c.arg(x);
+        }
+        c
+    };
+    let cases: Vec<(Vec<&PathBuf>, Vec<&str>)> = vec![
+        (
+            vec![&s1, &s2, &s3, &s1],
+            vec!["s1", "holds shard 1/4, which", "s1 holds too"],
+        ),
+        (
+            vec![&s1, &s3],
+            vec!["s1", "shards 2, 4 of 4 are missing", "--partial"],
+        ),
+        (vec![&s1, &s2, &s3, &seed], vec!["seed", "seed 2, not 1"]),
+        (
+            vec![&s1, &s2, &s3, &energy],
+            vec!["energy", "variable energy = 1.5, not 1.49"],
+        ),
+        (
+            vec![&s1, &s2, &s3, &more],
+            vec!["more", "50000 photons, not 40000"],
+        ),
+        (vec![&s1, &s2, &s3, &five], vec!["five", "5 shards, not 4"]),
+        (vec![&s1, &whole], vec!["whole", "1 shards, not 4"]),
+    ];
+    for (dirs, needles) in cases {
+        let err = run_fails(&mut merge(&dirs, &[]), 2);
+        for n in &needles {
+            assert!(err.contains(n), "stderr lacks {n:?}:\n{err}");
+        }
+        assert!(
+            !d("merged").exists(),
+            "a refused merge wrote {}",
+            d("merged").display()
+        );
+    }
+    // Nothing to merge, a folder without a run state, the output in a shard.
+    run_fails(traxer().args(["merge", "-o"]).arg(d("merged")), 2);
+    let err = run_fails(&mut merge(&[&dir.path().to_path_buf()], &[]), 2);
+    assert!(err.contains("holds no run_state.bin"), "{err}");
+    let err = run_fails(traxer().args(["merge", "-o"]).arg(&s1).arg(&s1).arg(&s2), 2);
+    assert!(err.contains("is the shard folder"), "{err}");
+    assert!(!d("merged").exists());
+    // A partial merge, asked for, says what it lacks.
+    run_ok(&mut merge(&[&s3, &s1], &["--partial"]));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d("merged/summary.json")).unwrap()).unwrap();
+    let p = &summary["provenance"]["shards"];
+    assert_eq!(p["missing"], serde_json::json!([2, 4]));
+    assert_eq!(p["partial"], true);
+    assert_eq!(summary["statistics"]["photons_emitted"], 20000);
+}
+
+#[test]
+fn bad_shards_are_refused_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = wolter_scene(dir.path());
+    let out = dir.path().join("out");
+    for (args, needle) in [
+        (vec!["--shard", "0/4"], "must be 1 to 4"),
+        (vec!["--shard", "5/4"], "must be 1 to 4"),
+        (vec!["--shard", "3"], "expected K/N"),
+        (vec!["-n", "3", "--shard", "1/4"], "at most 3 shards"),
+        (vec!["--checkpoint-every=-1"], "--checkpoint-every -1"),
+    ] {
+        let err = run_fails(&mut trace(&scene, &out, &args), 2);
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!out.exists());
+    }
+}
+
+/// Waits until `found` (or the process ends); whether it was found.
+fn wait_for(child: &mut std::process::Child, found: impl Fn() -> bool, limit: Duration) -> bool {
+    let start = Instant::now();
+    while start.elapsed() < limit {
+        if found() {
+            return true;
+        }
+        if child.try_wait().unwrap().is_some() {
+            return found();
+        }
+        std::thread::sleep(Duration::from_micros(500));
+    }
+    false
+}
+
+/// A temporary file of a checkpoint being written in `dir`.
+fn checkpoint_being_written(dir: &Path) -> bool {
+    std::fs::read_dir(dir).is_ok_and(|entries| {
+        entries.flatten().any(|e| {
+            let n = e.file_name().to_string_lossy().into_owned();
+            n.starts_with(".checkpoint.bin.") && n.ends_with(".tmp")
+        })
+    })
+}
+
+fn signal(child: &std::process::Child, sig: &str) {
+    run_ok(std::process::Command::new("kill").args([sig, &child.id().to_string()]));
+}
+
+#[test]
+fn a_run_killed_at_any_moment_and_resumed_gives_the_uninterrupted_result() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = big_sensor_scene(dir.path());
+    let args = ["-n", "12000000", "-s", "3"];
+    let reference = dir.path().join("reference");
+    run_ok(&mut trace(&scene, &reference, &args));
+    let out = dir.path().join("run");
+    let start = |dir: &Path| {
+        let mut c = if dir.join("checkpoint.bin").is_file() {
+            let mut c = traxer();
+            c.args(["trace", "-q", "--resume"]).arg(dir);
+            c
+        } else {
+            trace(&scene, dir, &args)
+        };
+        c.args(["--checkpoint-every", "0"]);
+        c.stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap()
+    };
+    // Kill moments: early (scene load), inside checkpoint writes, between them.
+    let mut killed_in_write = 0;
+    let moments = [
+        "early",
+        "write",
+        "after 0.7 s",
+        "write",
+        "write",
+        "after 1.3 s",
+    ];
+    for moment in moments {
+        let mut child = start(&out);
+        match moment {
+            "early" => std::thread::sleep(Duration::from_millis(30)),
+            "write" => {
+                wait_for(
+                    &mut child,
+                    || checkpoint_being_written(&out),
+                    Duration::from_secs(60),
+                );
+            }
+            m => {
+                let s: f64 = m
+                    .trim_start_matches("after ")
+                    .trim_end_matches(" s")
+                    .parse()
+                    .unwrap();
+                std::thread::sleep(Duration::from_secs_f64(s));
+            }
+        }
+        signal(&child, "-KILL");
+        child.wait().unwrap();
+        // SIGKILL leaves the temporary file of a write it interrupted.
+        if moment == "write" && checkpoint_being_written(&out) {
+            killed_in_write += 1;
+        }
+    }
+    assert!(
+        killed_in_write >= 1,
+        "no kill landed inside a checkpoint write"
+    );
+    // Resumed to the end (a kill may have come after the end: then nothing is left).
+    let mut child = start(&out);
+    assert!(child.wait().unwrap().success());
+    assert!(!out.join("checkpoint.bin").exists());
+    assert!(
+        !checkpoint_being_written(&out),
+        "a stale temporary file stayed"
+    );
+    assert_same_results(&reference, &out);
+}
+
+#[test]
+fn sigterm_and_sigint_write_a_checkpoint_and_the_resumed_run_is_bit_identical() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = big_sensor_scene(dir.path());
+    let args = ["-n", "30000000", "-s", "5"];
+    let reference = dir.path().join("reference");
+    run_ok(&mut trace(&scene, &reference, &args));
+    let out = dir.path().join("run");
+    let checkpoint = out.join("checkpoint.bin");
+    // A long interval: only the signals write checkpoints.
+    let child = trace(
+        &scene,
+        &out,
+        &[&args[..], &["--checkpoint-every", "3600"]].concat(),
+    )
+    .stderr(std::process::Stdio::piped())
+    .spawn()
+    .unwrap();
+    std::thread::sleep(Duration::from_millis(1200));
+    signal(&child, "-TERM");
+    let stopped = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(err.contains("traxer trace --resume"), "{err}");
+    assert!(checkpoint.is_file(), "{err}");
+    // A new run into the folder would throw the stopped one away: refused.
+    let refused = run_fails(&mut trace(&scene, &out, &args), 2);
+    assert!(refused.contains("--resume"), "{refused}");
+    // Resumed, stopped again with SIGINT, resumed to the end.
+    let child = traxer()
+        .args(["trace", "-q", "--checkpoint-every", "3600", "--resume"])
+        .arg(&out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(900));
+    signal(&child, "-INT");
+    let stopped = child.wait_with_output().unwrap();
+    if stopped.status.code() == Some(130) {
+        assert!(checkpoint.is_file());
+        run_ok(traxer().args(["trace", "-q", "--resume"]).arg(&out));
+    } else {
+        // The rest was traced before the signal came: finished normally.
+        assert!(stopped.status.success());
+    }
+    assert_same_results(&reference, &out);
+    // Resuming a finished run does nothing, and says so.
+    let again = run_ok(traxer().args(["trace", "--resume"]).arg(&out));
+    assert!(String::from_utf8_lossy(&again.stdout).contains("nothing to resume"));
+}
+
+#[test]
+fn checkpoints_of_another_scene_or_build_and_damaged_ones_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = big_sensor_scene(dir.path());
+    let out = dir.path().join("run");
+    let checkpoint = out.join("checkpoint.bin");
+    let mut child = trace(&scene, &out, &["-n", "50000000", "--checkpoint-every", "0"])
+        .spawn()
+        .unwrap();
+    wait_for(&mut child, || checkpoint.is_file(), Duration::from_secs(60));
+    signal(&child, "-KILL");
+    child.wait().unwrap();
+    let good = std::fs::read(&checkpoint).unwrap();
+    let resume = || {
+        let mut c = traxer();
+        c.args(["trace", "-q", "--resume"]).arg(&out);
+        c
+    };
+    let replace = |from: &str, to: &str| {
+        let text = String::from_utf8_lossy(&good[..200]).into_owned();
+        assert!(text.contains(from), "{text}");
+        let head = text.replacen(from, to, 1);
+        [head.as_bytes(), &good[200..]].concat()
+    };
+    for (bytes, needle) in [
+        (
+            replace("\"traxer_version\":\"", "\"traxer_version\":\"9."),
+            "was written by traxer 9.",
+        ),
+        (good[..good.len() - 10].to_vec(), "its tally is damaged"),
+        (b"hello\n".to_vec(), "is not a traxer run-state file"),
+    ] {
+        std::fs::write(&checkpoint, &bytes).unwrap();
+        let err = run_fails(&mut resume(), 2);
+        assert!(err.contains(needle), "{needle}: {err}");
+        assert!(err.contains("checkpoint.bin"), "{err}");
+    }
+    // The scene file changed since the run stopped.
+    std::fs::write(&checkpoint, &good).unwrap();
+    let text = std::fs::read_to_string(&scene).unwrap();
+    std::fs::write(&scene, text.replace("line = 3.0", "line = 3.5")).unwrap();
+    let err = run_fails(&mut resume(), 2);
+    assert!(err.contains("the scene file changed"), "{err}");
+    std::fs::write(&scene, text).unwrap();
+    // A folder that is not a stopped run's.
+    let err = run_fails(traxer().args(["trace", "--resume"]).arg(dir.path()), 2);
+    assert!(
+        err.contains("is not the results folder of a stopped run"),
+        "{err}"
+    );
+    // With the checkpoint and scene as they were, the run finishes.
+    run_ok(&mut resume());
+    assert!(!checkpoint.exists());
+}
