@@ -474,3 +474,69 @@ fn checkpoints_of_another_scene_or_build_and_damaged_ones_are_refused() {
     run_ok(&mut resume());
     assert!(!checkpoint.exists());
 }
+
+#[test]
+fn the_cluster_scripts_run_shards_resume_a_stopped_one_and_merge_bit_identically() {
+    // As HTCondor runs them (shards counted from 0, no Slurm): run-shard.sh for
+    // each shard, one of them stopped by SIGTERM (passed on to traxer, which
+    // checkpoints) and run again, then merge-shards.sh.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = big_sensor_scene(dir.path());
+    let root = dir.path().join("runs");
+    let options = ["-s", "9"];
+    let reference = dir.path().join("reference");
+    run_ok(&mut trace(
+        &scene,
+        &reference,
+        &[&["-n", "16000000"], &options[..]].concat(),
+    ));
+    let script = |name: &str| {
+        let mut c = std::process::Command::new("bash");
+        c.arg(repo().join("cluster").join(name))
+            .env("TRAXER", env!("CARGO_BIN_EXE_traxer"))
+            .env("TRAXER_SHARD_BASE", "0")
+            .env("TRAXER_CHECKPOINT_EVERY", "0")
+            .env_remove("SLURM_JOB_ID");
+        c
+    };
+    let shard = |process: u32| {
+        let mut c = script("run-shard.sh");
+        c.arg(process.to_string())
+            .args(["4"])
+            .arg(&scene)
+            .arg("16000000")
+            .arg(&root)
+            .args(options);
+        c
+    };
+    for p in [0, 2, 3] {
+        run_ok(&mut shard(p));
+    }
+    let mut child = shard(1)
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let checkpoint = root.join("shard-2-of-4/checkpoint.bin");
+    assert!(wait_for(
+        &mut child,
+        || checkpoint.is_file(),
+        Duration::from_secs(60)
+    ));
+    signal(&child, "-TERM");
+    let out = child.wait_with_output().unwrap();
+    assert_eq!(
+        out.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&out.stdout)
+    );
+    assert!(checkpoint.is_file());
+    // Run again: it resumes; once more: it is finished and does nothing.
+    let again = run_ok(&mut shard(1));
+    assert!(String::from_utf8_lossy(&again.stdout).contains("--resume"));
+    let once_more = run_ok(&mut shard(1));
+    assert!(String::from_utf8_lossy(&once_more.stdout).contains("is finished"));
+    let mut merge = script("merge-shards.sh");
+    run_ok(merge.arg(&root).arg("4"));
+    assert_same_results(&reference, &root.join("merged"));
+}
