@@ -3,6 +3,7 @@
 //! progress, a CSV history and the result as a preset file.
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
+use super::fit_checkpoint::{identity, FitRecord, FIT_CHECKPOINT};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
 use traxer::files::OutputFolder;
@@ -20,7 +21,9 @@ use traxer::studies::{pick_sensor, Diameters};
 /// relative errors of HPD, 80 % and 90 % diameters — is smooth; NLopt's DIRECT-L
 /// searches the bounds globally, Sbplx polishes the best point. Writes
 /// history.csv, fit.json and figure_error.toml (a preset for data/figure_errors.toml
-/// or a scene's [figure_errors]) into --out. Example (PANTER Al Kα):
+/// or a scene's [figure_errors]) into --out; while it runs, fit_checkpoint.json
+/// records every evaluation, so that a stopped fit continues with --resume.
+/// Example (PANTER Al Kα):
 ///   traxer fit-figure-error scenes/panter_al_ka.toml --target-hpd 206 --target-c80 397 --target-c90 549
 #[derive(clap::Args)]
 #[command(mut_arg("photons", |a| a.help("Photons per evaluation")))]
@@ -62,6 +65,11 @@ pub struct FitFigureErrorArgs {
     /// Name of the preset written to figure_error.toml.
     #[arg(value_name = "PRESET", long, default_value = "fitted")]
     pub name: String,
+    /// Continue the stopped fit whose results folder is --out: run the same
+    /// command with --resume; the evaluations it recorded (fit_checkpoint.json)
+    /// are taken instead of traced, and the fit ends as if never stopped.
+    #[arg(long)]
+    pub resume: bool,
     #[command(flatten)]
     pub run: RunArgs,
     #[command(flatten)]
@@ -142,7 +150,8 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     }
     let bounds = parse_bounds(&a.bounds)?;
     let run = a.run.config()?;
-    let folder = OutputFolder::prepare(&a.output.out, &FIT_FILES)?;
+    let names = [&FIT_FILES[..], &[FIT_CHECKPOINT]].concat();
+    let folder = OutputFolder::prepare(&a.output.out, &names)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {
@@ -161,17 +170,33 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         local_evaluations: a.local_evals,
         local_algorithm: a.local_algorithm.into(),
     };
+    let mut record = FitRecord::open(&a.output.out, identity(&scene, &settings), a.resume)?;
+    let replay = record.recorded().to_vec();
     let quiet = a.output.quiet.quiet;
+    if !quiet && a.resume {
+        say!("resuming: {} evaluations recorded", replay.len());
+    }
+    super::signals::set_stop_message(format!(
+        "stopped; the evaluations so far are in {}: run the same command with --resume to continue",
+        a.output.out.join(FIT_CHECKPOINT).display()
+    ));
     // The budget: every evaluation and the seed check trace `photons` photons
     // (DIRECT-L may stop early; the bar then ends short of its length).
     let budget = (a.global_evals as u64 + a.local_evals as u64 + a.check_seeds) * run.photons;
     let bar = progress::bar(budget, "photons", quiet);
     let started = std::time::Instant::now();
-    let result = fit(&mut scene, &settings, &|n| bar.inc(n), |e, best| {
-        if !quiet {
-            bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
-        }
-    });
+    let result = fit(
+        &mut scene,
+        &settings,
+        &replay,
+        &|n| bar.inc(n),
+        |e, best| {
+            record.add(e);
+            if !quiet && e.index > replay.len() {
+                bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
+            }
+        },
+    );
     let fit_seconds = started.elapsed().as_secs_f64();
     let result = result?;
     // Monte Carlo spread: the best parameters with other seeds (the fit saw one).

@@ -25,6 +25,7 @@ pub mod bench;
 pub mod compare;
 pub mod eef;
 pub mod effective_area;
+pub mod fit_checkpoint;
 pub mod fit_figure_error;
 pub mod focus;
 pub mod info;

@@ -5,6 +5,10 @@
 //! write the checkpoint and exit with 130 (a second signal stops at once).
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+
+/// What to say when a signal stops the command at once.
+static STOP_MESSAGE: Mutex<Option<String>> = Mutex::new(None);
 
 /// A checkpointing trace is running: signals ask it to stop.
 static CHECKPOINTING: AtomicBool = AtomicBool::new(false);
@@ -19,7 +23,10 @@ pub fn stop_cleanly_on_signals() {
             return;
         }
         traxer::files::temporaries::remove_all();
-        tell!("stopped: no results were written");
+        match STOP_MESSAGE.try_lock().ok().and_then(|m| m.clone()) {
+            Some(m) => tell!("{m}"),
+            None => tell!("stopped: no results were written"),
+        }
         std::process::exit(130);
     });
 }
@@ -32,4 +39,12 @@ pub fn checkpoint_on_signals(on: bool) {
 /// Whether a signal asked the run to stop.
 pub fn stop_requested() -> bool {
     STOP.load(Ordering::SeqCst)
+}
+
+/// What a signal that stops the command at once says (instead of "no results
+/// were written"), e.g. how to continue.
+pub fn set_stop_message(message: String) {
+    if let Ok(mut m) = STOP_MESSAGE.lock() {
+        *m = Some(message);
+    }
 }

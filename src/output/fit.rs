@@ -130,6 +130,7 @@ pub fn write_fit(
             "photons_per_evaluation": s.run.photons,
             "seed": s.run.seed,
             "fit_seconds": report.fit_seconds,
+            "evaluations_resumed_from_record": report.result.replayed,
             "seed_check": {
                 "seeds": (0..=report.extra_seeds).map(|k| s.run.seed.wrapping_add(k)).collect::<Vec<_>>(),
                 "hpd_mean_sd": [sp.hpd.0, sp.hpd.1],

@@ -45,7 +45,7 @@ impl Default for Bounds {
 }
 
 /// One objective evaluation.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Evaluation {
     pub index: usize,
     pub parameters: FigureError,
@@ -53,7 +53,7 @@ pub struct Evaluation {
     pub diameters: Option<Diameters>,
     pub error: f64,
     /// Which stage asked: "global" (DIRECT-L) or "local" (Sbplx).
-    pub stage: &'static str,
+    pub stage: String,
 }
 
 /// Gives every mirror of the scene the figure error `fe` (`None`: perfect).
@@ -102,6 +102,9 @@ impl LocalAlgorithm {
 pub struct FitResult {
     pub best: Evaluation,
     pub history: Vec<Evaluation>,
+    /// How many of them were taken from the evaluations of an earlier, stopped
+    /// fit instead of traced (see [`fit`]).
+    pub replayed: usize,
     /// Worker threads the traces used.
     pub threads: usize,
 }
@@ -109,6 +112,8 @@ pub struct FitResult {
 struct State<'a, P: FnMut(&Evaluation, &Evaluation)> {
     scene: &'a mut Scene,
     settings: &'a FitSettings,
+    replay: &'a [Evaluation],
+    replayed: usize,
     trace_progress: &'a dyn Progress,
     free: Vec<usize>,
     history: Vec<Evaluation>,
@@ -133,23 +138,46 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
         }
     }
 
+    /// The recorded evaluation at this point of an earlier fit, if its parameters
+    /// are bit for bit those asked for now (the optimisers are deterministic, so
+    /// they are until the earlier fit stopped).
+    fn recorded(&self, fe: &FigureError) -> Option<Option<Diameters>> {
+        let r = self.replay.get(self.history.len())?;
+        let same = |a: &FigureError| {
+            [
+                a.in_plane_narrow,
+                a.in_plane_wide,
+                a.wide_fraction,
+                a.out_of_plane,
+            ]
+            .map(f64::to_bits)
+        };
+        (self.replayed == self.history.len() && same(&r.parameters) == same(fe))
+            .then_some(r.diameters)
+    }
+
     fn evaluate(&mut self, x: &[f64]) -> f64 {
         let fe = self.parameters(x);
-        set_figure_error(self.scene, Some(fe));
-        let measured = trace_and_measure(
-            self.scene,
-            self.settings.sensor,
-            &self.settings.run,
-            self.trace_progress,
-        );
-        let diameters = match measured {
-            Ok(m) => {
-                self.threads = m.threads;
-                m.quality.as_ref().and_then(Diameters::of)
-            }
-            Err(e) => {
-                self.failure = Some(e);
-                None
+        let diameters = if let Some(d) = self.recorded(&fe) {
+            self.replayed += 1;
+            d
+        } else {
+            set_figure_error(self.scene, Some(fe));
+            let measured = trace_and_measure(
+                self.scene,
+                self.settings.sensor,
+                &self.settings.run,
+                self.trace_progress,
+            );
+            match measured {
+                Ok(m) => {
+                    self.threads = m.threads;
+                    m.quality.as_ref().and_then(Diameters::of)
+                }
+                Err(e) => {
+                    self.failure = Some(e);
+                    None
+                }
             }
         };
         // No image at all is the worst possible outcome, not an error.
@@ -159,7 +187,7 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
             parameters: fe,
             diameters,
             error,
-            stage: self.stage,
+            stage: self.stage.into(),
         };
         if self.best.as_ref().is_none_or(|b| e.error < b.error) {
             self.best = Some(e.clone());
@@ -173,9 +201,15 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
 /// Runs the fit on `scene` (whose mirrors' figure errors it overwrites; they hold
 /// the best parameters afterwards). `on_evaluation` sees each evaluation and the
 /// best so far; `trace_progress` the photons of every evaluation's trace.
+///
+/// `replay`: the evaluations of an earlier run of the same fit that was stopped.
+/// Each evaluation takes their diameters instead of tracing, for as long as the
+/// optimisers ask for the same parameters (bit for bit) in the same order, which
+/// they do, being deterministic: the resumed fit is the uninterrupted one.
 pub fn fit(
     scene: &mut Scene,
     settings: &FitSettings,
+    replay: &[Evaluation],
     trace_progress: &dyn Progress,
     on_evaluation: impl FnMut(&Evaluation, &Evaluation),
 ) -> Result<FitResult, StudyError> {
@@ -191,6 +225,8 @@ pub fn fit(
     let mut state = State {
         scene,
         settings,
+        replay,
+        replayed: 0,
         free: free.clone(),
         history: Vec::new(),
         best: None,
@@ -240,6 +276,7 @@ pub fn fit(
     Ok(FitResult {
         best,
         history: state.history,
+        replayed: state.replayed,
         threads: state.threads,
     })
 }

@@ -75,7 +75,7 @@ pub fn trace_and_measure(
 }
 
 /// Measured (or wanted) diameters in arcseconds.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Diameters {
     pub hpd: f64,
     pub d80: f64,

@@ -10,6 +10,7 @@ mod embree_parity;
 mod errors;
 mod figure_error;
 mod files;
+mod fit_resume;
 mod focusing;
 mod foil;
 mod geometry;
