@@ -25,7 +25,7 @@ pub fn arcsec_of_diameter(d_mm: f64, focal_length_mm: f64) -> f64 {
 }
 
 /// Results for one image.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ImageQuality {
     /// Flux-weighted centroid (mm) in the sensor's local frame.
     pub centroid_mm: [f64; 2],

@@ -3,11 +3,12 @@
 //! (`traxer::studies::effective_area`).
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
+use super::record::{base_identity, Record};
 use super::{load_xray_scene, progress};
 use anyhow::Context;
 use traxer::files::OutputFolder;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
-use traxer::studies::effective_area::{sweep, AreaSweep};
+use traxer::studies::effective_area::{sweep, AngleResult, AreaSweep};
 use traxer::trace::RunConfig;
 
 /// Effective area A_eff(E, θ) in cm² and off-axis image quality.
@@ -47,6 +48,11 @@ pub struct EffectiveAreaArgs {
     /// Count only within this radius (mm) of the image centre.
     #[arg(value_name = "MM", long)]
     pub radius: Option<f64>,
+    /// Continue the stopped sweep whose results folder is --out: run the same
+    /// command with --resume; the angles it recorded
+    /// (effective_area_checkpoint.json) are not traced again.
+    #[arg(long)]
+    pub resume: bool,
     #[command(flatten)]
     pub sampling: SamplingArgs,
     #[command(flatten)]
@@ -64,11 +70,35 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         radius_mm: a.radius,
     };
     let (device, scene) = load_xray_scene(&a.scene)?;
-    let folder = OutputFolder::prepare(&a.output.out, &EFFECTIVE_AREA_FILES)?;
+    let record_name = Record::<AngleResult>::file_name("effective_area");
+    let folder = OutputFolder::prepare(
+        &a.output.out,
+        &[&EFFECTIVE_AREA_FILES[..], &[record_name.as_str()]].concat(),
+    )?;
+    let mut id = base_identity(&scene);
+    id.extend([
+        ("energies_kev".into(), serde_json::json!(s.energies)),
+        ("angles_arcmin".into(), serde_json::json!(s.angles_arcmin)),
+        ("photons".into(), s.photons.into()),
+        ("seed".into(), s.seed.into()),
+        ("sensor".into(), serde_json::json!(s.sensor)),
+        ("radius_mm".into(), serde_json::json!(s.radius_mm)),
+    ]);
+    let mut record: Record<AngleResult> =
+        Record::open(&a.output.out, "effective_area", id.into(), a.resume)?;
+    let replay = record.recorded().to_vec();
+    super::signals::set_stop_message(format!(
+        "stopped; the angles so far are in {}: run the same command with --resume to continue",
+        a.output.out.join(&record_name).display()
+    ));
     let quiet = a.output.quiet.quiet;
     let total = a.photons.saturating_mul(s.angles_arcmin.len() as u64);
     let bar = progress::bar(total, "photons", quiet);
-    let result = sweep(&scene, &s, &|n| bar.inc(n));
+    let mut position = 0;
+    let result = sweep(&scene, &s, &replay, &|n| bar.inc(n), |angle| {
+        record.add(position, angle);
+        position += 1;
+    });
     bar.finish_and_clear();
     let result = result?;
     let cfg = RunConfig {

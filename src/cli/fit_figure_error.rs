@@ -3,7 +3,7 @@
 //! progress, a CSV history and the result as a preset file.
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::fit_checkpoint::{identity, FitRecord, FIT_CHECKPOINT};
+use super::record::{base_identity, Record};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
 use traxer::files::OutputFolder;
@@ -150,7 +150,8 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     }
     let bounds = parse_bounds(&a.bounds)?;
     let run = a.run.config()?;
-    let names = [&FIT_FILES[..], &[FIT_CHECKPOINT]].concat();
+    let record_name = Record::<Evaluation>::file_name("fit");
+    let names = [&FIT_FILES[..], &[record_name.as_str()]].concat();
     let folder = OutputFolder::prepare(&a.output.out, &names)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
@@ -170,7 +171,8 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         local_evaluations: a.local_evals,
         local_algorithm: a.local_algorithm.into(),
     };
-    let mut record = FitRecord::open(&a.output.out, identity(&scene, &settings), a.resume)?;
+    let mut record: Record<Evaluation> =
+        Record::open(&a.output.out, "fit", identity(&scene, &settings), a.resume)?;
     let replay = record.recorded().to_vec();
     let quiet = a.output.quiet.quiet;
     if !quiet && a.resume {
@@ -178,7 +180,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     }
     super::signals::set_stop_message(format!(
         "stopped; the evaluations so far are in {}: run the same command with --resume to continue",
-        a.output.out.join(FIT_CHECKPOINT).display()
+        a.output.out.join(&record_name).display()
     ));
     // The budget: every evaluation and the seed check trace `photons` photons
     // (DIRECT-L may stop early; the bar then ends short of its length).
@@ -191,7 +193,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         &replay,
         &|n| bar.inc(n),
         |e, best| {
-            record.add(e);
+            record.add(e.index - 1, e);
             if !quiet && e.index > replay.len() {
                 bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
             }
@@ -243,6 +245,26 @@ fn evaluation_line(e: &Evaluation, best: &Evaluation, started: &std::time::Insta
         best.error,
         best.index
     )
+}
+
+/// What must be equal for a recorded evaluation to be this fit's.
+fn identity(scene: &traxer::scene::Scene, s: &FitSettings) -> serde_json::Value {
+    let mut id = base_identity(scene);
+    id.extend([
+        ("sensor".into(), scene.sensors[s.sensor].name.clone().into()),
+        ("photons".into(), s.run.photons.into()),
+        ("seed".into(), s.run.seed.into()),
+        ("target_arcsec".into(), serde_json::json!(s.target)),
+        ("bounds_lower".into(), serde_json::json!(s.bounds.lower)),
+        ("bounds_upper".into(), serde_json::json!(s.bounds.upper)),
+        ("global_evaluations".into(), s.global_evaluations.into()),
+        ("local_evaluations".into(), s.local_evaluations.into()),
+        (
+            "local_algorithm".into(),
+            format!("{:?}", s.local_algorithm).into(),
+        ),
+    ]);
+    id.into()
 }
 
 /// The result on stdout.

@@ -3,13 +3,14 @@
 //! (`traxer::studies::focus`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
+use super::record::{file_identity, Record};
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
 use traxer::files::OutputFolder;
 use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
 use traxer::scene::Scene;
-use traxer::studies::focus::{scan, FocusSweep};
+use traxer::studies::focus::{scan, FocusStep, FocusSweep};
 use traxer::studies::StudyError;
 
 /// Find the best focus: trace the scene at several sensor positions and fit the
@@ -42,6 +43,11 @@ pub struct FocusArgs {
     /// Sensor to measure (default: the scene's only sensor).
     #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
+    /// Continue the stopped scan whose results folder is --out: run the same
+    /// command with --resume; the positions it recorded (focus_checkpoint.json)
+    /// are not traced again.
+    #[arg(long)]
+    pub resume: bool,
     #[command(flatten)]
     pub run: RunArgs,
     #[command(flatten)]
@@ -58,7 +64,25 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     };
     let values = sweep.values()?;
     let cfg = a.run.config()?;
-    let folder = OutputFolder::prepare(&a.output.out, &FOCUS_FILES)?;
+    let record_name = Record::<FocusStep>::file_name("focus");
+    let folder = OutputFolder::prepare(
+        &a.output.out,
+        &[&FOCUS_FILES[..], &[record_name.as_str()]].concat(),
+    )?;
+    let mut id = file_identity(&a.scene)?;
+    id.extend([
+        ("var".into(), a.var.clone().into()),
+        ("values".into(), serde_json::json!(values)),
+        ("sensor".into(), serde_json::json!(a.sensor)),
+        ("photons".into(), cfg.photons.into()),
+        ("seed".into(), cfg.seed.into()),
+    ]);
+    let mut record: Record<FocusStep> = Record::open(&a.output.out, "focus", id.into(), a.resume)?;
+    let replay = record.recorded().to_vec();
+    super::signals::set_stop_message(format!(
+        "stopped; the positions so far are in {}: run the same command with --resume to continue",
+        a.output.out.join(&record_name).display()
+    ));
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let mut warnings = Warnings::default();
@@ -71,10 +95,19 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         Ok(scene)
     };
     let bar = progress::bar(cfg.photons * values.len() as u64, "photons", quiet);
-    let result = scan(load, &sweep, &cfg, &|n| bar.inc(n), |step, sensor| {
-        if !quiet {
-            let q = step.quality.as_ref();
-            bar.suspend(|| {
+    let mut position = 0;
+    let result = scan(
+        load,
+        &sweep,
+        &cfg,
+        &replay,
+        &|n| bar.inc(n),
+        |step, sensor| {
+            record.add(position, step);
+            position += 1;
+            if !quiet {
+                let q = step.quality.as_ref();
+                bar.suspend(|| {
                 say!(
                     "{} = {:>10.3}: HPD {:>8.4} mm, 80 % {:>8.4} mm, 90 % {:>8.4} mm ({} photons on {})",
                     a.var,
@@ -86,8 +119,9 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
                     sensor
                 )
             });
-        }
-    });
+            }
+        },
+    );
     bar.finish_and_clear();
     let scan = result?;
     if !scan.clipped.is_empty() {

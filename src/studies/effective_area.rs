@@ -53,7 +53,7 @@ pub struct AreaSweep {
 }
 
 /// The area at one energy and angle.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AreaPoint {
     pub energy_kev: f64,
     pub area_cm2: f64,
@@ -64,7 +64,7 @@ pub struct AreaPoint {
 }
 
 /// Everything at one off-axis angle.
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct AngleResult {
     pub off_axis_arcmin: f64,
     pub points: Vec<AreaPoint>,
@@ -164,10 +164,16 @@ fn check(s: &AreaSweep) -> Result<(), StudyError> {
 }
 
 /// Traces the sweep. `progress` hears of every chunk of photons.
+///
+/// `replay`: the angles a stopped sweep of the same settings finished; they are
+/// taken instead of traced (each angle depends only on the settings and the
+/// seed). `on_angle` sees every finished angle.
 pub fn sweep(
     scene: &Scene,
     s: &AreaSweep,
+    replay: &[AngleResult],
     progress: &dyn Progress,
+    mut on_angle: impl FnMut(&AngleResult),
 ) -> Result<AreaResult, StudyError> {
     check(s)?;
     let base = beam(scene)?;
@@ -195,14 +201,24 @@ pub fn sweep(
         .build()?;
     let start = Instant::now();
     let mut angles = Vec::new();
-    for &angle in &s.angles_arcmin {
-        let beam = base.tilted(angle / 60.0);
-        let hits = pool.install(|| trace_angle(scene, &beam, sensor, s, progress));
-        let result = pool.install(|| evaluate(scene, &tables, &beam, sensor, s, &hits));
-        angles.push(AngleResult {
-            off_axis_arcmin: angle,
-            ..result
-        });
+    for (i, &angle) in s.angles_arcmin.iter().enumerate() {
+        let recorded = replay
+            .get(i)
+            .filter(|r| r.off_axis_arcmin.to_bits() == angle.to_bits() && i == angles.len());
+        let result = match recorded {
+            Some(r) => r.clone(),
+            None => {
+                let beam = base.tilted(angle / 60.0);
+                let hits = pool.install(|| trace_angle(scene, &beam, sensor, s, progress));
+                let result = pool.install(|| evaluate(scene, &tables, &beam, sensor, s, &hits));
+                AngleResult {
+                    off_axis_arcmin: angle,
+                    ..result
+                }
+            }
+        };
+        on_angle(&result);
+        angles.push(result);
     }
     Ok(AreaResult {
         sensor: spec.name.clone(),

@@ -48,7 +48,7 @@ impl FocusSweep {
 }
 
 /// The image at one value of the variable.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct FocusStep {
     pub value: f64,
     /// `None` when no flux reached the sensor.
@@ -98,24 +98,35 @@ pub fn scan(
     mut load: impl FnMut(&[String]) -> Result<Scene, StudyError>,
     sweep: &FocusSweep,
     cfg: &RunConfig,
+    replay: &[FocusStep],
     progress: &dyn Progress,
     mut on_step: impl FnMut(&FocusStep, &str),
 ) -> Result<FocusScan, StudyError> {
     let values = sweep.values()?;
     let mut steps = Vec::with_capacity(values.len());
     let (mut focal_length, mut sensor_name, mut threads) = (None, String::new(), 0);
-    for value in values {
+    for (i, value) in values.into_iter().enumerate() {
         let scene = load(&[format!("{}={value}", sweep.var)])?;
         super::require_sources(&scene)?;
         let sensor = pick_sensor(&scene, sweep.sensor.as_deref())?;
         focal_length = scene.sensors[sensor].focal_length;
         sensor_name.clone_from(&scene.sensors[sensor].name);
-        let m = trace_and_measure(&scene, sensor, cfg, progress)?;
-        threads = m.threads;
-        let step = FocusStep {
-            value,
-            quality: m.quality,
-            on_sensor: m.on_sensor,
+        // A step recorded by a stopped scan of the same settings is taken as is:
+        // it depends only on its value and the seed.
+        let recorded = replay
+            .get(i)
+            .filter(|r| r.value.to_bits() == value.to_bits() && i == steps.len());
+        let step = match recorded {
+            Some(r) => r.clone(),
+            None => {
+                let m = trace_and_measure(&scene, sensor, cfg, progress)?;
+                threads = m.threads;
+                FocusStep {
+                    value,
+                    quality: m.quality,
+                    on_sensor: m.on_sensor,
+                }
+            }
         };
         on_step(&step, &sensor_name);
         steps.push(step);

@@ -34,7 +34,7 @@ fn area(scene: &Scene, energies: &[f64], photons: u64, seed: u64) -> AreaResult 
         sensor: None,
         radius_mm: None,
     };
-    sweep(scene, &s, &()).unwrap()
+    sweep(scene, &s, &[], &(), |_| {}).unwrap()
 }
 
 /// One straight piece of a shell's cross-section in the meridional half-plane:

@@ -1,0 +1,161 @@
+//! The running record of a study that traces point after point
+//! (`fit-figure-error`'s evaluations, `focus`'s steps, `effective-area`'s
+//! angles): `NAME_checkpoint.json` in the results folder, rewritten atomically
+//! after every point, with what identifies the study (scene, variables, photons,
+//! seed, its settings, traxer build). `--resume` reads it back and the study
+//! takes the recorded points instead of tracing them again; every point depends
+//! only on its settings and seed, so a study stopped at any moment and resumed
+//! ends exactly as an uninterrupted one. The file disappears when the results
+//! are put in place (it is not among them).
+
+use super::InputError;
+use serde::{de::DeserializeOwned, Serialize};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+use traxer::files::atomic_write;
+use traxer::scene::Scene;
+
+/// The identity every record starts from: the build, the scene file and its
+/// variables; studies add their settings.
+pub fn base_identity(scene: &Scene) -> serde_json::Map<String, Value> {
+    let v = json!({
+        "traxer_version": env!("CARGO_PKG_VERSION"),
+        "git_hash": env!("TRAXER_GIT_HASH"),
+        "scene_sha256": scene.text_sha256,
+        "variables": scene.vars,
+    });
+    v.as_object().expect("an object").clone()
+}
+
+/// The identity of a study that loads its scene file several times (with
+/// different variables): the build, the file's SHA-256 and the `-D` overrides.
+pub fn file_identity(
+    scene: &super::args::SceneArgs,
+) -> Result<serde_json::Map<String, Value>, InputError> {
+    let bytes = std::fs::read(&scene.scene)
+        .map_err(|e| InputError(format!("{}: cannot read it: {e}", scene.scene.display())))?;
+    let v = json!({
+        "traxer_version": env!("CARGO_PKG_VERSION"),
+        "git_hash": env!("TRAXER_GIT_HASH"),
+        "scene_sha256": traxer::files::sha256_hex(&bytes),
+        "overrides": scene.vars.define,
+    });
+    Ok(v.as_object().expect("an object").clone())
+}
+
+/// The record of a study being written into its results folder.
+pub struct Record<T> {
+    path: PathBuf,
+    format: String,
+    identity: Value,
+    items: Vec<T>,
+    /// A write failed (said once; the study goes on).
+    failed: bool,
+}
+
+impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
+    /// The file name of `study`'s record.
+    pub fn file_name(study: &str) -> String {
+        format!("{study}_checkpoint.json")
+    }
+
+    /// Opens `study`'s record in `out`: with `resume`, the stopped study's
+    /// points (checked to be this study's); without, refuses a folder holding a
+    /// stopped study.
+    pub fn open(
+        out: &Path,
+        study: &str,
+        identity: Value,
+        resume: bool,
+    ) -> Result<Record<T>, InputError> {
+        let mut record = Record {
+            path: out.join(Self::file_name(study)),
+            format: format!("traxer {study} checkpoint 1"),
+            identity,
+            items: Vec::new(),
+            failed: false,
+        };
+        let p = record.path.display();
+        match (resume, record.path.is_file()) {
+            (false, false) => {}
+            (false, true) => {
+                return Err(InputError(format!(
+                    "{}: holds the record of a stopped {study} ({p}): continue it by running the same command with --resume, or remove the file to start afresh",
+                    out.display()
+                )))
+            }
+            (true, false) => {
+                return Err(InputError(format!(
+                    "{}: has no {}: there is no stopped {study} to resume here",
+                    out.display(),
+                    Self::file_name(study)
+                )))
+            }
+            (true, true) => record.items = record.read()?,
+        }
+        Ok(record)
+    }
+
+    /// The recorded points, after checking the record is this study's.
+    fn read(&self) -> Result<Vec<T>, InputError> {
+        let p = self.path.display();
+        let text = std::fs::read_to_string(&self.path)
+            .map_err(|e| InputError(format!("{p}: cannot read it: {e}")))?;
+        let doc: Value = serde_json::from_str(&text)
+            .map_err(|e| InputError(format!("{p}: is not a traxer record: {e}")))?;
+        if doc["format"] != self.format.as_str() {
+            return Err(InputError(format!(
+                "{p}: is not a record of this command (`format` is not \"{}\")",
+                self.format
+            )));
+        }
+        if let Some(diff) = difference(&doc["identity"], &self.identity) {
+            return Err(InputError(format!(
+                "{p}: records another run: {diff}; resume with the same scene, options and traxer build"
+            )));
+        }
+        serde_json::from_value(doc["points"].clone())
+            .map_err(|e| InputError(format!("{p}: its points cannot be read: {e}")))
+    }
+
+    /// Points recorded before (to take instead of tracing).
+    pub fn recorded(&self) -> &[T] {
+        &self.items
+    }
+
+    /// The point at `position` (0-based) is done: recorded and the file
+    /// rewritten, unless it was recorded before.
+    pub fn add(&mut self, position: usize, item: &T) {
+        if position < self.items.len() {
+            return;
+        }
+        self.items.push(item.clone());
+        let doc = json!({
+            "format": self.format,
+            "identity": self.identity,
+            "points": self.items,
+        });
+        let text = serde_json::to_string(&doc).expect("plain values");
+        if let Err(err) = atomic_write(&self.path, text.as_bytes()) {
+            if !self.failed {
+                tell!(
+                    "warning: cannot record the progress ({err}); it cannot be resumed if stopped"
+                );
+                self.failed = true;
+            }
+        }
+    }
+}
+
+/// The first key whose value differs, said for a person.
+fn difference(recorded: &Value, now: &Value) -> Option<String> {
+    let (Some(a), Some(b)) = (recorded.as_object(), now.as_object()) else {
+        return Some("its identity cannot be read".into());
+    };
+    b.iter().find(|(k, v)| a.get(*k) != Some(v)).map(|(k, v)| {
+        format!(
+            "{k} {} there, {v} now",
+            a.get(k).map_or("(none)".into(), Value::to_string)
+        )
+    })
+}

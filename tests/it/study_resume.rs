@@ -1,0 +1,204 @@
+//! Studies that trace point after point — `fit-figure-error`, `focus`,
+//! `effective-area` — stopped (SIGKILL, SIGTERM) and resumed with `--resume`
+//! end exactly as uninterrupted ones.
+
+use crate::common::{repo, run_fails, run_ok, traxer};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+fn fit(out: &Path, extra: &[&str]) -> std::process::Command {
+    let mut c = traxer();
+    c.arg("fit-figure-error")
+        .arg(repo().join("scenes/panter_al_ka.toml"))
+        .args([
+            "--target-hpd",
+            "206",
+            "--target-c80",
+            "397",
+            "--target-c90",
+            "549",
+        ])
+        .args([
+            "-n",
+            "100000",
+            "--global-evals",
+            "24",
+            "--local-evals",
+            "10",
+        ])
+        .args(["--check-seeds", "1", "-q", "-o"])
+        .arg(out)
+        .args(extra);
+    c
+}
+
+/// Points in a study's record so far.
+fn recorded(out: &Path) -> usize {
+    let Ok(entries) = std::fs::read_dir(out) else {
+        return 0;
+    };
+    entries
+        .flatten()
+        .filter(|e| {
+            e.file_name()
+                .to_string_lossy()
+                .ends_with("_checkpoint.json")
+        })
+        .filter_map(|e| std::fs::read_to_string(e.path()).ok())
+        .filter_map(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .filter_map(|v| v["points"].as_array().map(Vec::len))
+        .max()
+        .unwrap_or(0)
+}
+
+/// Starts `cmd`, waits until `out` records at least `n` evaluations, sends `sig`.
+fn stop_after(
+    mut cmd: std::process::Command,
+    out: &Path,
+    n: usize,
+    sig: &str,
+) -> std::process::Output {
+    let child = cmd.stderr(std::process::Stdio::piped()).spawn().unwrap();
+    let start = Instant::now();
+    while recorded(out) < n && start.elapsed() < Duration::from_secs(120) {
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    run_ok(std::process::Command::new("kill").args([sig, &child.id().to_string()]));
+    child.wait_with_output().unwrap()
+}
+
+fn json_without_run_details(path: &Path) -> serde_json::Value {
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap();
+    let o = v.as_object_mut().unwrap();
+    o.retain(|k, _| {
+        !(k == "provenance"
+            || k.contains("seconds")
+            || k == "threads"
+            || k == "evaluations_resumed_from_record")
+    });
+    v
+}
+
+/// The files of two results folders agree: JSON apart from provenance and
+/// timing, everything else byte for byte.
+fn assert_same_files(a: &Path, b: &Path, names: &[&str]) {
+    for f in names {
+        if f.ends_with(".json") {
+            assert_eq!(
+                json_without_run_details(&a.join(f)),
+                json_without_run_details(&b.join(f)),
+                "{f}"
+            );
+        } else {
+            assert!(
+                std::fs::read(a.join(f)).unwrap() == std::fs::read(b.join(f)).unwrap(),
+                "{f} differs"
+            );
+        }
+    }
+}
+
+/// A study killed after `n` points, then resumed to the end: the same files as
+/// uninterrupted; a new run into the stopped folder is refused.
+fn check_kill_and_resume(
+    command: impl Fn(&Path, &[&str]) -> std::process::Command,
+    n: usize,
+    files: &[&str],
+) {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference");
+    run_ok(&mut command(&reference, &[]));
+    let out = dir.path().join("stopped");
+    stop_after(command(&out, &[]), &out, n, "-KILL");
+    let killed_at = recorded(&out);
+    assert!(killed_at >= n);
+    let err = run_fails(&mut command(&out, &[]), 2);
+    assert!(err.contains("--resume"), "{err}");
+    run_ok(&mut command(&out, &["--resume"]));
+    assert_eq!(recorded(&out), 0, "the record stayed");
+    assert_same_files(&reference, &out, files);
+}
+
+#[test]
+fn a_focus_scan_killed_and_resumed_is_the_uninterrupted_scan() {
+    let command = |out: &Path, extra: &[&str]| {
+        let mut c = traxer();
+        c.arg("focus")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args(["--from", "-1460", "--to", "-1580", "--steps", "9"])
+            .args(["-n", "300000", "-q", "-o"])
+            .arg(out)
+            .args(extra);
+        c
+    };
+    check_kill_and_resume(command, 3, &["focus.csv", "focus.png", "focus.json"]);
+}
+
+#[test]
+fn an_effective_area_sweep_killed_and_resumed_is_the_uninterrupted_sweep() {
+    let command = |out: &Path, extra: &[&str]| {
+        let mut c = traxer();
+        c.arg("effective-area")
+            .arg(repo().join("scenes/llnl_effective_area.toml"))
+            .args(["--energies", "1:8:0.5", "--angles", "0:10:2"])
+            .args(["-n", "150000", "-q", "-o"])
+            .arg(out)
+            .args(extra);
+        c
+    };
+    let files = [
+        "effective_area.csv",
+        "off_axis.csv",
+        "effective_area.json",
+        "effective_area.png",
+        "off_axis.png",
+        "vignetting.png",
+    ];
+    check_kill_and_resume(command, 2, &files);
+}
+
+#[test]
+fn a_fit_stopped_twice_and_resumed_ends_as_the_uninterrupted_fit() {
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference");
+    run_ok(&mut fit(&reference, &[]));
+    let out = dir.path().join("fit");
+    // Killed outright after 8 evaluations: the record has them.
+    stop_after(fit(&out, &[]), &out, 8, "-KILL");
+    let killed_at = recorded(&out);
+    assert!((8..34).contains(&killed_at), "{killed_at}");
+    // A new fit into the folder would lose them: refused.
+    let err = run_fails(&mut fit(&out, &[]), 2);
+    assert!(err.contains("--resume"), "{err}");
+    // Resumed, then stopped by SIGTERM: exit 130 and how to continue.
+    let stopped = stop_after(fit(&out, &["--resume"]), &out, killed_at + 6, "-TERM");
+    let err = String::from_utf8_lossy(&stopped.stderr);
+    assert_eq!(stopped.status.code(), Some(130), "{err}");
+    assert!(err.contains("--resume"), "{err}");
+    // Another fit's settings are refused.
+    let err = run_fails(&mut fit(&out, &["--resume", "--seed", "2"]), 2);
+    assert!(
+        err.contains("records another run") && err.contains("seed"),
+        "{err}"
+    );
+    // Resumed to the end.
+    run_ok(&mut fit(&out, &["--resume"]));
+    assert!(!out.join("fit_checkpoint.json").exists());
+    for f in ["history.csv", "figure_error.toml"] {
+        assert!(
+            std::fs::read(reference.join(f)).unwrap() == std::fs::read(out.join(f)).unwrap(),
+            "{f} differs"
+        );
+    }
+    assert_eq!(
+        json_without_run_details(&reference.join("fit.json")),
+        json_without_run_details(&out.join("fit.json"))
+    );
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fit.json")).unwrap()).unwrap();
+    assert!(v["evaluations_resumed_from_record"].as_u64().unwrap() >= killed_at as u64 + 6);
+    // Nothing to resume in a finished folder.
+    let err = run_fails(&mut fit(&out, &["--resume"]), 2);
+    assert!(err.contains("no stopped fit"), "{err}");
+}
