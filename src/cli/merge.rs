@@ -91,11 +91,7 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
     let provenance = Provenance::new(Some(device.info().version))
         .scene(&scene)
         .parts(h, &folders);
-    let result = merged
-        .tally
-        .clone()
-        .into_result(id.photon_list, h.seconds, 0);
-    let files = write_results(folder, &scene, h, &merged.tally, &result, &provenance)?;
+    let (files, result) = write_results(folder, &scene, h, merged.tally, 0, &provenance)?;
     if !a.output.quiet.quiet {
         if !h.missing.is_empty() {
             tell!(

@@ -119,10 +119,7 @@ pub fn trace_into(
         .scene(scene)
         .run(cfg, threads)
         .parts(&header, &[]);
-    let result = tally
-        .clone()
-        .into_result(cfg.photon_list, header.seconds, threads);
-    let files = write_results(folder, scene, &header, &tally, &result, &provenance)?;
+    let (files, result) = write_results(folder, scene, &header, tally, threads, &provenance)?;
     if !settings.quiet {
         super::trace::report(scene, &result);
         say!("wrote {} files to {}", files, target.display());
@@ -130,23 +127,27 @@ pub fn trace_into(
     Ok(())
 }
 
-/// Writes a finished run's results and its `run_state.bin` into `folder` and
-/// puts them in place; returns the number of files.
+/// Writes a finished run's `run_state.bin` and results into `folder` and puts
+/// them in place; returns the number of files and the run's result (the tally,
+/// moved, not copied: it may be large).
 pub fn write_results(
     folder: OutputFolder,
     scene: &Scene,
     header: &StateHeader,
-    tally: &Tally,
-    result: &trace::RunResult,
+    tally: Tally,
+    threads: usize,
     provenance: &Provenance,
-) -> anyhow::Result<usize> {
+) -> anyhow::Result<(usize, trace::RunResult)> {
     let out = folder.target().to_path_buf();
+    let context = || format!("cannot write the results into {}", out.display());
     let state = folder.path().join(RUN_STATE_FILE);
-    let written = write_state(&state, header.clone(), tally)
-        .and_then(|_| write_run(folder.path(), scene, result, provenance))
+    write_state(&state, header.clone(), &tally).with_context(context)?;
+    let photon_list = header.identity.photon_list;
+    let result = tally.into_result(photon_list, header.seconds, threads);
+    let files = write_run(folder.path(), scene, &result, provenance)
         .and_then(|files| folder.commit().map(|_| files.len() + 1))
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
-    Ok(written)
+        .with_context(context)?;
+    Ok((files, result))
 }
 
 /// `traxer trace --resume DIR`.
