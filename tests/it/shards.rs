@@ -291,6 +291,23 @@ fn checkpoint_being_written(dir: &Path) -> bool {
     })
 }
 
+/// Waits until the run writing into `out` traces (its staging folder beside
+/// `out` exists: made just before the photon loop, after the scene is loaded,
+/// however slow a loaded machine makes that), and a little longer.
+fn tracing_started(child: &mut std::process::Child, out: &Path) {
+    let parent = out.parent().unwrap();
+    let prefix = format!(".{}.traxer-", out.file_name().unwrap().to_string_lossy());
+    let staging = || {
+        std::fs::read_dir(parent).is_ok_and(|entries| {
+            entries
+                .flatten()
+                .any(|e| e.file_name().to_string_lossy().starts_with(&prefix))
+        })
+    };
+    assert!(wait_for(child, staging, Duration::from_secs(60)));
+    std::thread::sleep(Duration::from_millis(300));
+}
+
 fn signal(child: &std::process::Child, sig: &str) {
     run_ok(std::process::Command::new("kill").args([sig, &child.id().to_string()]));
 }
@@ -379,7 +396,7 @@ fn sigterm_and_sigint_write_a_checkpoint_and_the_resumed_run_is_bit_identical() 
     let out = dir.path().join("run");
     let checkpoint = out.join("checkpoint.bin");
     // A long interval: only the signals write checkpoints.
-    let child = trace(
+    let mut child = trace(
         &scene,
         &out,
         &[&args[..], &["--checkpoint-every", "3600"]].concat(),
@@ -387,7 +404,7 @@ fn sigterm_and_sigint_write_a_checkpoint_and_the_resumed_run_is_bit_identical() 
     .stderr(std::process::Stdio::piped())
     .spawn()
     .unwrap();
-    std::thread::sleep(Duration::from_millis(1200));
+    tracing_started(&mut child, &out);
     signal(&child, "-TERM");
     let stopped = child.wait_with_output().unwrap();
     let err = String::from_utf8_lossy(&stopped.stderr);
@@ -398,13 +415,13 @@ fn sigterm_and_sigint_write_a_checkpoint_and_the_resumed_run_is_bit_identical() 
     let refused = run_fails(&mut trace(&scene, &out, &args), 2);
     assert!(refused.contains("--resume"), "{refused}");
     // Resumed, stopped again with SIGINT, resumed to the end.
-    let child = traxer()
+    let mut child = traxer()
         .args(["trace", "-q", "--checkpoint-every", "3600", "--resume"])
         .arg(&out)
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(Duration::from_millis(900));
+    tracing_started(&mut child, &out);
     signal(&child, "-INT");
     let stopped = child.wait_with_output().unwrap();
     if stopped.status.code() == Some(130) {
