@@ -31,6 +31,8 @@ have_libclang || missing+=(libclang-dev)
 command -v cc >/dev/null 2>&1 || missing+=(build-essential)
 # The nlopt crate (figure-error fit) builds NLopt's C sources with CMake.
 command -v cmake >/dev/null 2>&1 || missing+=(cmake)
+# The live window's test runs `traxer view` under a virtual X server.
+command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)
 
 if [ ${#missing[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

@@ -34,6 +34,7 @@ pub mod embree;
 pub mod files;
 pub mod geometry;
 pub mod history;
+pub mod live;
 pub mod material;
 pub mod mesh;
 pub mod output;

@@ -36,6 +36,7 @@ enum Command {
     FitFigureError(cli::fit_figure_error::FitFigureErrorArgs),
     Render(cli::render::RenderArgs),
     SolarFlux(cli::solar_flux::SolarFluxArgs),
+    View(cli::view::ViewArgs),
     /// Print every subcommand with all its arguments (docs/scene-format.md).
     #[command(hide = true)]
     Synopsis,
@@ -59,6 +60,7 @@ fn main() -> ExitCode {
         Command::FitFigureError(a) => cli::fit_figure_error::run(a),
         Command::Render(a) => cli::render::run(a),
         Command::SolarFlux(a) => cli::solar_flux::run(a),
+        Command::View(a) => cli::view::run(a),
         Command::Synopsis => cli::synopsis::run(&Cli::command()),
     };
     match result {

@@ -40,6 +40,9 @@ pub mod solar_flux;
 pub mod synopsis;
 pub mod tessellate;
 pub mod trace;
+pub mod view;
+#[cfg(feature = "window")]
+pub mod view_window;
 
 use args::SceneArgs;
 use traxer::embree::Device;

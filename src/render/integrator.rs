@@ -126,6 +126,71 @@ pub fn render_with_progress(
     image
 }
 
+/// One sample per pixel of a progressive render (pass `pass` = 0, 1, ...): pixel
+/// k of pass p draws from the stream (seed, p·width·height + k), so the passes
+/// average to a render of as many samples. Linear RGB, row-major from the top.
+pub fn render_pass(
+    scene: &Scene,
+    camera: &Camera,
+    textures: &[SensorTexture],
+    s: &RenderSettings,
+    pass: u64,
+) -> Vec<DVec3> {
+    let frame = Frame::new(camera, s.width as f64 / s.height as f64);
+    let first = pass * (s.width * s.height) as u64;
+    let mut image = vec![DVec3::ZERO; s.width * s.height];
+    image
+        .par_chunks_mut(s.width)
+        .enumerate()
+        .for_each(|(row, pixels)| {
+            for (col, px) in pixels.iter_mut().enumerate() {
+                let k = first + (row * s.width + col) as u64;
+                let mut rng = PhotonRng::new(s.seed, k);
+                let u = (col as f64 + rng.uniform()) / s.width as f64;
+                let v = (row as f64 + rng.uniform()) / s.height as f64;
+                let (origin, dir) = frame.ray(u, v);
+                *px = radiance(
+                    scene,
+                    &scene.sky,
+                    textures,
+                    origin,
+                    dir,
+                    s.max_depth,
+                    &mut rng,
+                );
+            }
+        });
+    image
+}
+
+/// A camera that shows the whole scene: from above the +x, +y side of its
+/// bounding box, looking at its centre, with the box filling the view.
+pub fn overview_camera(scene: &Scene) -> Camera {
+    let (lo, hi) = scene
+        .objects
+        .iter()
+        .map(|o| o.geometry.world_bounds())
+        .filter(|(lo, hi)| lo.is_finite() && hi.is_finite())
+        .fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(a, b), (lo, hi)| (a.min(lo), b.max(hi)),
+        );
+    let (centre, radius) = if lo.is_finite() && hi.is_finite() {
+        (0.5 * (lo + hi), (0.5 * (hi - lo).length()).max(1.0))
+    } else {
+        (DVec3::ZERO, 100.0)
+    };
+    let vfov: f64 = 40.0;
+    let distance = radius / (0.5 * vfov.to_radians()).sin();
+    let dir = DVec3::new(1.0, 0.6, 0.8).normalize();
+    Camera {
+        look_from: centre + dir * distance,
+        look_at: centre,
+        up: DVec3::Y,
+        vfov,
+    }
+}
+
 /// Light arriving at `origin` from direction `-dir`.
 fn radiance(
     scene: &Scene,

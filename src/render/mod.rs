@@ -12,4 +12,7 @@ mod camera;
 mod integrator;
 
 pub use crate::scene::{Appearance, Camera, Sky};
-pub use integrator::{render, render_with_progress, to_srgb8, RenderSettings, SensorTexture};
+pub use integrator::{
+    overview_camera, render, render_pass, render_with_progress, to_srgb8, RenderSettings,
+    SensorTexture,
+};

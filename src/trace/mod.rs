@@ -95,6 +95,24 @@ impl Tally {
         self.traced += other.traced;
     }
 
+    /// Adds the photons of the next chunk (chunks are added in photon order);
+    /// keeps the first `photon_list` recorded photons. Does not count `traced`.
+    pub fn add_chunk(&mut self, chunk: Chunk, photon_list: usize) {
+        for r in chunk.records {
+            let h = &r.history;
+            self.images[r.sensor as usize].record(
+                r.pixel,
+                r.weight,
+                h.class(),
+                h.first_mirror,
+                h.last_mirror,
+            );
+        }
+        let room = photon_list.saturating_sub(self.photons.len());
+        self.photons.extend(chunk.listed.into_iter().take(room));
+        self.stats.add(&chunk.stats);
+    }
+
     /// The same numbers as a run's result.
     pub fn into_result(self, photon_list: usize, seconds: f64, threads: usize) -> RunResult {
         RunResult {
@@ -181,19 +199,7 @@ pub fn run_part(
                 .collect()
         });
         for chunk in results {
-            for r in chunk.records {
-                let h = &r.history;
-                tally.images[r.sensor as usize].record(
-                    r.pixel,
-                    r.weight,
-                    h.class(),
-                    h.first_mirror,
-                    h.last_mirror,
-                );
-            }
-            let room = cfg.photon_list.saturating_sub(tally.photons.len());
-            tally.photons.extend(chunk.listed.into_iter().take(room));
-            tally.stats.add(&chunk.stats);
+            tally.add_chunk(chunk, cfg.photon_list);
         }
         tally.traced = (end * CHUNK).min(cfg.photons);
         next = end;

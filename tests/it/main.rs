@@ -36,4 +36,5 @@ mod sources;
 mod streams;
 mod study_resume;
 mod toolchain;
+mod view;
 mod xray;

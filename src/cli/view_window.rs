@@ -1,0 +1,521 @@
+//! The live window of `traxer view`: a minifb software framebuffer (X11 or
+//! Wayland, loaded at run time), the progressive path tracer
+//! (`render::render_pass`), the X-ray feed in a background thread
+//! (`live::feed`), and the keys. Chosen over winit + softbuffer: minifb is made
+//! for exactly this (a pixel buffer, keys and mouse, no GPU) and needs a tenth
+//! of the code.
+
+use super::args::SceneArgs;
+use super::view::ViewArgs;
+use super::{load_scene, InputError};
+use anyhow::Context;
+use glam::DVec3;
+use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Mutex;
+use std::time::{Duration, Instant};
+use traxer::analysis::{analyse, ImageGeometry};
+use traxer::embree::Device;
+use traxer::files::OutputFolder;
+use traxer::live::{feed, Published};
+use traxer::output::colormap::Scale;
+use traxer::output::{run_file_names, write_rgb_png, write_run, Provenance};
+use traxer::render::{
+    overview_camera, render_pass, to_srgb8, Camera, RenderSettings, SensorTexture,
+};
+use traxer::scene::Scene;
+use traxer::trace::{RunConfig, Tally};
+
+/// The help shown on screen (H or F1) and in `--help`.
+const HELP: [&str; 10] = [
+    "mouse drag   look around",
+    "W A S D      move (or the arrow keys)",
+    "E / Q        up / down",
+    "PgUp / PgDn  speed x2 / /2",
+    "R            back to the camera",
+    "C            next camera of the scene",
+    "F2           save sensor images + frame",
+    "P            print the camera (TOML)",
+    "H / F1       this help",
+    "Esc          quit",
+];
+/// Passes after which a still picture stops refining.
+const MAX_PASSES: u64 = 1024;
+
+/// The camera the user flies: position, viewing direction, the scene's up.
+struct Flight {
+    from: DVec3,
+    forward: DVec3,
+    up: DVec3,
+    vfov: f64,
+    /// Millimetres per second.
+    speed: f64,
+    /// Distance to the look-at point, for printing a camera.
+    focus: f64,
+}
+
+impl Flight {
+    fn new(c: &Camera) -> Flight {
+        let d = c.look_at - c.look_from;
+        Flight {
+            from: c.look_from,
+            forward: d.normalize(),
+            up: c.up.normalize(),
+            vfov: c.vfov,
+            speed: 0.3 * d.length(),
+            focus: d.length(),
+        }
+    }
+
+    fn camera(&self) -> Camera {
+        Camera {
+            look_from: self.from,
+            look_at: self.from + self.forward * self.focus,
+            up: self.up,
+            vfov: self.vfov,
+        }
+    }
+
+    /// Turns by `dx`, `dy` pixels of mouse motion (`height` pixels = the field of
+    /// view), never looking straight along `up`.
+    fn look(&mut self, dx: f64, dy: f64, height: f64) {
+        let per_pixel = self.vfov.to_radians() / height;
+        let right = self.forward.cross(self.up).normalize();
+        let yawed = rotate(self.forward, self.up, -dx * per_pixel);
+        let pitched = rotate(yawed, right, -dy * per_pixel);
+        if pitched.cross(self.up).length() > 0.02 {
+            self.forward = pitched.normalize();
+        } else {
+            self.forward = yawed.normalize();
+        }
+    }
+
+    /// The camera as a scene-file table.
+    fn toml(&self) -> String {
+        let c = self.camera();
+        let v = |p: DVec3| format!("[{:.3}, {:.3}, {:.3}]", p.x, p.y, p.z);
+        format!(
+            "[cameras.view]\nlook_from = {}\nlook_at = {}\nup = {}\nvfov = {:.2}",
+            v(c.look_from),
+            v(c.look_at),
+            v(c.up),
+            c.vfov
+        )
+    }
+}
+
+/// `v` turned by `angle` (rad) about the unit `axis` (Rodrigues).
+fn rotate(v: DVec3, axis: DVec3, angle: f64) -> DVec3 {
+    let (s, c) = angle.sin_cos();
+    v * c + axis.cross(v) * s + axis * axis.dot(v) * (1.0 - c)
+}
+
+/// The scene's cameras in order, the chosen one first; a view of the whole
+/// scene if it has none.
+fn cameras(a: &ViewArgs, scene: &Scene) -> Result<Vec<Camera>, InputError> {
+    let mut list: Vec<(String, Camera)> =
+        scene.cameras.iter().map(|(n, c)| (n.clone(), *c)).collect();
+    if let Some(name) = &a.camera {
+        let i = list.iter().position(|(n, _)| n == name).ok_or_else(|| {
+            let known: Vec<&String> = scene.cameras.keys().collect();
+            InputError(format!(
+                "--camera {name}: no such camera in the scene (have: {known:?})"
+            ))
+        })?;
+        list.rotate_left(i);
+    }
+    let mut cams: Vec<Camera> = list.into_iter().map(|(_, c)| c).collect();
+    cams.push(overview_camera(scene));
+    Ok(cams)
+}
+
+fn check(a: &ViewArgs) -> Result<(), InputError> {
+    if a.width < 16 || a.height < 16 || a.width * a.height > 1 << 24 {
+        return Err(InputError(
+            "--width and --height: at least 16 pixels each, at most 2^24 in all".into(),
+        ));
+    }
+    if a.max_depth == 0 || !(a.brightness.is_finite() && a.brightness >= 0.0) {
+        return Err(InputError(
+            "--max-depth must be at least 1 and --brightness a number ≥ 0".into(),
+        ));
+    }
+    let display = |v: &str| std::env::var_os(v).is_some_and(|s| !s.is_empty());
+    if !display("DISPLAY") && !display("WAYLAND_DISPLAY") {
+        return Err(InputError(
+            "no display to open a window on (neither DISPLAY nor WAYLAND_DISPLAY is set); for a picture without a window use `traxer render`, or run under a virtual X server (xvfb-run traxer view ...)".into(),
+        ));
+    }
+    Ok(())
+}
+
+pub fn run(a: ViewArgs) -> anyhow::Result<()> {
+    check(&a)?;
+    let (device, scene) = load_scene(&a.scene)?;
+    let cams = cameras(&a, &scene)?;
+    let mut window = Window::new(
+        &format!("traxer view: {}", a.scene.scene.display()),
+        a.width,
+        a.height,
+        WindowOptions::default(),
+    )
+    .map_err(|e| InputError(format!("cannot open a window: {e}")))?;
+    window.set_target_fps(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(a.sampling.threads)
+        .build()
+        .context("cannot start the worker threads")?;
+    let stop = AtomicBool::new(false);
+    let published = Mutex::new(Published::new(&scene));
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            feed(
+                &scene,
+                a.sampling.seed,
+                a.photons,
+                Duration::from_millis(500),
+                &stop,
+                &published,
+            )
+        });
+        let result = window_loop(&a, &device, &scene, &cams, &mut window, &published, &pool);
+        stop.store(true, Ordering::Relaxed);
+        result
+    })
+}
+
+/// What the window shows and has accumulated.
+struct View<'a> {
+    a: &'a ViewArgs,
+    scene: &'a Scene,
+    /// Renders run here (the window stays on its own thread).
+    pool: &'a rayon::ThreadPool,
+    sum: Vec<DVec3>,
+    passes: u64,
+    /// Frames rendered (also the seed offset of coarse frames).
+    frames: u64,
+    textures: Vec<SensorTexture>,
+    version: u64,
+    textures_at: Instant,
+    title: String,
+    pixels: Vec<u32>,
+}
+
+impl View<'_> {
+    fn settings(&self, scale: usize) -> RenderSettings {
+        RenderSettings {
+            width: (self.a.width / scale).max(1),
+            height: (self.a.height / scale).max(1),
+            spp: 1,
+            max_depth: self.a.max_depth,
+            seed: self.a.sampling.seed,
+        }
+    }
+
+    /// One frame: a quarter-resolution picture while moving, else one more pass
+    /// of the full one.
+    fn render(&mut self, camera: &Camera, moving: bool) {
+        let (w, h) = (self.a.width, self.a.height);
+        if moving {
+            let s = self.settings(4);
+            let pass = 1_000_000 + self.frames;
+            let small = self
+                .pool
+                .install(|| render_pass(self.scene, camera, &self.textures, &s, pass));
+            for (k, p) in self.pixels.iter_mut().enumerate() {
+                let (x, y) = ((k % w) * s.width / w, (k / w) * s.height / h);
+                *p = pack(to_srgb8(small[y * s.width + x]));
+            }
+            self.sum.iter_mut().for_each(|v| *v = DVec3::ZERO);
+            self.passes = 0;
+        } else if self.passes < MAX_PASSES {
+            let s = self.settings(1);
+            let pass = self
+                .pool
+                .install(|| render_pass(self.scene, camera, &self.textures, &s, self.passes));
+            self.passes += 1;
+            let n = self.passes as f64;
+            for ((acc, new), p) in self.sum.iter_mut().zip(pass).zip(&mut self.pixels) {
+                *acc += new;
+                *p = pack(to_srgb8(*acc / n));
+            }
+        } else {
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        self.frames += 1;
+    }
+
+    /// New sensor textures from the X-rays, at most every 2 s (each restarts the
+    /// refinement); the title with photons and HPD.
+    fn update_xrays(&mut self, published: &Mutex<Published>) {
+        let Ok(p) = published.lock() else {
+            return;
+        };
+        let due = self.version == 0 || self.textures_at.elapsed() > Duration::from_secs(2);
+        if p.version == self.version || !(due || p.finished) {
+            return;
+        }
+        self.version = p.version;
+        self.textures_at = Instant::now();
+        let scale = match self.a.log_decades {
+            Some(decades) => Scale::Log { decades },
+            None => Scale::Linear,
+        };
+        let mut quality = String::new();
+        self.textures = self
+            .scene
+            .sensors
+            .iter()
+            .zip(&p.tally.images)
+            .map(|(spec, img)| {
+                let summed = img.flux_summed(spec);
+                if quality.is_empty() {
+                    let g = ImageGeometry::of_sensor(spec);
+                    if let Some((q, _)) = analyse(&summed, &g, spec.focal_length) {
+                        quality = match q.hpd_arcsec {
+                            Some(v) => format!(", {}: HPD {v:.1}″", spec.name),
+                            None => format!(", {}: HPD {:.3} mm", spec.name, q.hpd_mm),
+                        };
+                    }
+                }
+                let px = [spec.pixels[0] as usize, spec.pixels[1] as usize];
+                SensorTexture::viridis(
+                    spec.object,
+                    spec.size,
+                    px,
+                    &summed,
+                    scale,
+                    self.a.brightness,
+                )
+            })
+            .collect();
+        self.sum.iter_mut().for_each(|v| *v = DVec3::ZERO);
+        self.passes = 0;
+        self.title = format!(
+            "traxer view: {} photons{quality}",
+            p.tally.stats.photons_emitted
+        );
+    }
+}
+
+fn pack([r, g, b]: [u8; 3]) -> u32 {
+    (r as u32) << 16 | (g as u32) << 8 | b as u32
+}
+
+fn window_loop(
+    a: &ViewArgs,
+    device: &Device,
+    scene: &Scene,
+    cams: &[Camera],
+    window: &mut Window,
+    published: &Mutex<Published>,
+    pool: &rayon::ThreadPool,
+) -> anyhow::Result<()> {
+    let (w, h) = (a.width, a.height);
+    let mut v = View {
+        a,
+        scene,
+        pool,
+        sum: vec![DVec3::ZERO; w * h],
+        passes: 0,
+        frames: 0,
+        textures: Vec::new(),
+        version: 0,
+        textures_at: Instant::now(),
+        title: "traxer view: starting".into(),
+        pixels: vec![0; w * h],
+    };
+    let (mut which, mut flight) = (0, Flight::new(&cams[0]));
+    let (mut help, mut last_mouse, mut last_frame) =
+        (a.show_help, None::<(f32, f32)>, Instant::now());
+    let started = Instant::now();
+    let mut moved_at = Instant::now() - Duration::from_secs(1);
+    let mut fps = 0.0;
+    while window.is_open() && !window.is_key_down(Key::Escape) {
+        let dt = last_frame.elapsed().as_secs_f64().min(0.25);
+        last_frame = Instant::now();
+        let mut moved = false;
+        // Looking: drag with the left button.
+        let mouse = window.get_mouse_pos(MouseMode::Pass);
+        if window.get_mouse_down(MouseButton::Left) {
+            if let (Some((x0, y0)), Some((x, y))) = (last_mouse, mouse) {
+                if (x, y) != (x0, y0) {
+                    flight.look((x - x0) as f64, (y - y0) as f64, h as f64);
+                    moved = true;
+                }
+            }
+            last_mouse = mouse;
+        } else {
+            last_mouse = None;
+        }
+        let right = flight.forward.cross(flight.up).normalize();
+        let down = |keys: &[Key]| keys.iter().any(|k| window.is_key_down(*k));
+        for (keys, dir) in [
+            (&[Key::W, Key::Up][..], flight.forward),
+            (&[Key::S, Key::Down][..], -flight.forward),
+            (&[Key::D, Key::Right][..], right),
+            (&[Key::A, Key::Left][..], -right),
+            (&[Key::E][..], flight.up),
+            (&[Key::Q][..], -flight.up),
+        ] {
+            if down(keys) {
+                flight.from += dir * flight.speed * dt;
+                moved = true;
+            }
+        }
+        let pressed = |k: Key| window.is_key_pressed(k, KeyRepeat::No);
+        if pressed(Key::PageUp) {
+            flight.speed *= 2.0;
+        }
+        if pressed(Key::PageDown) {
+            flight.speed /= 2.0;
+        }
+        if pressed(Key::R) {
+            flight = Flight::new(&cams[which]);
+            moved = true;
+        }
+        if pressed(Key::C) {
+            which = (which + 1) % cams.len();
+            flight = Flight::new(&cams[which]);
+            moved = true;
+        }
+        if pressed(Key::H) || pressed(Key::F1) {
+            help = !help;
+        }
+        if pressed(Key::P) {
+            say!("{}", flight.toml());
+        }
+        let save_key = pressed(Key::F2);
+        if moved {
+            moved_at = Instant::now();
+        }
+        v.update_xrays(published);
+        let start = Instant::now();
+        v.render(
+            &flight.camera(),
+            moved_at.elapsed() < Duration::from_millis(150),
+        );
+        fps = 0.8 * fps + 0.2 / start.elapsed().as_secs_f64().max(1e-3);
+        let mut shown = v.pixels.clone();
+        if help {
+            overlay(&mut shown, w, h, &HELP);
+        }
+        window.set_title(&format!(
+            "{} | {:.0} fps, {} spp | H: help",
+            v.title, fps, v.passes
+        ));
+        window
+            .update_with_buffer(&shown, w, h)
+            .map_err(|e| anyhow::anyhow!("the window failed: {e}"))?;
+        // A scripted run ends after its frames, once the X-rays are done (with
+        // --photons) and the picture has refined since their last update.
+        let scripted_end = a
+            .frames
+            .is_some_and(|n| v.frames >= n && v.passes >= n.min(32))
+            && published
+                .lock()
+                .is_ok_and(|p| a.photons.is_none() || (p.finished && p.version == v.version));
+        if save_key || scripted_end {
+            let tally = published.lock().map(|p| p.tally.clone()).ok();
+            if let Some(t) = tally {
+                save(
+                    &a.save,
+                    device,
+                    &a.scene,
+                    scene,
+                    a.sampling.seed,
+                    t,
+                    &shown,
+                    (w, h),
+                )?;
+            }
+            if scripted_end {
+                break;
+            }
+        }
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    say!(
+        "{} frames in {seconds:.1} s ({:.1} frames/s at {w}×{h}; {} passes of the last picture)",
+        v.frames,
+        v.frames as f64 / seconds,
+        v.passes
+    );
+    Ok(())
+}
+
+/// Saves the sensor images as `traxer trace` writes them (they are the trace of
+/// the photons traced so far) and the frame as frame.png.
+#[allow(clippy::too_many_arguments)]
+fn save(
+    dir: &Path,
+    device: &Device,
+    args: &SceneArgs,
+    scene: &Scene,
+    seed: u64,
+    tally: Tally,
+    frame: &[u32],
+    (w, h): (usize, usize),
+) -> anyhow::Result<()> {
+    let mut names = run_file_names(scene, false);
+    names.push("frame.png".into());
+    let folder = OutputFolder::prepare(dir, &names)?;
+    let traced = tally.traced;
+    let cfg = RunConfig::new(traced.max(1), seed);
+    let provenance = Provenance::new(Some(device.info().version))
+        .scene(scene)
+        .run(&cfg, 1);
+    let result = tally.into_result(0, 0.0, 1);
+    let mut png = image::RgbImage::new(w as u32, h as u32);
+    for (p, c) in png.pixels_mut().zip(frame) {
+        *p = image::Rgb([(c >> 16) as u8, (c >> 8) as u8, *c as u8]);
+    }
+    write_run(folder.path(), scene, &result, &provenance)
+        .and_then(|_| write_rgb_png(&folder.path().join("frame.png"), &png))
+        .and_then(|_| folder.commit())
+        .with_context(|| format!("cannot save into {}", dir.display()))?;
+    say!(
+        "saved the sensor images of {traced} photons and the frame into {} (scene {})",
+        dir.display(),
+        args.scene.display()
+    );
+    Ok(())
+}
+
+/// Text lines drawn on a dark box in the top-left corner (8×8 font, doubled in
+/// windows 800 pixels wide or more).
+fn overlay(pixels: &mut [u32], w: usize, h: usize, lines: &[&str]) {
+    use font8x8::UnicodeFonts;
+    let scale = if w >= 800 { 2 } else { 1 };
+    let line_h = 10 * scale;
+    let width = lines.iter().map(|l| l.len()).max().unwrap_or(0) * 8 * scale + 16;
+    let height = lines.len() * line_h + 12;
+    for y in 0..height.min(h) {
+        for x in 0..width.min(w) {
+            let p = &mut pixels[y * w + x];
+            *p = (*p >> 2) & 0x3f3f3f;
+        }
+    }
+    for (i, line) in lines.iter().enumerate() {
+        for (j, ch) in line.chars().enumerate() {
+            let Some(glyph) = font8x8::BASIC_FONTS.get(ch) else {
+                continue;
+            };
+            for (gy, row) in glyph.iter().enumerate() {
+                for gx in 0..8 {
+                    if row >> gx & 1 == 0 {
+                        continue;
+                    }
+                    for (sy, sx) in (0..scale).flat_map(|a| (0..scale).map(move |b| (a, b))) {
+                        let x = 8 + (j * 8 + gx) * scale + sx;
+                        let y = 6 + i * line_h + gy * scale + sy;
+                        if x < w && y < h {
+                            pixels[y * w + x] = 0xffffff;
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
