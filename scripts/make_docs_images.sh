@@ -40,5 +40,12 @@ cp "$tmp/effective_area.png" docs/img/llnl_effective_area.png
 cp "$tmp/vignetting.png" docs/img/llnl_vignetting.png
 cp "$tmp/off_axis.png" docs/img/llnl_off_axis.png
 rm -rf "$tmp"
+# The live window (traxer view) on the CAST scene, under a virtual X server:
+# the frame it saves is the window's picture.
+tmp=$(mktemp -d)
+xvfb-run -a -s "-screen 0 1024x768x24" $T view scenes/cast_axion_image.toml --camera overview \
+  --width 800 --height 500 --photons 3000000 --log-decades 3 --frames 64 --save "$tmp"
+cp "$tmp/frame.png" docs/img/view_cast.png
+rm -rf "$tmp"
 # The renders' provenance files are not shown in the README.
 rm -f docs/img/*.json

@@ -31,8 +31,10 @@ have_libclang || missing+=(libclang-dev)
 command -v cc >/dev/null 2>&1 || missing+=(build-essential)
 # The nlopt crate (figure-error fit) builds NLopt's C sources with CMake.
 command -v cmake >/dev/null 2>&1 || missing+=(cmake)
-# The live window's test runs `traxer view` under a virtual X server.
+# The live window's tests run `traxer view` under a virtual X server, with
+# synthetic keys and mouse (xdotool).
 command -v Xvfb >/dev/null 2>&1 || missing+=(xvfb)
+command -v xdotool >/dev/null 2>&1 || missing+=(xdotool)
 
 if [ ${#missing[@]} -gt 0 ]; then
   if ! command -v apt-get >/dev/null 2>&1; then

@@ -10,8 +10,10 @@ use super::view::ViewArgs;
 use super::{load_scene, InputError};
 use anyhow::Context;
 use glam::DVec3;
-use minifb::{Key, KeyRepeat, MouseButton, MouseMode, Window, WindowOptions};
+use minifb::{InputCallback, Key, MouseButton, MouseMode, Window, WindowOptions};
+use std::cell::RefCell;
 use std::path::Path;
+use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -42,6 +44,20 @@ const HELP: [&str; 10] = [
 ];
 /// Passes after which a still picture stops refining.
 const MAX_PASSES: u64 = 1024;
+
+/// Every key press as it happens: a tap shorter than a frame (which polling the
+/// key state between frames would miss) still counts.
+struct Presses(Rc<RefCell<Vec<Key>>>);
+
+impl InputCallback for Presses {
+    fn add_char(&mut self, _: u32) {}
+
+    fn set_key_state(&mut self, key: Key, down: bool) {
+        if down {
+            self.0.borrow_mut().push(key);
+        }
+    }
+}
 
 /// The camera the user flies: position, viewing direction, the scene's up.
 struct Flight {
@@ -330,6 +346,8 @@ fn window_loop(
     let (mut help, mut last_mouse, mut last_frame) =
         (a.show_help, None::<(f32, f32)>, Instant::now());
     let started = Instant::now();
+    let queue = Rc::new(RefCell::new(Vec::new()));
+    window.set_input_callback(Box::new(Presses(queue.clone())));
     let mut moved_at = Instant::now() - Duration::from_secs(1);
     let mut fps = 0.0;
     while window.is_open() && !window.is_key_down(Key::Escape) {
@@ -364,7 +382,8 @@ fn window_loop(
                 moved = true;
             }
         }
-        let pressed = |k: Key| window.is_key_pressed(k, KeyRepeat::No);
+        let presses: Vec<Key> = queue.borrow_mut().drain(..).collect();
+        let pressed = |k: Key| presses.contains(&k);
         if pressed(Key::PageUp) {
             flight.speed *= 2.0;
         }
@@ -387,6 +406,9 @@ fn window_loop(
             say!("{}", flight.toml());
         }
         let save_key = pressed(Key::F2);
+        if pressed(Key::Escape) {
+            break;
+        }
         if moved {
             moved_at = Instant::now();
         }
