@@ -42,6 +42,8 @@ pub mod tessellate;
 pub mod trace;
 pub mod view;
 #[cfg(feature = "window")]
+pub mod view_controls;
+#[cfg(feature = "window")]
 pub mod view_window;
 
 use args::SceneArgs;
