@@ -3,7 +3,145 @@
 //! table) and the help drawn over the picture ([`overlay`]).
 
 use glam::DVec3;
+use minifb::{InputCallback, Key, MouseButton, MouseMode, Window};
+use std::cell::RefCell;
+use std::rc::Rc;
+use std::time::{Duration, Instant};
 use traxer::render::Camera;
+
+/// The help shown on screen (H or F1) and in `--help`.
+pub const HELP: [&str; 10] = [
+    "mouse drag   look around",
+    "W A S D      move (or the arrow keys)",
+    "E / Q        up / down",
+    "PgUp / PgDn  speed x2 / /2",
+    "R            back to the camera",
+    "C            next camera of the scene",
+    "F2           save sensor images + frame",
+    "P            print the camera (TOML)",
+    "H / F1       this help",
+    "Esc          quit",
+];
+/// Every key press as it happens: a tap shorter than a frame (which polling the
+/// key state between frames would miss) still counts.
+struct Presses(Rc<RefCell<Vec<Key>>>);
+
+impl InputCallback for Presses {
+    fn add_char(&mut self, _: u32) {}
+
+    fn set_key_state(&mut self, key: Key, down: bool) {
+        if down {
+            self.0.borrow_mut().push(key);
+        }
+    }
+}
+
+/// What the keys asked for besides flying.
+pub struct Asked {
+    pub save: bool,
+    pub quit: bool,
+}
+
+/// The state of the user's input between frames.
+pub struct Controls {
+    pub flight: Flight,
+    /// Which of the scene's cameras R returns to.
+    which: usize,
+    pub help: bool,
+    last_mouse: Option<(f32, f32)>,
+    last_frame: Instant,
+    moved_at: Instant,
+    presses: Rc<RefCell<Vec<Key>>>,
+}
+
+impl Controls {
+    /// Starts at `camera`, listening to `window`'s key presses.
+    pub fn new(window: &mut Window, camera: &Camera, help: bool) -> Controls {
+        let presses = Rc::new(RefCell::new(Vec::new()));
+        window.set_input_callback(Box::new(Presses(presses.clone())));
+        Controls {
+            flight: Flight::new(camera),
+            which: 0,
+            help,
+            last_mouse: None,
+            last_frame: Instant::now(),
+            moved_at: Instant::now() - Duration::from_secs(1),
+            presses,
+        }
+    }
+
+    /// The camera moved in the last 150 ms (the picture is then drawn coarse).
+    pub fn moving(&self) -> bool {
+        self.moved_at.elapsed() < Duration::from_millis(150)
+    }
+
+    /// Reads the mouse and the keys since the last frame: flies, switches
+    /// cameras, toggles the help, prints the camera; returns what else was asked.
+    pub fn poll(&mut self, window: &Window, cams: &[Camera], height: usize) -> Asked {
+        let dt = self.last_frame.elapsed().as_secs_f64().min(0.25);
+        self.last_frame = Instant::now();
+        let f = &mut self.flight;
+        let mut moved = false;
+        // Looking: drag with the left button.
+        let mouse = window.get_mouse_pos(MouseMode::Pass);
+        if window.get_mouse_down(MouseButton::Left) {
+            if let (Some((x0, y0)), Some((x, y))) = (self.last_mouse, mouse) {
+                if (x, y) != (x0, y0) {
+                    f.look((x - x0) as f64, (y - y0) as f64, height as f64);
+                    moved = true;
+                }
+            }
+            self.last_mouse = mouse;
+        } else {
+            self.last_mouse = None;
+        }
+        // Moving: while keys are held.
+        let right = f.forward.cross(f.up).normalize();
+        let down = |keys: &[Key]| keys.iter().any(|k| window.is_key_down(*k));
+        for (keys, dir) in [
+            (&[Key::W, Key::Up][..], f.forward),
+            (&[Key::S, Key::Down][..], -f.forward),
+            (&[Key::D, Key::Right][..], right),
+            (&[Key::A, Key::Left][..], -right),
+            (&[Key::E][..], f.up),
+            (&[Key::Q][..], -f.up),
+        ] {
+            if down(keys) {
+                f.from += dir * f.speed * dt;
+                moved = true;
+            }
+        }
+        // One-shot keys: every press since the last frame.
+        let presses: Vec<Key> = self.presses.borrow_mut().drain(..).collect();
+        let pressed = |k: Key| presses.contains(&k);
+        if pressed(Key::PageUp) {
+            f.speed *= 2.0;
+        }
+        if pressed(Key::PageDown) {
+            f.speed /= 2.0;
+        }
+        if pressed(Key::C) {
+            self.which = (self.which + 1) % cams.len();
+        }
+        if pressed(Key::R) || pressed(Key::C) {
+            self.flight = Flight::new(&cams[self.which]);
+            moved = true;
+        }
+        if pressed(Key::H) || pressed(Key::F1) {
+            self.help = !self.help;
+        }
+        if pressed(Key::P) {
+            say!("{}", self.flight.toml());
+        }
+        if moved {
+            self.moved_at = Instant::now();
+        }
+        Asked {
+            save: pressed(Key::F2),
+            quit: pressed(Key::Escape) || window.is_key_down(Key::Escape),
+        }
+    }
+}
 
 /// The camera the user flies: position, viewing direction, the scene's up.
 pub struct Flight {

@@ -7,14 +7,12 @@
 
 use super::args::SceneArgs;
 use super::view::ViewArgs;
-use super::view_controls::{overlay, Flight};
+use super::view_controls::{overlay, Controls, HELP};
 use super::{load_scene, InputError};
 use anyhow::Context;
 use glam::DVec3;
-use minifb::{InputCallback, Key, MouseButton, MouseMode, Window, WindowOptions};
-use std::cell::RefCell;
+use minifb::{Window, WindowOptions};
 use std::path::Path;
-use std::rc::Rc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
@@ -30,35 +28,8 @@ use traxer::render::{
 use traxer::scene::Scene;
 use traxer::trace::{RunConfig, Tally};
 
-/// The help shown on screen (H or F1) and in `--help`.
-const HELP: [&str; 10] = [
-    "mouse drag   look around",
-    "W A S D      move (or the arrow keys)",
-    "E / Q        up / down",
-    "PgUp / PgDn  speed x2 / /2",
-    "R            back to the camera",
-    "C            next camera of the scene",
-    "F2           save sensor images + frame",
-    "P            print the camera (TOML)",
-    "H / F1       this help",
-    "Esc          quit",
-];
 /// Passes after which a still picture stops refining.
 const MAX_PASSES: u64 = 1024;
-
-/// Every key press as it happens: a tap shorter than a frame (which polling the
-/// key state between frames would miss) still counts.
-struct Presses(Rc<RefCell<Vec<Key>>>);
-
-impl InputCallback for Presses {
-    fn add_char(&mut self, _: u32) {}
-
-    fn set_key_state(&mut self, key: Key, down: bool) {
-        if down {
-            self.0.borrow_mut().push(key);
-        }
-    }
-}
 
 /// The scene's cameras in order, the chosen one first; a view of the whole
 /// scene if it has none.
@@ -275,85 +246,20 @@ fn window_loop(
         title: "traxer view: starting".into(),
         pixels: vec![0; w * h],
     };
-    let (mut which, mut flight) = (0, Flight::new(&cams[0]));
-    let (mut help, mut last_mouse, mut last_frame) =
-        (a.show_help, None::<(f32, f32)>, Instant::now());
     let started = Instant::now();
-    let queue = Rc::new(RefCell::new(Vec::new()));
-    window.set_input_callback(Box::new(Presses(queue.clone())));
-    let mut moved_at = Instant::now() - Duration::from_secs(1);
+    let mut controls = Controls::new(window, &cams[0], a.show_help);
     let mut fps = 0.0;
-    while window.is_open() && !window.is_key_down(Key::Escape) {
-        let dt = last_frame.elapsed().as_secs_f64().min(0.25);
-        last_frame = Instant::now();
-        let mut moved = false;
-        // Looking: drag with the left button.
-        let mouse = window.get_mouse_pos(MouseMode::Pass);
-        if window.get_mouse_down(MouseButton::Left) {
-            if let (Some((x0, y0)), Some((x, y))) = (last_mouse, mouse) {
-                if (x, y) != (x0, y0) {
-                    flight.look((x - x0) as f64, (y - y0) as f64, h as f64);
-                    moved = true;
-                }
-            }
-            last_mouse = mouse;
-        } else {
-            last_mouse = None;
-        }
-        let right = flight.forward.cross(flight.up).normalize();
-        let down = |keys: &[Key]| keys.iter().any(|k| window.is_key_down(*k));
-        for (keys, dir) in [
-            (&[Key::W, Key::Up][..], flight.forward),
-            (&[Key::S, Key::Down][..], -flight.forward),
-            (&[Key::D, Key::Right][..], right),
-            (&[Key::A, Key::Left][..], -right),
-            (&[Key::E][..], flight.up),
-            (&[Key::Q][..], -flight.up),
-        ] {
-            if down(keys) {
-                flight.from += dir * flight.speed * dt;
-                moved = true;
-            }
-        }
-        let presses: Vec<Key> = queue.borrow_mut().drain(..).collect();
-        let pressed = |k: Key| presses.contains(&k);
-        if pressed(Key::PageUp) {
-            flight.speed *= 2.0;
-        }
-        if pressed(Key::PageDown) {
-            flight.speed /= 2.0;
-        }
-        if pressed(Key::R) {
-            flight = Flight::new(&cams[which]);
-            moved = true;
-        }
-        if pressed(Key::C) {
-            which = (which + 1) % cams.len();
-            flight = Flight::new(&cams[which]);
-            moved = true;
-        }
-        if pressed(Key::H) || pressed(Key::F1) {
-            help = !help;
-        }
-        if pressed(Key::P) {
-            say!("{}", flight.toml());
-        }
-        let save_key = pressed(Key::F2);
-        if pressed(Key::Escape) {
+    while window.is_open() {
+        let keys = controls.poll(window, cams, h);
+        if keys.quit {
             break;
-        }
-        if moved {
-            moved_at = Instant::now();
         }
         v.update_xrays(published);
         let start = Instant::now();
-        v.render(
-            &flight.camera(),
-            moved_at.elapsed() < Duration::from_millis(150),
-        );
+        v.render(&controls.flight.camera(), controls.moving());
         fps = 0.8 * fps + 0.2 / start.elapsed().as_secs_f64().max(1e-3);
         let mut shown = v.pixels.clone();
-        if help {
+        if controls.help {
             overlay(&mut shown, w, h, &HELP);
         }
         window.set_title(&format!(
@@ -371,7 +277,7 @@ fn window_loop(
             && published
                 .lock()
                 .is_ok_and(|p| a.photons.is_none() || (p.finished && p.version == v.version));
-        if save_key || scripted_end {
+        if keys.save || scripted_end {
             let tally = published.lock().map(|p| p.tally.clone()).ok();
             if let Some(t) = tally {
                 save(

@@ -104,26 +104,7 @@ pub fn render_with_progress(
     s: &RenderSettings,
     progress: &dyn Progress,
 ) -> Vec<DVec3> {
-    let frame = Frame::new(camera, s.width as f64 / s.height as f64);
-    let mut image = vec![DVec3::ZERO; s.width * s.height];
-    image
-        .par_chunks_mut(s.width)
-        .enumerate()
-        .for_each(|(row, pixels)| {
-            for (col, px) in pixels.iter_mut().enumerate() {
-                let mut rng = PhotonRng::new(s.seed, (row * s.width + col) as u64);
-                let mut sum = DVec3::ZERO;
-                for _ in 0..s.spp {
-                    let u = (col as f64 + rng.uniform()) / s.width as f64;
-                    let v = (row as f64 + rng.uniform()) / s.height as f64;
-                    let (origin, dir) = frame.ray(u, v);
-                    sum += radiance(scene, sky, textures, origin, dir, s.max_depth, &mut rng);
-                }
-                *px = sum / s.spp.max(1) as f64;
-            }
-            progress.advance(1);
-        });
-    image
+    render_rows(scene, camera, sky, textures, s, (0, s.spp), progress)
 }
 
 /// One sample per pixel of a progressive render (pass `pass` = 0, 1, ...): pixel
@@ -136,8 +117,22 @@ pub fn render_pass(
     s: &RenderSettings,
     pass: u64,
 ) -> Vec<DVec3> {
-    let frame = Frame::new(camera, s.width as f64 / s.height as f64);
     let first = pass * (s.width * s.height) as u64;
+    render_rows(scene, camera, &scene.sky, textures, s, (first, 1), &())
+}
+
+/// The picture with `samples` per pixel, pixel k drawing from the stream
+/// (seed, `first` + k).
+fn render_rows(
+    scene: &Scene,
+    camera: &Camera,
+    sky: &Sky,
+    textures: &[SensorTexture],
+    s: &RenderSettings,
+    (first, samples): (u64, u32),
+    progress: &dyn Progress,
+) -> Vec<DVec3> {
+    let frame = Frame::new(camera, s.width as f64 / s.height as f64);
     let mut image = vec![DVec3::ZERO; s.width * s.height];
     image
         .par_chunks_mut(s.width)
@@ -146,19 +141,16 @@ pub fn render_pass(
             for (col, px) in pixels.iter_mut().enumerate() {
                 let k = first + (row * s.width + col) as u64;
                 let mut rng = PhotonRng::new(s.seed, k);
-                let u = (col as f64 + rng.uniform()) / s.width as f64;
-                let v = (row as f64 + rng.uniform()) / s.height as f64;
-                let (origin, dir) = frame.ray(u, v);
-                *px = radiance(
-                    scene,
-                    &scene.sky,
-                    textures,
-                    origin,
-                    dir,
-                    s.max_depth,
-                    &mut rng,
-                );
+                let mut sum = DVec3::ZERO;
+                for _ in 0..samples {
+                    let u = (col as f64 + rng.uniform()) / s.width as f64;
+                    let v = (row as f64 + rng.uniform()) / s.height as f64;
+                    let (origin, dir) = frame.ray(u, v);
+                    sum += radiance(scene, sky, textures, origin, dir, s.max_depth, &mut rng);
+                }
+                *px = sum / samples.max(1) as f64;
             }
+            progress.advance(1);
         });
     image
 }
