@@ -15,12 +15,12 @@ pub(crate) fn polar_grid(
     apex_first_row: bool,
     mut vertex: impl FnMut(usize, f64) -> DVec3,
 ) -> (Vec<DVec3>, Vec<[u32; 3]>) {
-    let span = azimuth.span_deg.min(360.0);
+    let span = azimuth.span_deg().min(360.0);
     let cols = if azimuth.is_full() { n_phi } else { n_phi + 1 };
     let mut positions = Vec::with_capacity(cols * (n_rows + 1));
     for j in 0..=n_rows {
         for i in 0..cols {
-            let phi = (azimuth.start_deg + span * i as f64 / n_phi as f64).to_radians();
+            let phi = (azimuth.start_deg() + span * i as f64 / n_phi as f64).to_radians();
             positions.push(vertex(j, phi));
         }
     }

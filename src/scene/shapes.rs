@@ -72,10 +72,7 @@ fn azimuth(a: &Option<[f64; 2]>) -> Result<AzimuthRange, InvalidShape> {
         Some([from, to])
             if from.is_finite() && to.is_finite() && to > from && to - from <= 360.0 =>
         {
-            Ok(AzimuthRange {
-                start_deg: *from,
-                span_deg: to - from,
-            })
+            Ok(AzimuthRange::new(*from, to - from))
         }
         Some(_) => Err("azimuth = [from, to] needs from < to ≤ from + 360 (degrees)".into()),
     }

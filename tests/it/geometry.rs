@@ -34,10 +34,7 @@ impl Lcg {
 }
 
 fn shapes() -> Vec<Shape> {
-    let seg = AzimuthRange {
-        start_deg: -15.0,
-        span_deg: 30.0,
-    };
+    let seg = AzimuthRange::new(-15.0, 30.0);
     vec![
         Shape::Revolution(RevolutionQuadric::cone(63.2384, 229.0, 60.9121, 4.0, seg)),
         Shape::Revolution(RevolutionQuadric::cylinder(
@@ -82,8 +79,8 @@ fn surface_points(s: &Shape) -> Vec<DVec3> {
                 let z = rng.range(q.z_min, q.z_max);
                 let z = q.z_min + (z - q.z_min) * 0.998 + 0.001 * (q.z_max - q.z_min);
                 let a = &q.azimuth;
-                let span = a.span_deg.min(360.0);
-                let phi = (a.start_deg + span * rng.range(0.001, 0.999)).to_radians();
+                let span = a.span_deg().min(360.0);
+                let phi = (a.start_deg() + span * rng.range(0.001, 0.999)).to_radians();
                 DVec3::new(q.radius(z) * phi.cos(), q.radius(z) * phi.sin(), z)
             }
             Shape::Disk(d) => {
@@ -175,16 +172,7 @@ fn most_rays_aimed_at_interior_points_hit_exactly_there() {
     // Aiming from the front side at points strictly inside a section must return
     // that very point (nothing else is in the way for these convex/concave pieces).
     let mut rng = Lcg(2);
-    let cone = RevolutionQuadric::cone(
-        63.0,
-        200.0,
-        61.0,
-        0.0,
-        AzimuthRange {
-            start_deg: -15.0,
-            span_deg: 30.0,
-        },
-    );
+    let cone = RevolutionQuadric::cone(63.0, 200.0, 61.0, 0.0, AzimuthRange::new(-15.0, 30.0));
     for _ in 0..2000 {
         let z = rng.range(10.0, 190.0);
         let phi = rng.range(-14.0, 14.0).to_radians();
@@ -260,16 +248,7 @@ fn concave_surface_can_be_hit_again_but_not_at_the_start_point() {
 
 #[test]
 fn azimuth_range_and_z_range_clip_sections() {
-    let seg = RevolutionQuadric::cone(
-        60.0,
-        100.0,
-        60.0,
-        0.0,
-        AzimuthRange {
-            start_deg: -15.0,
-            span_deg: 30.0,
-        },
-    );
+    let seg = RevolutionQuadric::cone(60.0, 100.0, 60.0, 0.0, AzimuthRange::new(-15.0, 30.0));
     // Aimed at azimuth 0 → hit; azimuth 90 → miss (outside the segment).
     let hit = seg.intersect(DVec3::new(0.0, 0.0, 50.0), DVec3::X, f64::INFINITY, false);
     assert!((hit.unwrap() - 60.0).abs() < 1e-12);
@@ -280,11 +259,46 @@ fn azimuth_range_and_z_range_clip_sections() {
         .intersect(DVec3::new(0.0, 0.0, 150.0), DVec3::X, f64::INFINITY, false)
         .is_none());
     // Ranges wrapping through ±180°.
-    let back = AzimuthRange {
-        start_deg: 170.0,
-        span_deg: 20.0,
-    };
+    let back = AzimuthRange::new(170.0, 20.0);
     assert!(back.contains(-1.0, 0.0) && back.contains(-1.0, -0.1) && !back.contains(1.0, 0.0));
+}
+
+/// The azimuth test (two cross products against precomputed edge vectors) agrees
+/// with the angle itself, measured with atan2, for ranges narrower and wider than
+/// half a turn and ranges wrapping through ±180°, on directions at least 1e-6°
+/// from an edge (closer, rounding may decide either way).
+#[test]
+fn azimuth_ranges_agree_with_the_angle() {
+    let mut rng = traxer::random::PhotonRng::new(3, 0);
+    for (start, span) in [
+        (-15.0, 30.0),
+        (170.0, 20.0),
+        (0.0, 180.0),
+        (-90.0, 180.0),
+        (30.0, 200.0),
+        (100.0, 350.0),
+        (-400.0, 90.0),
+        (0.0, 360.0),
+    ] {
+        let range = AzimuthRange::new(start, span);
+        for _ in 0..20_000 {
+            let phi: f64 = 360.0 * rng.uniform() - 180.0;
+            let r = 0.01 + 1000.0 * rng.uniform();
+            let (x, y) = (r * phi.to_radians().cos(), r * phi.to_radians().sin());
+            let measured = y.atan2(x).to_degrees();
+            let offset = (measured - start).rem_euclid(360.0);
+            let to_edge = offset.min(360.0 - offset).min((offset - span).abs());
+            if span < 360.0 && to_edge < 1e-6 {
+                continue;
+            }
+            let inside = span >= 360.0 || offset <= span;
+            assert_eq!(
+                range.contains(x, y),
+                inside,
+                "range {start}+{span}°, direction {measured}°"
+            );
+        }
+    }
 }
 
 #[test]

@@ -114,10 +114,7 @@ fn export_and_import_round_trip_in_every_format() {
         229.0,
         60.9121,
         4.0,
-        AzimuthRange {
-            start_deg: -15.0,
-            span_deg: 30.0,
-        },
+        AzimuthRange::new(-15.0, 30.0),
     ));
     let m = shape.tessellate(Resolution {
         segments: 50,
