@@ -1,10 +1,12 @@
 //! `cargo bench`: photons per second through the shipped Wolter-I and PANTER Al Kα
 //! scenes (analytic and meshed, perfect and Pt/C-coated mirrors; the meshed PANTER
-//! telescope is the shipped meshes/llnl_telescope.glb), Embree queries per photon, and the
-//! raw `rtcIntersect1` rate on the same rays (the same numbers come from
-//! `traxer bench SCENE`); then reflectivity evaluations per second, direct and
-//! through the photon loop's tables; camera rays per second of the visible-light
-//! renders of scenes/spheres.toml and the PANTER telescope view.
+//! telescope is the shipped meshes/llnl_telescope.glb), the CAST axion image and the
+//! parallel beam of the effective-area scene, Embree queries per photon, the raw
+//! `rtcIntersect1` rate on the same rays and the best one on them sorted (the same
+//! numbers come from `traxer bench SCENE`); the effective-area sweep of the README;
+//! the BVH build of a 1 M-triangle mesh; reflectivity evaluations per second,
+//! direct and through the photon loop's tables; camera rays per second of the
+//! visible-light renders of scenes/spheres.toml and the PANTER telescope view.
 
 use std::path::Path;
 use traxer::embree::Device;
@@ -19,13 +21,15 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(2_000_000);
     println!(
-        "{:<66} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7}",
+        "{:<66} {:>9} {:>13} {:>13} {:>9} {:>13} {:>7} {:>13} {:>7}",
         "scene, variables",
         "triangles",
         "photons/s",
         "sensor ph/s",
         "queries",
         "raw rays/s",
+        "ratio",
+        "sorted rays/s",
         "ratio"
     );
     for (name, defines) in [
@@ -46,23 +50,50 @@ fn main() {
             "panter_al_ka_meshed.toml",
             "coating=as_built figure_error=llnl_panter",
         ),
+        ("cast_axion_image.toml", ""),
+        ("llnl_effective_area.toml", ""),
     ] {
-        let defines: Vec<String> = defines.split(' ').map(String::from).collect();
+        let defines: Vec<String> = defines.split_whitespace().map(String::from).collect();
         let scene =
             Scene::load(&device, &root.join("scenes").join(name), &defines).expect("shipped scene");
         let r = traxer::bench::run(&scene, &RunConfig::new(photons, 1), 300_000, &())
             .expect("thread pool");
         println!(
-            "{:<66} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2}",
+            "{:<66} {:>9} {:>13.0} {:>13.0} {:>9.3} {:>13.0} {:>7.2} {:>13.0} {:>7.2}",
             format!("{name}, {}", defines.join(" ")),
             r.triangles,
             r.photons_per_second,
             r.sensor_photons_per_second,
             r.queries_per_photon,
             r.raw_rays_per_second,
-            r.embree_fraction
+            r.embree_fraction,
+            r.best_raw_rays_per_second,
+            r.photons_per_second * r.queries_per_photon / r.best_raw_rays_per_second
         );
     }
+    println!();
+    // The effective-area sweep of the README: 91 energies × 5 angles.
+    let scene = Scene::load(&device, &root.join("scenes/llnl_effective_area.toml"), &[])
+        .expect("shipped scene");
+    let sweep = traxer::studies::effective_area::AreaSweep {
+        energies: (0..91).map(|i| 1.0 + 0.1 * i as f64).collect(),
+        angles_arcmin: vec![0.0, 2.5, 5.0, 7.5, 10.0],
+        photons: 200_000,
+        seed: 1,
+        threads: 0,
+        sensor: None,
+        radius_mm: None,
+    };
+    let r = traxer::studies::effective_area::sweep(&scene, &sweep, &[], &(), |_| {})
+        .expect("shipped scene sweeps");
+    println!(
+        "effective-area sweep, 91 energies × 5 angles × 200 000 photons: {:.2} s ({:.0} photons/s, {} threads)",
+        r.seconds,
+        5.0 * 200_000.0 / r.seconds,
+        r.threads
+    );
+    let (triangles, seconds) = traxer::bench::bvh_build_seconds(&device, 1_000_000).expect("BVH");
+    println!("BVH build (rtcCommitScene) of a {triangles}-triangle mesh: {seconds:.3} s");
     println!();
     println!(
         "{:<16} {:>10} {:>16} {:>16} {:>12}",

@@ -98,7 +98,14 @@ impl Tally {
     /// Adds the photons of the next chunk (chunks are added in photon order);
     /// keeps the first `photon_list` recorded photons. Does not count `traced`.
     pub fn add_chunk(&mut self, chunk: Chunk, photon_list: usize) {
-        for r in chunk.records {
+        self.add_records(&chunk.records, &chunk.stats);
+        self.add_listed(chunk.listed, photon_list);
+    }
+
+    /// Adds the sensor records and statistics of a chunk. The sums are exact, so
+    /// chunks may come in any order.
+    pub fn add_records(&mut self, records: &[Record], stats: &Statistics) {
+        for r in records {
             let h = &r.history;
             self.images[r.sensor as usize].record(
                 r.pixel,
@@ -108,9 +115,14 @@ impl Tally {
                 h.last_mirror,
             );
         }
+        self.stats.add(stats);
+    }
+
+    /// Appends the listed photons of the next chunk in photon order, up to
+    /// `photon_list` in all.
+    fn add_listed(&mut self, listed: Vec<RecordedPhoton>, photon_list: usize) {
         let room = photon_list.saturating_sub(self.photons.len());
-        self.photons.extend(chunk.listed.into_iter().take(room));
-        self.stats.add(&chunk.stats);
+        self.photons.extend(listed.into_iter().take(room));
     }
 
     /// The same numbers as a run's result.
@@ -185,7 +197,11 @@ pub fn run_part(
         let end = (next + CHUNKS_PER_BATCH).min(n_chunks);
         // Each chunk keeps up to as many photon details as the list still needs.
         let list_cap = cfg.photon_list.saturating_sub(tally.photons.len());
-        let results: Vec<Chunk> = pool.install(|| {
+        // Each worker adds its chunk's records to the shared tally itself (exact
+        // sums: the order does not matter), so that no core waits for a serial
+        // merge; only the photon list is joined in photon order afterwards.
+        let shared = std::sync::Mutex::new(tally);
+        let listed: Vec<Vec<RecordedPhoton>> = pool.install(|| {
             (next..end)
                 .into_par_iter()
                 .map(|c| {
@@ -193,13 +209,20 @@ pub fn run_part(
                     let hi = (lo + CHUNK).min(cfg.photons);
                     let range = cfg.first_photon + lo..cfg.first_photon + hi;
                     let r = trace_chunk(scene, cfg.seed, range, list_cap, &mut ());
+                    shared
+                        .lock()
+                        .expect("no worker panics while holding the tally")
+                        .add_records(&r.records, &r.stats);
                     progress.advance(hi - lo);
-                    r
+                    r.listed
                 })
                 .collect()
         });
-        for chunk in results {
-            tally.add_chunk(chunk, cfg.photon_list);
+        tally = shared
+            .into_inner()
+            .expect("no worker panics while holding the tally");
+        for l in listed {
+            tally.add_listed(l, cfg.photon_list);
         }
         tally.traced = (end * CHUNK).min(cfg.photons);
         next = end;
