@@ -49,7 +49,7 @@ pub fn reflectance(
     let sin2 = theta_rad.sin().powi(2);
     // n² − cos²θ = (n² − 1) + sin²θ = χ(2 + χ) + sin²θ: no cancellation at grazing
     // angles, where n² and cos²θ agree to 5 digits.
-    let q = |chi: Complex64| (chi * (chi + 2.0) + sin2).sqrt();
+    let q = |chi: Complex64| principal_sqrt(chi * (chi + 2.0) + sin2);
     let n2 = |chi: Complex64| chi * (chi + 2.0) + 1.0;
     let one = Complex64::new(1.0, 0.0);
     let zero = Complex64::new(0.0, 0.0);
@@ -99,5 +99,25 @@ pub fn reflectance(
     Reflectance {
         s: rs.norm_sqr(),
         p: rp.norm_sqr(),
+    }
+}
+
+/// The principal square root (Re ≥ 0; Im of the sign of Im z) in algebraic form:
+/// the same root as `Complex64::sqrt`, which goes through polar form (atan2,
+/// hypot, sin and cos: most of the time of building a reflectivity table), to
+/// within a few ulp. Stable for both signs of Re z: the root's larger component
+/// comes from a sum without cancellation, the smaller one from Im z over it.
+#[inline]
+fn principal_sqrt(z: Complex64) -> Complex64 {
+    let (x, y) = (z.re, z.im);
+    if x == 0.0 && y == 0.0 {
+        return Complex64::new(0.0, y);
+    }
+    // |z|: the components here lie between ~1e-12 and ~10, far from overflow.
+    let t = (0.5 * ((x * x + y * y).sqrt() + x.abs())).sqrt();
+    if x >= 0.0 {
+        Complex64::new(t, y / (2.0 * t))
+    } else {
+        Complex64::new(y.abs() / (2.0 * t), t.copysign(y))
     }
 }
