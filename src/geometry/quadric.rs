@@ -4,7 +4,7 @@
 //! paraboloid and hyperboloid of a true Wolter-I optic.
 
 use super::grid::polar_grid;
-use super::{at, nearest_root, solve_quadratic, AzimuthRange, Resolution};
+use super::{at, nearest_of_two, solve_quadratic, AzimuthRange, Resolution};
 use super::{Surface, TriangleMesh};
 use glam::DVec3;
 
@@ -85,9 +85,8 @@ impl Surface for RevolutionQuadric {
         let qa = d.x * d.x + d.y * d.y - self.c * d.z * d.z;
         let qb = 2.0 * (o.x * d.x + o.y * d.y) - self.b * d.z - 2.0 * self.c * o.z * d.z;
         let qc = o.x * o.x + o.y * o.y - self.radius_squared(o.z);
-        let (t1, t2) = solve_quadratic(qa, qb, qc)?;
-        let roots = [t1, t2];
-        nearest_root(&roots, starts_on_surface, t_max, |t| {
+        let roots = solve_quadratic(qa, qb, qc)?;
+        nearest_of_two(roots, starts_on_surface, t_max, |t| {
             let p = at(o, d, t);
             p.z >= self.z_min && p.z <= self.z_max && self.azimuth.contains(p.x, p.y)
         })

@@ -1,6 +1,6 @@
 //! Sphere centred on the local origin, facing outwards.
 
-use super::{nearest_root, solve_quadratic, Resolution};
+use super::{nearest_of_two, solve_quadratic, Resolution};
 use super::{Surface, TriangleMesh};
 use glam::DVec3;
 
@@ -12,13 +12,12 @@ pub struct Sphere {
 impl Surface for Sphere {
     #[inline]
     fn intersect(&self, o: DVec3, d: DVec3, t_max: f64, starts_on_surface: bool) -> Option<f64> {
-        let (t1, t2) = solve_quadratic(
+        let roots = solve_quadratic(
             d.length_squared(),
             2.0 * o.dot(d),
             o.length_squared() - self.radius * self.radius,
         )?;
-        let roots = [t1, t2];
-        nearest_root(&roots, starts_on_surface, t_max, |_| true)
+        nearest_of_two(roots, starts_on_surface, t_max, |_| true)
     }
 
     #[inline]
