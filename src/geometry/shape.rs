@@ -87,7 +87,9 @@ pub struct AnalyticObject {
 
 impl AnalyticObject {
     /// Nearest hit of a world-space ray. The affine map keeps t unchanged, so the
-    /// local ray is simply the mapped origin and (unnormalised) direction.
+    /// local ray is simply the mapped origin and (unnormalised) direction; shapes
+    /// placed by the identity (a telescope's shells) skip the mapping, which
+    /// would give the same numbers.
     #[inline]
     pub fn intersect_world(
         &self,
@@ -96,13 +98,23 @@ impl AnalyticObject {
         t_max: f64,
         starts_on_surface: bool,
     ) -> Option<f64> {
-        let lo = self.transform.to_local.transform_point3(o);
-        let ld = self.transform.to_local.transform_vector3(d);
+        let (lo, ld) = if self.transform.is_identity() {
+            (o, d)
+        } else {
+            let m = &self.transform.to_local;
+            (m.transform_point3(o), m.transform_vector3(d))
+        };
         self.shape.intersect(lo, ld, t_max, starts_on_surface)
     }
 
     /// World-space front normal at a world-space surface point.
+    #[inline]
     pub fn normal_world(&self, p: DVec3) -> DVec3 {
+        if self.transform.is_identity() {
+            // What the general branch gives for the identity, bit for bit (the
+            // identity matrix maps exactly; the second normalisation stays).
+            return self.shape.normal(p).normalize();
+        }
         let lp = self.transform.to_local.transform_point3(p);
         self.transform.normal(self.shape.normal(lp))
     }

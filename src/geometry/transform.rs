@@ -9,6 +9,8 @@ pub struct Transform {
     pub to_world: DAffine3,
     pub to_local: DAffine3,
     normal_to_world: DMat3,
+    /// The identity map (the shells of a telescope sit in the world frame).
+    identity: bool,
 }
 
 impl Default for Transform {
@@ -25,6 +27,7 @@ impl Transform {
             to_world,
             to_local,
             normal_to_world: to_local.matrix3.transpose(),
+            identity: to_world == DAffine3::IDENTITY,
         }
     }
 
@@ -63,8 +66,9 @@ impl Transform {
         (self.normal_to_world * n).normalize()
     }
 
+    #[inline]
     pub fn is_identity(&self) -> bool {
-        self.to_world == DAffine3::IDENTITY
+        self.identity
     }
 
     /// Whether the map turns right-handed frames into left-handed ones (a mirror
