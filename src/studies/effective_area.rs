@@ -28,7 +28,7 @@ use crate::random::PhotonRng;
 use crate::scene::{Scene, TABLE_THETA_MAX};
 use crate::source::{ParallelBeam, Photon, Source};
 use crate::trace::{trace_photon, Attenuation, Statistics, CHUNK};
-use crate::xray::ReflectivityTable;
+use crate::xray::{AngleCell, EnergyCell, ReflectivityTable};
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -339,37 +339,72 @@ fn evaluate(
             .is_none_or(|r| (h.x - centre[0]).hypot(h.y - centre[1]) <= r)
     };
     let n_e = s.energies.len();
-    // Fixed groups summed in order: the same result on any number of threads.
-    let groups: Vec<Sums> = hits
-        .hits
-        .par_chunks(1024)
-        .map(|group| {
-            let mut sums = Sums::new(n_e, spec.pixel_count());
-            for h in group {
-                // The image shows every photon; the areas count the region's.
-                let counts = inside(h);
-                let steps = &hits.steps[h.start as usize..h.end as usize];
-                let mut mean = 0.0;
-                for (k, &e) in s.energies.iter().enumerate() {
-                    let w = steps.iter().fold(1.0, |w, st| match *st {
-                        Step::Mirror(t, theta) => w * tables[t as usize].reflectivity(e, theta),
-                        Step::Foil(f, cos) => w * scene.foils[f as usize].transmission(e, cos),
-                    });
-                    if counts {
-                        sums.w[k] += w;
-                        sums.w2[k] += w * w;
-                        sums.class[k][h.class as usize] += w;
-                    }
-                    mean += w;
-                }
-                sums.image[h.pixel as usize] += mean / n_e as f64;
-            }
-            sums
-        })
+    // Each table's cell of each energy, located once for the whole angle.
+    let energy_cells: Vec<Vec<EnergyCell>> = tables
+        .iter()
+        .map(|t| s.energies.iter().map(|&e| t.energy_cell(e)).collect())
         .collect();
+    // Fixed groups summed in order: the same result on any number of threads.
+    // A group returns its sums by energy and, for the image, each pixel's
+    // partial sum over the group (summed in photon order, as a whole image per
+    // group did, without allocating one).
+    let groups: Vec<(Sums, Vec<(u32, f64)>)> =
+        hits.hits
+            .par_chunks(1024)
+            .map(|group| {
+                let mut sums = Sums::new(n_e, 0);
+                let mut image = Vec::with_capacity(group.len());
+                let mut angles: Vec<Option<AngleCell>> = Vec::new();
+                for h in group {
+                    // The image shows every photon; the areas count the region's.
+                    let counts = inside(h);
+                    let steps = &hits.steps[h.start as usize..h.end as usize];
+                    angles.clear();
+                    angles.extend(steps.iter().map(|st| match *st {
+                        Step::Mirror(t, theta) => Some(tables[t as usize].angle_cell(theta)),
+                        Step::Foil(..) => None,
+                    }));
+                    let mut mean = 0.0;
+                    for (k, &e) in s.energies.iter().enumerate() {
+                        let w = steps.iter().zip(&angles).fold(1.0, |w, (st, angle)| {
+                            match (*st, angle) {
+                                (Step::Mirror(t, _), Some(angle)) => {
+                                    let t = t as usize;
+                                    w * tables[t].at(&energy_cells[t][k], angle)
+                                }
+                                (Step::Foil(f, cos), _) => {
+                                    w * scene.foils[f as usize].transmission(e, cos)
+                                }
+                                (Step::Mirror(..), None) => unreachable!("a cell per mirror step"),
+                            }
+                        });
+                        if counts {
+                            sums.w[k] += w;
+                            sums.w2[k] += w * w;
+                            sums.class[k][h.class as usize] += w;
+                        }
+                        mean += w;
+                    }
+                    image.push((h.pixel, mean / n_e as f64));
+                }
+                // Per pixel, the group's photons in their order (a stable sort).
+                image.sort_by_key(|&(pixel, _)| pixel);
+                let mut partial: Vec<(u32, f64)> = Vec::with_capacity(image.len());
+                for (pixel, v) in image {
+                    match partial.last_mut() {
+                        Some(last) if last.0 == pixel => last.1 += v,
+                        _ => partial.push((pixel, 0.0 + v)),
+                    }
+                }
+                (sums, partial)
+            })
+            .collect();
     let mut total = Sums::new(n_e, spec.pixel_count());
-    for g in &groups {
+    for (g, partial) in &groups {
         total.add(g);
+        for &(pixel, v) in partial {
+            total.image[pixel as usize] += v;
+        }
     }
     let n = s.photons as f64;
     let a_beam = beam.cross_section() / 100.0;

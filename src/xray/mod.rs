@@ -22,4 +22,4 @@ pub use coating::{Coating, CoatingLibrary};
 pub use figure_error::{FigureError, FigureErrorLibrary};
 pub use foil::Foil;
 pub use optical::OpticalMaterial;
-pub use table::ReflectivityTable;
+pub use table::{AngleCell, EnergyCell, ReflectivityTable};

@@ -20,6 +20,26 @@ use rayon::prelude::*;
 /// h·c in keV·nm.
 const HC_KEV_NM: f64 = 1.239_841_984_332_002_6;
 
+/// An energy located in a table's energy nodes ([`ReflectivityTable::energy_cell`]).
+#[derive(Clone, Copy, Debug)]
+pub struct EnergyCell {
+    energy_kev: f64,
+    /// Index of the node above (≥ 1), and the weight of that node.
+    upper: usize,
+    weight: f64,
+}
+
+/// A grazing angle located in a table's angle nodes
+/// ([`ReflectivityTable::angle_cell`]).
+#[derive(Clone, Copy, Debug)]
+pub struct AngleCell {
+    theta: f64,
+    /// Index of the node below, or `usize::MAX` beyond the table.
+    node: usize,
+    /// Position between that node and the next (0–1).
+    t: f64,
+}
+
 /// Tabulated unpolarised reflectivity of one coating.
 #[derive(Clone, Debug)]
 pub struct ReflectivityTable {
@@ -76,12 +96,65 @@ impl ReflectivityTable {
     /// grazing angle `theta` (rad, ≥ 0).
     #[inline]
     pub fn reflectivity(&self, energy_kev: f64, theta: f64) -> f64 {
+        self.at(&self.energy_cell(energy_kev), &self.angle_cell(theta))
+    }
+
+    /// Where `energy_kev` falls between the energy nodes (for [`Self::at`]: a
+    /// sweep over many energies looks each one up once).
+    #[inline]
+    pub fn energy_cell(&self, energy_kev: f64) -> EnergyCell {
+        let e = &self.energies;
+        if e.len() == 1 {
+            return EnergyCell {
+                energy_kev,
+                upper: 0,
+                weight: 0.0,
+            };
+        }
+        let i = e
+            .partition_point(|&x| x <= energy_kev)
+            .clamp(1, e.len() - 1);
+        let weight = ((energy_kev - e[i - 1]) / (e[i] - e[i - 1])).clamp(0.0, 1.0);
+        EnergyCell {
+            energy_kev,
+            upper: i,
+            weight,
+        }
+    }
+
+    /// Where `theta` (rad) falls between the angle nodes, with its interpolation
+    /// weights (for [`Self::at`]: one reflection evaluated at many energies
+    /// computes them once).
+    #[inline]
+    pub fn angle_cell(&self, theta: f64) -> AngleCell {
         if theta > self.theta_max {
-            return self.coating.reflectivity(energy_kev, theta).unwrap_or(0.0);
+            return AngleCell {
+                theta,
+                node: usize::MAX,
+                t: 0.0,
+            };
         }
         let ft = theta / self.theta_step;
-        let j = (ft as usize).min(self.n_theta - 2);
-        let t = ft - j as f64;
+        let node = (ft as usize).min(self.n_theta - 2);
+        AngleCell {
+            theta,
+            node,
+            t: ft - node as f64,
+        }
+    }
+
+    /// R at an energy and an angle located by [`Self::energy_cell`] and
+    /// [`Self::angle_cell`]: cubic (Catmull–Rom) in angle, linear in energy.
+    #[inline]
+    pub fn at(&self, energy: &EnergyCell, angle: &AngleCell) -> f64 {
+        if angle.node == usize::MAX {
+            // Beyond the table (rare in X-ray optics): evaluated directly.
+            return self
+                .coating
+                .reflectivity(energy.energy_kev, angle.theta)
+                .unwrap_or(0.0);
+        }
+        let (j, t) = (angle.node, angle.t);
         // Catmull–Rom through nodes j−1 … j+2 (mirrored at θ = 0: R is even in θ
         // only approximately, so clamp instead; the end cells fall back to linear).
         let (t2, t3) = (t * t, t * t * t);
@@ -97,14 +170,10 @@ impl ReflectivityTable {
                 + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
                 + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
         };
-        let e = &self.energies;
-        if e.len() == 1 {
+        if self.energies.len() == 1 {
             return row(0);
         }
-        let i = e
-            .partition_point(|&x| x <= energy_kev)
-            .clamp(1, e.len() - 1);
-        let we = ((energy_kev - e[i - 1]) / (e[i] - e[i - 1])).clamp(0.0, 1.0);
+        let (i, we) = (energy.upper, energy.weight);
         row(i - 1) * (1.0 - we) + row(i) * we
     }
 
