@@ -65,7 +65,15 @@ pub fn reflectance(
     let mut rp = Complex64::new(0.0, 0.0);
     // Walk interfaces from the bottom (last layer / substrate) to the top
     // (vacuum / first layer). `below` is the medium under the current interface.
-    let (mut chi_below, mut q_below) = (substrate, q(substrate));
+    // A multilayer repeats a few materials and interfaces: q of each material
+    // and the Fresnel coefficients of each kind of interface (materials above
+    // and below, roughness) are computed once per call and looked up after
+    // that: the very same numbers, fewer square roots, exponentials and
+    // divisions.
+    let mut q_seen = Recent::<Complex64, Complex64>::default();
+    let mut q_of = |chi: Complex64| q_seen.get_or(chi, || q(chi));
+    let mut fresnel_seen = Recent::<(Complex64, Complex64, f64), (Complex64, Complex64)>::default();
+    let (mut chi_below, mut q_below) = (substrate, q_of(substrate));
     let mut sigma = substrate_roughness_nm;
     let mut first = true;
     for j in (0..=layers.len()).rev() {
@@ -73,12 +81,21 @@ pub fn reflectance(
         let q_above = if j == 0 {
             Complex64::new(theta_rad.sin(), 0.0)
         } else {
-            q(chi_above)
+            q_of(chi_above)
         };
-        let f = rough(q_above, q_below, sigma);
-        let fs = (q_above - q_below) / (q_above + q_below) * f;
-        let (na2, nb2) = (n2(chi_above), n2(chi_below));
-        let fp = (nb2 * q_above - na2 * q_below) / (nb2 * q_above + na2 * q_below) * f;
+        let fresnel = || {
+            let f = rough(q_above, q_below, sigma);
+            let fs = (q_above - q_below) / (q_above + q_below) * f;
+            let (na2, nb2) = (n2(chi_above), n2(chi_below));
+            let fp = (nb2 * q_above - na2 * q_below) / (nb2 * q_above + na2 * q_below) * f;
+            (fs, fp)
+        };
+        // The top interface (vacuum above, q = sin θ) happens once.
+        let (fs, fp) = if j == 0 {
+            fresnel()
+        } else {
+            fresnel_seen.get_or((chi_above, chi_below, sigma), fresnel)
+        };
         if first {
             rs = fs;
             rp = fp;
@@ -119,5 +136,54 @@ fn principal_sqrt(z: Complex64) -> Complex64 {
         Complex64::new(t, y / (2.0 * t))
     } else {
         Complex64::new(y.abs() / (2.0 * t), t.copysign(y))
+    }
+}
+
+/// The last few (key, value) pairs computed, compared bit for bit: a multilayer
+/// has two or three materials and as many kinds of interface.
+struct Recent<K, V> {
+    entries: [Option<(K, V)>; 4],
+    next: usize,
+}
+
+impl<K, V> Default for Recent<K, V> {
+    fn default() -> Self {
+        Recent {
+            entries: [None, None, None, None],
+            next: 0,
+        }
+    }
+}
+
+impl<K: SameBits + Copy, V: Copy> Recent<K, V> {
+    #[inline]
+    fn get_or(&mut self, key: K, compute: impl FnOnce() -> V) -> V {
+        for (k, v) in self.entries.iter().flatten() {
+            if k.same_bits(&key) {
+                return *v;
+            }
+        }
+        let v = compute();
+        self.entries[self.next] = Some((key, v));
+        self.next = (self.next + 1) % self.entries.len();
+        v
+    }
+}
+
+/// Equality of the bits (so that a cached value is exactly what computing it
+/// again would give; NaN-safe).
+trait SameBits {
+    fn same_bits(&self, other: &Self) -> bool;
+}
+
+impl SameBits for Complex64 {
+    fn same_bits(&self, o: &Self) -> bool {
+        self.re.to_bits() == o.re.to_bits() && self.im.to_bits() == o.im.to_bits()
+    }
+}
+
+impl SameBits for (Complex64, Complex64, f64) {
+    fn same_bits(&self, o: &Self) -> bool {
+        self.0.same_bits(&o.0) && self.1.same_bits(&o.1) && self.2.to_bits() == o.2.to_bits()
     }
 }
