@@ -248,3 +248,40 @@ pub fn reflectivity_rates(
         table_nodes: table.len(),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{morton, sorted_rays, RayOrder};
+
+    /// Bit i of each coordinate lands in bit 3i (+0, +1, +2 for x, y, z).
+    #[test]
+    fn morton_interleaves_bits() {
+        assert_eq!(morton([1, 0, 0]), 1);
+        assert_eq!(morton([0, 1, 0]), 2);
+        assert_eq!(morton([0, 0, 1]), 4);
+        assert_eq!(morton([3, 0, 0]), 0b1001);
+        assert_eq!(morton([0, 0, 1 << 9]), 1 << 29);
+        assert_eq!(morton([1023, 1023, 1023]), (1 << 30) - 1);
+    }
+
+    /// Sorting keeps every ray once, and puts rays that start at the same point
+    /// next to each other (14 origins: 13 changes of origin along the list).
+    #[test]
+    fn sorted_rays_are_a_permutation_grouped_by_origin() {
+        let rays: Vec<([f32; 3], [f32; 3])> = (0..1000)
+            .map(|i| {
+                let side = if i % 2 == 0 { -100.0 } else { 100.0 };
+                ([side, (i % 7) as f32, 0.0], [0.0, 0.0, -1.0])
+            })
+            .collect();
+        let sorted = sorted_rays(&rays, RayOrder::OriginThenDirection);
+        let key = |r: &([f32; 3], [f32; 3])| format!("{r:?}");
+        let mut a: Vec<String> = rays.iter().map(key).collect();
+        let mut b: Vec<String> = sorted.iter().map(key).collect();
+        a.sort();
+        b.sort();
+        assert_eq!(a, b);
+        let changes = sorted.windows(2).filter(|w| w[0].0 != w[1].0).count();
+        assert_eq!(changes, 13);
+    }
+}
