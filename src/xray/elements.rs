@@ -134,6 +134,11 @@ pub struct ScatteringTable {
     pub energy_kev: Vec<f64>,
     pub f1: Vec<f64>,
     pub f2: Vec<f64>,
+    /// ln f2 at each node (0 where f2 ≤ 0, never used there), and ln of each
+    /// interval's energy ratio: the logarithms [`ScatteringTable::at`] would
+    /// otherwise take on every call (the same numbers).
+    ln_f2: Vec<f64>,
+    ln_step: Vec<f64>,
 }
 
 impl ScatteringTable {
@@ -142,6 +147,8 @@ impl ScatteringTable {
             energy_kev: Vec::new(),
             f1: Vec::new(),
             f2: Vec::new(),
+            ln_f2: Vec::new(),
+            ln_step: Vec::new(),
         };
         for line in text.lines() {
             let cols: Vec<f64> = line
@@ -164,6 +171,15 @@ impl ScatteringTable {
             "data/henke/{}.nff: too few rows",
             symbol.to_lowercase()
         );
+        t.ln_f2 =
+            t.f2.iter()
+                .map(|&f| if f > 0.0 { f.ln() } else { 0.0 })
+                .collect();
+        t.ln_step = t
+            .energy_kev
+            .windows(2)
+            .map(|w| (w[1] / w[0]).ln())
+            .collect();
         t
     }
 
@@ -177,8 +193,9 @@ impl ScatteringTable {
         let f1 = self.f1[i - 1] + w * (self.f1[i] - self.f1[i - 1]);
         let (a, b) = (self.f2[i - 1], self.f2[i]);
         let f2 = if a > 0.0 && b > 0.0 {
-            let wl = (e_kev / e[i - 1]).ln() / (e[i] / e[i - 1]).ln();
-            (a.ln() + wl * (b.ln() - a.ln())).exp()
+            let wl = (e_kev / e[i - 1]).ln() / self.ln_step[i - 1];
+            let (ln_a, ln_b) = (self.ln_f2[i - 1], self.ln_f2[i]);
+            (ln_a + wl * (ln_b - ln_a)).exp()
         } else {
             a + w * (b - a)
         };
