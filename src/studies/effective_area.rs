@@ -287,26 +287,41 @@ fn trace_angle(
     all
 }
 
-/// Sums of one group of photons: per energy Σw, Σw², Σw per class; the image of
-/// the mean weight over the energies.
+/// Sums of one group of photons: per energy Σw, Σw², Σw per class; per pixel hit,
+/// the sum of the photons' mean weights over the energies (ascending pixels, each
+/// summed in photon order: added to the angle's image group by group, this gives
+/// the same numbers as one whole image per group, without allocating one).
 struct Sums {
     w: Vec<f64>,
     w2: Vec<f64>,
     class: Vec<[f64; 5]>,
-    image: Vec<f64>,
+    pixels: Vec<(u32, f64)>,
 }
 
 impl Sums {
-    fn new(energies: usize, pixels: usize) -> Sums {
+    fn new(energies: usize) -> Sums {
         Sums {
             w: vec![0.0; energies],
             w2: vec![0.0; energies],
             class: vec![[0.0; 5]; energies],
-            image: vec![0.0; pixels],
+            pixels: Vec::new(),
         }
     }
 
-    fn add(&mut self, o: &Sums) {
+    /// Sets `pixels` from the group's (pixel, mean weight) in photon order.
+    fn set_pixels(&mut self, mut hits: Vec<(u32, f64)>) {
+        hits.sort_by_key(|&(pixel, _)| pixel); // stable: photon order per pixel
+        self.pixels.clear();
+        for (pixel, v) in hits {
+            match self.pixels.last_mut() {
+                Some(last) if last.0 == pixel => last.1 += v,
+                _ => self.pixels.push((pixel, v)),
+            }
+        }
+    }
+
+    /// Adds another group's sums; its pixels go into `image`.
+    fn add(&mut self, o: &Sums, image: &mut [f64]) {
         for k in 0..self.w.len() {
             self.w[k] += o.w[k];
             self.w2[k] += o.w2[k];
@@ -314,10 +329,19 @@ impl Sums {
                 self.class[k][c] += o.class[k][c];
             }
         }
-        for (a, b) in self.image.iter_mut().zip(&o.image) {
-            *a += b;
+        for &(pixel, v) in &o.pixels {
+            image[pixel as usize] += v;
         }
     }
+}
+
+/// A recorded step with its table cell located: what multiplies the weight.
+#[derive(Clone, Copy)]
+enum Factor {
+    /// Reflectivity table index and the reflection's angle cell.
+    Mirror(usize, AngleCell),
+    /// Foil index, cos θ to the foil's normal.
+    Foil(usize, f64),
 }
 
 /// The areas and the image of one angle from its recorded photons.
@@ -345,66 +369,52 @@ fn evaluate(
         .map(|t| s.energies.iter().map(|&e| t.energy_cell(e)).collect())
         .collect();
     // Fixed groups summed in order: the same result on any number of threads.
-    // A group returns its sums by energy and, for the image, each pixel's
-    // partial sum over the group (summed in photon order, as a whole image per
-    // group did, without allocating one).
-    let groups: Vec<(Sums, Vec<(u32, f64)>)> =
-        hits.hits
-            .par_chunks(1024)
-            .map(|group| {
-                let mut sums = Sums::new(n_e, 0);
-                let mut image = Vec::with_capacity(group.len());
-                let mut angles: Vec<Option<AngleCell>> = Vec::new();
-                for h in group {
-                    // The image shows every photon; the areas count the region's.
-                    let counts = inside(h);
-                    let steps = &hits.steps[h.start as usize..h.end as usize];
-                    angles.clear();
-                    angles.extend(steps.iter().map(|st| match *st {
-                        Step::Mirror(t, theta) => Some(tables[t as usize].angle_cell(theta)),
-                        Step::Foil(..) => None,
-                    }));
-                    let mut mean = 0.0;
-                    for (k, &e) in s.energies.iter().enumerate() {
-                        let w = steps.iter().zip(&angles).fold(1.0, |w, (st, angle)| {
-                            match (*st, angle) {
-                                (Step::Mirror(t, _), Some(angle)) => {
-                                    let t = t as usize;
-                                    w * tables[t].at(&energy_cells[t][k], angle)
-                                }
-                                (Step::Foil(f, cos), _) => {
-                                    w * scene.foils[f as usize].transmission(e, cos)
-                                }
-                                (Step::Mirror(..), None) => unreachable!("a cell per mirror step"),
+    let groups: Vec<Sums> = hits
+        .hits
+        .par_chunks(1024)
+        .map(|group| {
+            let mut sums = Sums::new(n_e);
+            let mut pixels = Vec::with_capacity(group.len());
+            let mut factors: Vec<Factor> = Vec::new();
+            for h in group {
+                // The image shows every photon; the areas count the region's.
+                let counts = inside(h);
+                factors.clear();
+                factors.extend(
+                    hits.steps[h.start as usize..h.end as usize]
+                        .iter()
+                        .map(|st| match *st {
+                            Step::Mirror(t, theta) => {
+                                Factor::Mirror(t as usize, tables[t as usize].angle_cell(theta))
                             }
-                        });
-                        if counts {
-                            sums.w[k] += w;
-                            sums.w2[k] += w * w;
-                            sums.class[k][h.class as usize] += w;
+                            Step::Foil(f, cos) => Factor::Foil(f as usize, cos),
+                        }),
+                );
+                let mut mean = 0.0;
+                for (k, &e) in s.energies.iter().enumerate() {
+                    let w = factors.iter().fold(1.0, |w, f| match *f {
+                        Factor::Mirror(t, ref angle) => {
+                            w * tables[t].at(&energy_cells[t][k], angle)
                         }
-                        mean += w;
+                        Factor::Foil(f, cos) => w * scene.foils[f].transmission(e, cos),
+                    });
+                    if counts {
+                        sums.w[k] += w;
+                        sums.w2[k] += w * w;
+                        sums.class[k][h.class as usize] += w;
                     }
-                    image.push((h.pixel, mean / n_e as f64));
+                    mean += w;
                 }
-                // Per pixel, the group's photons in their order (a stable sort).
-                image.sort_by_key(|&(pixel, _)| pixel);
-                let mut partial: Vec<(u32, f64)> = Vec::with_capacity(image.len());
-                for (pixel, v) in image {
-                    match partial.last_mut() {
-                        Some(last) if last.0 == pixel => last.1 += v,
-                        _ => partial.push((pixel, 0.0 + v)),
-                    }
-                }
-                (sums, partial)
-            })
-            .collect();
-    let mut total = Sums::new(n_e, spec.pixel_count());
-    for (g, partial) in &groups {
-        total.add(g);
-        for &(pixel, v) in partial {
-            total.image[pixel as usize] += v;
-        }
+                pixels.push((h.pixel, mean / n_e as f64));
+            }
+            sums.set_pixels(pixels);
+            sums
+        })
+        .collect();
+    let mut total = Sums::new(n_e);
+    let mut image = vec![0.0; spec.pixel_count()];
+    for g in &groups {
+        total.add(g, &mut image);
     }
     let n = s.photons as f64;
     let a_beam = beam.cross_section() / 100.0;
@@ -428,7 +438,7 @@ fn evaluate(
     AngleResult {
         off_axis_arcmin: 0.0,
         points,
-        quality: analyse(&total.image, &geometry, spec.focal_length).map(|(q, _)| q),
+        quality: analyse(&image, &geometry, spec.focal_length).map(|(q, _)| q),
         on_sensor: hits.hits.len() as u64,
         counted: counted as u64,
         centre_mm: centre,
