@@ -55,12 +55,13 @@ impl RayOrder {
     }
 }
 
-struct Recorder(Vec<([f32; 3], [f32; 3])>);
+/// Keeps every query of a run as it was issued (f64 origin and direction, the
+/// surface it leaves), so that the replay asks Embree exactly the same questions.
+struct Recorder(Vec<Query>);
 
 impl QueryHook for Recorder {
     fn query(&mut self, q: &Query) {
-        let f = |v: [f64; 3]| [v[0] as f32, v[1] as f32, v[2] as f32];
-        self.0.push((f(q.origin), f(q.dir)));
+        self.0.push(*q);
     }
 }
 
@@ -115,7 +116,7 @@ pub fn run(
 
 /// Bare `rtcIntersect1` rays per second on `rays` in the current thread pool
 /// (after one warm-up pass; at least three passes and one second).
-fn replay_rate(scene: &Scene, rays: &[Ray]) -> f64 {
+fn replay_rate(scene: &Scene, rays: &[Query]) -> f64 {
     let pass = || -> usize {
         rays.par_chunks(4096)
             .map(|c| scene.embree.intersect_raw(c))
@@ -131,26 +132,25 @@ fn replay_rate(scene: &Scene, rays: &[Ray]) -> f64 {
     (rays.len() * rounds) as f64 / t.elapsed().as_secs_f64()
 }
 
-type Ray = ([f32; 3], [f32; 3]);
-
 /// The rays in `order`: keys from 10-bit quantised origins (over the rays' own
 /// bounding box) and unit directions, interleaved bit by bit (Z-order).
-fn sorted_rays(rays: &[Ray], order: RayOrder) -> Vec<Ray> {
-    let (mut lo, mut hi) = ([f32::MAX; 3], [f32::MIN; 3]);
-    for (o, _) in rays {
+fn sorted_rays(rays: &[Query], order: RayOrder) -> Vec<Query> {
+    let (mut lo, mut hi) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for q in rays {
         for k in 0..3 {
-            lo[k] = lo[k].min(o[k]);
-            hi[k] = hi[k].max(o[k]);
+            lo[k] = lo[k].min(q.origin[k]);
+            hi[k] = hi[k].max(q.origin[k]);
         }
     }
-    let cell = |v: f32, lo: f32, hi: f32| -> u64 {
+    let cell = |v: f64, lo: f64, hi: f64| -> u64 {
         let f = if hi > lo { (v - lo) / (hi - lo) } else { 0.0 };
         (f.clamp(0.0, 1.0) * 1023.0) as u64
     };
-    let key = |(o, d): &Ray| -> u64 {
+    let key = |q: &Query| -> u64 {
+        let (o, d) = (q.origin, q.dir);
         let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
             .sqrt()
-            .max(f32::MIN_POSITIVE);
+            .max(f64::MIN_POSITIVE);
         let origin = morton([0, 1, 2].map(|k| cell(o[k], lo[k], hi[k])));
         let dir = morton([0, 1, 2].map(|k| cell(d[k] / n, -1.0, 1.0)));
         match order {
@@ -252,6 +252,7 @@ pub fn reflectivity_rates(
 #[cfg(test)]
 mod tests {
     use super::{morton, sorted_rays, RayOrder};
+    use crate::embree::Query;
 
     /// Bit i of each coordinate lands in bit 3i (+0, +1, +2 for x, y, z).
     #[test]
@@ -268,20 +269,28 @@ mod tests {
     /// next to each other (14 origins: 13 changes of origin along the list).
     #[test]
     fn sorted_rays_are_a_permutation_grouped_by_origin() {
-        let rays: Vec<([f32; 3], [f32; 3])> = (0..1000)
+        let rays: Vec<Query> = (0..1000)
             .map(|i| {
                 let side = if i % 2 == 0 { -100.0 } else { 100.0 };
-                ([side, (i % 7) as f32, 0.0], [0.0, 0.0, -1.0])
+                Query {
+                    origin: [side, (i % 7) as f64, 0.0],
+                    dir: [0.0, 0.0, -1.0],
+                    t_max: f64::INFINITY,
+                    start_geometry: i % 3,
+                }
             })
             .collect();
         let sorted = sorted_rays(&rays, RayOrder::OriginThenDirection);
-        let key = |r: &([f32; 3], [f32; 3])| format!("{r:?}");
+        let key = |r: &Query| format!("{r:?}");
         let mut a: Vec<String> = rays.iter().map(key).collect();
         let mut b: Vec<String> = sorted.iter().map(key).collect();
         a.sort();
         b.sort();
         assert_eq!(a, b);
-        let changes = sorted.windows(2).filter(|w| w[0].0 != w[1].0).count();
+        let changes = sorted
+            .windows(2)
+            .filter(|w| w[0].origin != w[1].origin)
+            .count();
         assert_eq!(changes, 13);
     }
 }
