@@ -3,6 +3,7 @@
 //! number of threads and any split into shards.
 
 use rand_core::{RngCore, SeedableRng};
+use rand_distr::{Distribution, StandardNormal};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 /// SplitMix64 finaliser: a bijective mixer of 64-bit words.
@@ -27,5 +28,15 @@ impl PhotonRng {
     #[inline]
     pub fn uniform(&mut self) -> f64 {
         (self.0.next_u64() >> 11) as f64 * (1.0 / (1u64 << 53) as f64)
+    }
+
+    /// A standard normal deviate, by the ziggurat method (rand_distr's
+    /// `StandardNormal`): one 64-bit draw and a table lookup almost always, a
+    /// logarithm or exponential only in the rare tail and wedge cases. How many
+    /// draws it takes depends on the stream alone, never on what the caller does
+    /// with the deviate.
+    #[inline]
+    pub fn normal(&mut self) -> f64 {
+        StandardNormal.sample(&mut self.0)
     }
 }

@@ -90,22 +90,21 @@ impl FigureError {
     }
 
     /// Tilts the specular direction `reflected` (unit) off the surface with unit
-    /// normal `normal`. Always draws three numbers from `rng` (mixture choice and
-    /// two normal deviates), so that photons keep their streams aligned whatever
-    /// the parameters: runs with different widths share their random numbers.
+    /// normal `normal`. Always draws the mixture choice and two normal deviates
+    /// from `rng`, whose number of draws depends on the stream alone, so that
+    /// photons keep their streams aligned whatever the parameters: runs with
+    /// different widths share their random numbers (the fit relies on it).
     #[inline]
     pub fn perturb(&self, reflected: DVec3, normal: DVec3, rng: &mut PhotonRng) -> Perturbed {
         let choose_wide = rng.uniform() < self.wide_fraction;
-        // Box–Muller: two independent standard normal deviates.
-        let radius = (-2.0 * (1.0 - rng.uniform()).ln()).sqrt();
-        let (sin, cos) = (std::f64::consts::TAU * rng.uniform()).sin_cos();
+        let (g_in, g_out) = (rng.normal(), rng.normal());
         let sigma_in = if choose_wide {
             self.in_plane_wide
         } else {
             self.in_plane_narrow
         };
-        let a_in = sigma_in * ARCSEC * radius * cos;
-        let a_out = self.out_of_plane * ARCSEC * radius * sin;
+        let a_in = sigma_in * ARCSEC * g_in;
+        let a_out = self.out_of_plane * ARCSEC * g_out;
         if a_in == 0.0 && a_out == 0.0 {
             return Perturbed::Direction(reflected);
         }
@@ -116,13 +115,26 @@ impl FigureError {
             .try_normalize()
             .unwrap_or_else(|| reflected.any_orthonormal_vector());
         let s = n_perp.cross(reflected);
-        let out = (reflected + s * a_in.tan() + n_perp * a_out.tan()).normalize();
+        let out = (reflected + s * tan(a_in) + n_perp * tan(a_out)).normalize();
         // Below the surface: on the other side of it than the specular ray.
         if out.dot(normal) * reflected.dot(normal) <= 0.0 {
             Perturbed::BelowSurface
         } else {
             Perturbed::Direction(out)
         }
+    }
+}
+
+/// tan x, to within an ulp or so: figure-error tilts are a few arcminutes at
+/// most, where the Taylor series to x⁷ is exact in f64 (the next term is below
+/// 2e-18 x for |x| < 0.01 rad = 34′) and far cheaper than libm's `tan`.
+#[inline]
+fn tan(x: f64) -> f64 {
+    if x.abs() < 0.01 {
+        let x2 = x * x;
+        x + x * x2 * (1.0 / 3.0 + x2 * (2.0 / 15.0 + x2 * (17.0 / 315.0)))
+    } else {
+        x.tan()
     }
 }
 
@@ -210,5 +222,24 @@ impl FigureErrorLibrary {
                     known.join(", ")
                 ))
             })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// The short series agrees with libm's tan to a few ulps where it is used
+    /// (and is libm's tan beyond).
+    #[test]
+    fn series_tangent_matches_libm() {
+        let mut worst: f64 = 0.0;
+        for i in -20_000..=20_000 {
+            let x = i as f64 * 0.0099 / 20_000.0 + 1e-9;
+            let rel = (super::tan(x) / x.tan() - 1.0).abs();
+            worst = worst.max(rel);
+        }
+        assert!(worst < 4.0 * f64::EPSILON, "relative error {worst:e}");
+        for x in [0.01, -0.02, 0.3, 1.2] {
+            assert_eq!(super::tan(x), x.tan());
+        }
     }
 }
