@@ -35,6 +35,9 @@ pub struct MergeArgs {
     /// file: its SHA-256 is checked).
     #[arg(long, value_name = "FILE")]
     pub scene: Option<PathBuf>,
+    /// Also write each sensor's image as NAME.fits (see `traxer trace --fits`).
+    #[arg(long)]
+    pub fits: bool,
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
@@ -85,13 +88,13 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
         .into());
     }
     let merged = merge(shards, a.partial)?;
-    let folder = OutputFolder::prepare(out, &file_names(&scene, id.photon_list > 0))?;
+    let folder = OutputFolder::prepare(out, &file_names(&scene, id.photon_list > 0, a.fits))?;
     refuse_unfinished_run(out)?;
     let h = &merged.header;
     let provenance = Provenance::new(Some(device.info().version))
         .scene(&scene)
         .parts(h, &folders);
-    let (files, result) = write_results(folder, &scene, h, merged.tally, 0, &provenance)?;
+    let (files, result) = write_results(folder, &scene, h, merged.tally, 0, &provenance, a.fits)?;
     if !a.output.quiet.quiet {
         if !h.missing.is_empty() {
             tell!(

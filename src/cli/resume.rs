@@ -26,12 +26,14 @@ pub struct Settings {
     pub quiet: bool,
     /// Time between checkpoints; `None`: no checkpoints.
     pub every: Option<Duration>,
+    /// Also write each sensor's image as FITS.
+    pub fits: bool,
 }
 
 /// Every file a trace may leave in its results folder: the results, the run
 /// state, and the checkpoint while it runs.
-pub fn file_names(scene: &Scene, photon_list: bool) -> Vec<String> {
-    let mut names = traxer::output::run_file_names(scene, photon_list);
+pub fn file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
+    let mut names = traxer::output::run_file_names(scene, photon_list, fits);
     names.push(RUN_STATE_FILE.into());
     names.push(CHECKPOINT_FILE.into());
     names
@@ -119,7 +121,15 @@ pub fn trace_into(
         .scene(scene)
         .run(cfg, threads)
         .parts(&header, &[]);
-    let (files, result) = write_results(folder, scene, &header, tally, threads, &provenance)?;
+    let (files, result) = write_results(
+        folder,
+        scene,
+        &header,
+        tally,
+        threads,
+        &provenance,
+        settings.fits,
+    )?;
     if !settings.quiet {
         super::trace::report(scene, &result);
         say!("wrote {} files to {}", files, target.display());
@@ -137,6 +147,7 @@ pub fn write_results(
     tally: Tally,
     threads: usize,
     provenance: &Provenance,
+    fits: bool,
 ) -> anyhow::Result<(usize, trace::RunResult)> {
     let out = folder.target().to_path_buf();
     let context = || format!("cannot write the results into {}", out.display());
@@ -144,7 +155,7 @@ pub fn write_results(
     write_state(&state, header.clone(), &tally).with_context(context)?;
     let photon_list = header.identity.photon_list;
     let result = tally.into_result(photon_list, header.seconds, threads);
-    let files = write_run(folder.path(), scene, &result, provenance)
+    let files = write_run(folder.path(), scene, &result, provenance, fits)
         .and_then(|files| folder.commit().map(|_| files.len() + 1))
         .with_context(context)?;
     Ok((files, result))
@@ -206,7 +217,8 @@ pub fn resume(dir: &Path, settings: &Settings) -> anyhow::Result<()> {
         first_photon: shard.range().start,
         photon_list: id.photon_list,
     };
-    let folder = OutputFolder::prepare(dir, &file_names(&scene, id.photon_list > 0))?;
+    let folder =
+        OutputFolder::prepare(dir, &file_names(&scene, id.photon_list > 0, settings.fits))?;
     let mut part = RunPart::new(&scene, &cfg, shard);
     part.seconds = header.seconds;
     if !settings.quiet {

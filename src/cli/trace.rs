@@ -49,6 +49,12 @@ pub struct TraceArgs {
     /// (scene, variables, seed, photons and shard come from it).
     #[arg(value_name = "DIR", long, conflicts_with_all = ["scene", "define", "photons", "seed", "shard", "photon_list", "out"])]
     pub resume: Option<PathBuf>,
+    /// Also write each sensor's flux image as NAME.fits: a float64 primary image
+    /// (a cube [band, y, x] with energy bins) whose header holds the WCS in mm on
+    /// the sensor, an alternative WCS "A" in arcsec at the sensor's focal length,
+    /// BUNIT, the energy range and the provenance.
+    #[arg(long)]
+    pub fits: bool,
 }
 
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
@@ -58,6 +64,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
             threads: a.run.sampling.threads,
             quiet: a.output.quiet.quiet,
             every,
+            fits: a.fits,
         };
         return resume::resume(dir, &settings);
     }
@@ -87,7 +94,8 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     };
     let (device, scene) = load_xray_scene(&scene_args)?;
     let out = &a.output.out;
-    let folder = OutputFolder::prepare(out, &resume::file_names(&scene, a.photon_list > 0))?;
+    let folder =
+        OutputFolder::prepare(out, &resume::file_names(&scene, a.photon_list > 0, a.fits))?;
     resume::refuse_unfinished_run(out)?;
     if scene.sensors.is_empty() {
         tell!("warning: the scene has no sensor; only statistics will be written");
@@ -97,6 +105,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         threads: cfg.threads,
         quiet: a.output.quiet.quiet,
         every,
+        fits: a.fits,
     };
     let tally = Tally::new(&scene);
     resume::trace_into(&device, &scene, &cfg, part, tally, folder, &settings)

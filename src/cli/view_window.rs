@@ -319,7 +319,7 @@ fn save(
     frame: &[u32],
     (w, h): (usize, usize),
 ) -> anyhow::Result<()> {
-    let mut names = run_file_names(scene, false);
+    let mut names = run_file_names(scene, false, false);
     names.push("frame.png".into());
     let folder = OutputFolder::prepare(dir, &names)?;
     let traced = tally.traced;
@@ -332,7 +332,7 @@ fn save(
     for (p, c) in png.pixels_mut().zip(frame) {
         *p = image::Rgb([(c >> 16) as u8, (c >> 8) as u8, *c as u8]);
     }
-    write_run(folder.path(), scene, &result, &provenance)
+    write_run(folder.path(), scene, &result, &provenance, false)
         .and_then(|_| write_rgb_png(&folder.path().join("frame.png"), &png))
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot save into {}", dir.display()))?;

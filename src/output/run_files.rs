@@ -4,18 +4,19 @@
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
 use super::write_eef_plot;
 use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
+use super::{write_sensor_fits, FluxUnit, SensorFits};
 use crate::analysis::{analyse, projections, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
-use crate::sensor::{sensor_file_names, SUMMARY_FILE};
+use crate::sensor::{fits_file_name, sensor_file_names, SUMMARY_FILE};
 use crate::source::Source;
 use crate::trace::RunResult;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
-/// Every file a trace of `scene` writes: each sensor's and summary.json, and the
-/// photon list if one is asked for.
-pub fn run_file_names(scene: &Scene, photon_list: bool) -> Vec<String> {
+/// Every file a trace of `scene` writes: each sensor's and summary.json, the
+/// photon list if one is asked for, and each sensor's FITS image with `fits`.
+pub fn run_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
     let list = photon_list
         .then_some(PHOTON_LIST_FILES)
         .into_iter()
@@ -26,15 +27,24 @@ pub fn run_file_names(scene: &Scene, photon_list: bool) -> Vec<String> {
         .flat_map(|s| s.file_names())
         .chain([SUMMARY_FILE.to_string()])
         .chain(list.map(String::from))
+        .chain(
+            scene
+                .sensors
+                .iter()
+                .filter(|_| fits)
+                .map(|s| fits_file_name(&s.name)),
+        )
         .collect()
 }
 
-/// Writes every output of a run into `dir` (created if needed); returns the paths.
+/// Writes every output of a run into `dir` (created if needed), with each sensor's
+/// image as FITS too if `fits`; returns the paths.
 pub fn write_run(
     dir: &Path,
     scene: &Scene,
     result: &RunResult,
     provenance: &Provenance,
+    fits: bool,
 ) -> std::io::Result<Vec<PathBuf>> {
     crate::files::create_dir_all(dir)?;
     let mut written = Vec::new();
@@ -49,6 +59,7 @@ pub fn write_run(
             provenance,
             sources: &sources,
             stats: &stats,
+            fits,
         };
         let (summary, files) = write_sensor(dir, scene, spec, image, absolute, &run)?;
         sensor_summaries.push(summary);
@@ -80,6 +91,8 @@ struct RunJson<'a> {
     provenance: &'a Provenance,
     sources: &'a Value,
     stats: &'a Value,
+    /// Also write the image as FITS.
+    fits: bool,
 }
 
 /// Writes one sensor's files (flux and counts `.npy`, PNGs, EEF plot,
@@ -110,6 +123,19 @@ fn write_sensor(
     let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
     write_npy_f64(&paths[0], &shape, flux)?;
     write_npy_u64(&paths[1], &shape, &image.counts)?;
+    if run.fits {
+        let path = dir.join(fits_file_name(&spec.name));
+        let image = SensorFits {
+            spec,
+            flux,
+            unit: flux_unit(absolute.is_some()),
+            energy_kev: image_energy_range(scene, spec),
+            provenance: run.provenance,
+            json_name: &files[4],
+        };
+        write_sensor_fits(&path, &image)?;
+        written.push(path);
+    }
     write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
     write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
     let geometry = ImageGeometry::of_sensor(spec);
@@ -190,6 +216,37 @@ fn write_sensor(
             .map(|(_, p)| p),
     );
     Ok((sensor, written))
+}
+
+/// What a sensor's pixel values are (as FITS BUNIT): photons per pixel, weighted
+/// as each source says (`sources[].weight` in the sensor's JSON), or axions per
+/// second with a Sun.
+fn flux_unit(absolute: bool) -> FluxUnit {
+    if absolute {
+        FluxUnit {
+            bunit: "s-1",
+            comment: "axions per second per pixel reaching the sensor",
+        }
+    } else {
+        FluxUnit {
+            bunit: "ph",
+            comment: "weighted photons per pixel (see sources[].weight)",
+        }
+    }
+}
+
+/// The energies an image holds (keV): the sensor's bins, else the sources'.
+fn image_energy_range(scene: &Scene, spec: &crate::sensor::SensorSpec) -> (f64, f64) {
+    if let Some((lo, hi, _)) = spec.energy_bins {
+        return (lo, hi);
+    }
+    scene
+        .sources
+        .iter()
+        .map(|s| s.energy_range())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
+            (a.min(lo), b.max(hi))
+        })
 }
 
 /// The image's x and y projections as CSV (the shorter axis' columns end empty).

@@ -37,6 +37,11 @@ pub fn sensor_file_names(name: &str) -> [String; 7] {
     ]
 }
 
+/// The FITS file of a sensor's image (`trace --fits`).
+pub fn fits_file_name(name: &str) -> String {
+    format!("{}.fits", file_stem(name))
+}
+
 /// The files of a sensor's image on its detector pixel grid: flux as `.npy` and
 /// as CSV for the limit code.
 pub fn grid_file_names(name: &str) -> [String; 2] {

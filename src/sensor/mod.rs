@@ -15,8 +15,8 @@ pub mod rebin;
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
-    check_file_names, file_stem, grid_file_names, sensor_file_names, MAX_FILE_NAME_BYTES,
-    SUMMARY_FILE,
+    check_file_names, file_stem, fits_file_name, grid_file_names, sensor_file_names,
+    MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};

@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# The Python tests (pytest, tests/python/): FITS files read by astropy. Installs
+# numpy, astropy and pytest from PyPI into a virtual environment under target/
+# (made once; python3-venv comes with apt where the system Python lacks venv),
+# and tests the release binary that `cargo test --release` built.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+venv=target/python-venv
+if [ ! -x "$venv/bin/python" ]; then
+  if ! python3 -m venv "$venv" 2>/dev/null; then
+    rm -rf "$venv"
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    echo "test-python: installing python3-venv with apt-get" >&2
+    $SUDO apt-get install -y -qq --no-install-recommends python3-venv >/dev/null
+    python3 -m venv "$venv"
+  fi
+fi
+"$venv/bin/python" -m pip install -q --disable-pip-version-check -r tests/python/requirements.txt
+[ -x target/release/traxer ] || cargo build --release
+TRAXER="$PWD/target/release/traxer" "$venv/bin/python" -m pytest -q tests/python "$@"

@@ -1,0 +1,290 @@
+//! FITS images for astronomers (`trace --fits`): each sensor's flux image as the
+//! primary image (float64) of `NAME.fits`, with a header that places it in mm on
+//! the sensor and, at the sensor's focal length, in arcseconds; energy-binned
+//! sensors as a cube [band, y, x] with an energy axis.
+//!
+//! Data flow: [`super::write_run`] calls [`write_sensor_fits`] with the same flux
+//! array it writes as `NAME.npy`, so the two hold the same numbers.
+//!
+//! CFITSIO (through the `fitsio` crate) writes the file into a private temporary
+//! folder: it takes file names with its own syntax (brackets, `!`, `mem://`), so it
+//! is only ever given a plain name of ours; the bytes are then written to the
+//! results folder atomically like every other output.
+//!
+//! The header, in FITS pixel terms (pixel (1, 1) is numpy's `image[0, 0]`, the
+//! corner at local (−size_x/2, −size_y/2), +x along the sensor's local x):
+//! - WCS (primary): `X`/`Y` in mm on the sensor, the pixel centres exactly
+//!   (CRPIX = 1 at the first pixel's centre, CDELT = pitch);
+//! - WCS `A`: `XANG`/`YANG` in arcsec, the plate scale 206264.806″ / f per mm at
+//!   the sensor's focal length f (the small-angle scale: atan(x/f) is smaller by
+//!   (x/f)²/3 relative, 7e-6 at the edge of a 14 mm sensor at 1.5 m); only when
+//!   the sensor has a focal length;
+//! - energy-binned: axis 3 `ENERGY` in keV at the band centres;
+//! - BUNIT, E_MIN/E_MAX (keV), and the provenance as keywords (the whole record,
+//!   with the command line and the variables, is in `NAME.json`).
+
+use super::Provenance;
+use crate::files::atomic_write;
+use crate::sensor::SensorSpec;
+use fitsio::images::{ImageDescription, ImageType};
+use fitsio::FitsFile;
+use std::path::Path;
+
+/// Arcseconds per radian.
+const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
+
+/// What the pixel values are: FITS unit string and its explanation.
+pub struct FluxUnit {
+    pub bunit: &'static str,
+    pub comment: &'static str,
+}
+
+/// One sensor's image and what its header says about it.
+pub struct SensorFits<'a> {
+    pub spec: &'a SensorSpec,
+    /// [band][iy][ix], the array of `NAME.npy`.
+    pub flux: &'a [f64],
+    pub unit: FluxUnit,
+    /// Energy range of the image (keV): the sensor's bins, or the sources' spectra.
+    pub energy_kev: (f64, f64),
+    pub provenance: &'a Provenance,
+    /// The sensor's JSON file, which holds the whole provenance record.
+    pub json_name: &'a str,
+}
+
+/// Writes a sensor's image as the FITS file `path`.
+pub fn write_sensor_fits(path: &Path, image: &SensorFits) -> std::io::Result<()> {
+    let tmp = tempfile::Builder::new().prefix("traxer-fits-").tempdir()?;
+    let tmp_file = tmp.path().join("image.fits");
+    fits_file(&tmp_file, image)
+        .map_err(|e| std::io::Error::other(format!("{}: writing FITS: {e}", path.display())))?;
+    let bytes = std::fs::read(&tmp_file)?;
+    atomic_write(path, &bytes)
+}
+
+fn fits_file(tmp_file: &Path, image: &SensorFits) -> fitsio::errors::Result<()> {
+    let SensorFits {
+        spec,
+        flux,
+        unit,
+        energy_kev,
+        provenance: prov,
+        json_name,
+    } = image;
+    let (nx, ny, bands) = (
+        spec.pixels[0] as usize,
+        spec.pixels[1] as usize,
+        spec.bands(),
+    );
+    // fitsio takes the dimensions slowest first, as numpy does.
+    let dims: Vec<usize> = match spec.energy_bins {
+        Some(_) => vec![bands, ny, nx],
+        None => vec![ny, nx],
+    };
+    let description = ImageDescription {
+        data_type: ImageType::Double,
+        dimensions: &dims,
+    };
+    let mut f = FitsFile::create(tmp_file)
+        .with_custom_primary(&description)
+        .open()?;
+    let hdu = f.primary_hdu()?;
+    hdu.write_image(&mut f, flux)?;
+
+    let mut keys = Keys::default();
+    keys.text("BUNIT", unit.bunit, unit.comment);
+    keys.text("DETNAME", &spec.name, "traxer sensor (object) name");
+    keys.float("E_MIN", energy_kev.0, "[keV] lowest energy in the image");
+    keys.float("E_MAX", energy_kev.1, "[keV] highest energy in the image");
+    let pitch = spec.pitch();
+    let first = [
+        -0.5 * spec.size[0] + 0.5 * pitch[0],
+        -0.5 * spec.size[1] + 0.5 * pitch[1],
+    ];
+    let energy_axis = spec.energy_bins.map(|(lo, hi, n)| {
+        let width = (hi - lo) / n as f64;
+        (lo + 0.5 * width, width)
+    });
+    // The primary WCS: mm on the sensor.
+    for (i, name) in ["X", "Y"].iter().enumerate() {
+        let k = i + 1;
+        keys.text(
+            &format!("CTYPE{k}"),
+            name,
+            "position on the sensor (local axes)",
+        );
+        keys.text(&format!("CUNIT{k}"), "mm", "");
+        keys.float(&format!("CRPIX{k}"), 1.0, "the first pixel's centre");
+        keys.float(&format!("CRVAL{k}"), first[i], "[mm] its position");
+        keys.float(&format!("CDELT{k}"), pitch[i], "[mm] pixel pitch");
+    }
+    // The alternative WCS: arcsec at the focal length.
+    if let Some(f_mm) = spec.focal_length {
+        keys.text("WCSNAMEA", "ANGLE", "field angle at the focal length");
+        for (i, name) in ["XANG", "YANG"].iter().enumerate() {
+            let k = i + 1;
+            let scale = ARCSEC_PER_RAD / f_mm;
+            keys.text(
+                &format!("CTYPE{k}A"),
+                name,
+                "angle = position / focal length",
+            );
+            keys.text(&format!("CUNIT{k}A"), "arcsec", "");
+            keys.float(&format!("CRPIX{k}A"), 1.0, "the first pixel's centre");
+            keys.float(&format!("CRVAL{k}A"), first[i] * scale, "[arcsec]");
+            keys.float(
+                &format!("CDELT{k}A"),
+                pitch[i] * scale,
+                "[arcsec] per pixel",
+            );
+        }
+        keys.float("FOCALLEN", f_mm, "[mm] focal length of the angular WCS");
+    }
+    if let Some((centre, width)) = energy_axis {
+        for alt in ["", "A"] {
+            if alt == "A" && spec.focal_length.is_none() {
+                continue;
+            }
+            keys.text(&format!("CTYPE3{alt}"), "ENERGY", "photon energy band");
+            keys.text(&format!("CUNIT3{alt}"), "keV", "");
+            keys.float(&format!("CRPIX3{alt}"), 1.0, "the first band");
+            keys.float(&format!("CRVAL3{alt}"), centre, "[keV] its centre");
+            keys.float(&format!("CDELT3{alt}"), width, "[keV] band width");
+        }
+    }
+    provenance_keys(&mut keys, prov, json_name);
+    for (name, value) in keys.0 {
+        match value {
+            Value::Text(v, c) => hdu.write_key(&mut f, &name, (v.as_str(), c.as_str()))?,
+            Value::Float(v, c) => hdu.write_key(&mut f, &name, (v, c.as_str()))?,
+            Value::Int(v, c) => hdu.write_key(&mut f, &name, (v, c.as_str()))?,
+        }
+    }
+    Ok(())
+}
+
+/// The run's provenance as keywords (FITS strings hold 68 characters: longer
+/// values are cut, and `PROVFILE` names the JSON file with all of it).
+fn provenance_keys(keys: &mut Keys, p: &Provenance, json_name: &str) {
+    keys.text("ORIGIN", "traxer", "X-ray raytracer for axion helioscopes");
+    keys.text(
+        "CREATOR",
+        &format!("traxer {} ({})", p.traxer_version, p.git_hash),
+        "program and commit",
+    );
+    if let Some(e) = &p.embree_version {
+        keys.text("EMBREE", e, "ray-intersection library");
+    }
+    keys.text(
+        "DATE",
+        &iso_date(p.finished_unix_s),
+        "UTC when the run finished",
+    );
+    if let Some(path) = &p.scene_path {
+        let name = Path::new(path)
+            .file_name()
+            .map_or(path.clone(), |n| n.to_string_lossy().into_owned());
+        keys.text("SCENE", &name, "scene file");
+    }
+    if let Some(h) = &p.scene_sha256 {
+        keys.text("SCENESHA", h, "SHA-256 of the scene file");
+    }
+    if !p.overrides.is_empty() {
+        keys.text(
+            "OVERRIDE",
+            &p.overrides.join(" "),
+            "-D overrides of scene variables",
+        );
+    }
+    if let Some(s) = p.seed {
+        keys.int("SEED", s as i64, "random seed");
+    }
+    if let Some(n) = p.photons {
+        keys.int("PHOTONS", n as i64, "photons traced");
+    }
+    if let Some(first) = p.first_photon {
+        keys.int("FIRSTPH", first as i64, "index of the first photon traced");
+    }
+    keys.text("PROVFILE", json_name, "complete provenance (JSON sidecar)");
+}
+
+/// A header card's value and comment.
+enum Value {
+    Text(String, String),
+    Float(f64, String),
+    Int(i64, String),
+}
+
+/// Cards in the order they are written.
+#[derive(Default)]
+struct Keys(Vec<(String, Value)>);
+
+impl Keys {
+    fn text(&mut self, name: &str, value: &str, comment: &str) {
+        self.0.push((
+            name.into(),
+            Value::Text(fits_string(value), fits_string(comment)),
+        ));
+    }
+    fn float(&mut self, name: &str, value: f64, comment: &str) {
+        self.0
+            .push((name.into(), Value::Float(value, fits_string(comment))));
+    }
+    fn int(&mut self, name: &str, value: i64, comment: &str) {
+        self.0
+            .push((name.into(), Value::Int(value, fits_string(comment))));
+    }
+}
+
+/// A FITS header string: printable ASCII only (anything else becomes `?`), at
+/// most 68 characters (what one card holds).
+fn fits_string(s: &str) -> String {
+    s.chars()
+        .map(|c| if (' '..='~').contains(&c) { c } else { '?' })
+        .take(68)
+        .collect()
+}
+
+/// `YYYY-MM-DDThh:mm:ss` (UTC) of a Unix time, the FITS DATE format; civil date
+/// from the day count by the proleptic Gregorian calendar's 400-year cycle.
+fn iso_date(unix_s: u64) -> String {
+    let days = (unix_s / 86_400) as i64;
+    let secs = unix_s % 86_400;
+    // Days since 0000-03-01, so that leap days end a year.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!(
+        "{year:04}-{month:02}-{day:02}T{:02}:{:02}:{:02}",
+        secs / 3600,
+        secs / 60 % 60,
+        secs % 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{fits_string, iso_date};
+
+    /// Dates checked against `date -u -d @SECONDS` (GNU coreutils).
+    #[test]
+    fn iso_dates_of_unix_times() {
+        assert_eq!(iso_date(0), "1970-01-01T00:00:00");
+        assert_eq!(iso_date(951_782_400), "2000-02-29T00:00:00");
+        assert_eq!(iso_date(1_795_000_000), "2026-11-18T11:06:40");
+        assert_eq!(iso_date(4_107_542_399), "2100-02-28T23:59:59");
+        assert_eq!(iso_date(4_107_542_400), "2100-03-01T00:00:00");
+    }
+
+    #[test]
+    fn header_strings_are_printable_ascii_and_fit_a_card() {
+        assert_eq!(fits_string("Al Kα"), "Al K?");
+        assert_eq!(fits_string(&"x".repeat(100)).len(), 68);
+    }
+}

@@ -1,0 +1,148 @@
+"""FITS images written by `traxer trace --fits`, read by astropy (an independent
+FITS and WCS implementation): the data equal the .npy bit for bit, the WCS puts the
+pixel centres where traxer's own outputs say they are, in mm and in arcsec, the
+energy cube's third axis is at the band centres, and shards merged with --fits give
+the data of one run.
+
+Run by scripts/test-python.sh (part of scripts/test.sh); TRAXER names the binary.
+"""
+
+import csv
+import json
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+from astropy.io import fits
+from astropy.wcs import WCS
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+TRAXER = os.environ.get("TRAXER", str(REPO / "target" / "release" / "traxer"))
+
+
+def traxer(*args):
+    out = subprocess.run([TRAXER, *map(str, args)], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return out
+
+
+def wolter_scene(tmp, binned):
+    """The shipped Wolter-I scene with absolute mesh paths; 200 × 150 pixels (not
+    square, so that x and y cannot be swapped unnoticed); with 4 energy bands and no
+    focal length, or one band and f = 1500 mm."""
+    text = (REPO / "scenes" / "wolter1_parallel.toml").read_text()
+    text = text.replace('"../meshes/', '"%s/' % (REPO / "meshes"))
+    extra = "\nenergy_bins = [1.0, 2.0, 4]" if binned else "\nfocal_length = 1500.0"
+    assert "pixels = [512, 512]" in text
+    text = text.replace("pixels = [512, 512]", "pixels = [200, 150]" + extra)
+    path = tmp / ("binned.toml" if binned else "plain.toml")
+    path.write_text(text)
+    return path
+
+
+def run(tmp, scene, name, *extra):
+    out = tmp / name
+    traxer("trace", scene, "-n", 60000, "-D", "off_axis=0.05", "-D", "focus_shift=20",
+           "--out", out, "-q", "--fits", *extra)
+    return out
+
+
+@pytest.fixture(scope="module")
+def plain(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("plain")
+    return run(tmp, wolter_scene(tmp, False), "out")
+
+
+def test_data_equal_the_npy(plain):
+    with fits.open(plain / "sensor.fits") as f:
+        data = f[0].data
+        assert f[0].header["BITPIX"] == -64
+        npy = np.load(plain / "sensor.npy")
+        assert data.shape == npy.shape == (150, 200)
+        assert np.array_equal(data, npy)
+        assert data.sum() > 0
+
+
+def test_wcs_puts_pixel_centres_where_traxer_reports_them(plain):
+    header = fits.getheader(plain / "sensor.fits")
+    with open(plain / "sensor_projections.csv") as f:
+        rows = list(csv.DictReader(f))
+    x_mm = np.array([float(r["x_mm"]) for r in rows if r["x_mm"]])
+    y_mm = np.array([float(r["y_mm"]) for r in rows if r["y_mm"]])
+    assert len(x_mm) == 200 and len(y_mm) == 150
+    w = WCS(header)
+    # 0-based pixel indices, numpy's (ix along axis 1, iy along axis 0).
+    wx, _ = w.pixel_to_world_values(np.arange(200), np.zeros(200))
+    _, wy = w.pixel_to_world_values(np.zeros(150), np.arange(150))
+    # CFITSIO writes 15 significant digits: 1e-12 mm on a 14 mm sensor.
+    assert np.allclose(wx, x_mm, rtol=0, atol=1e-12)
+    assert np.allclose(wy, y_mm, rtol=0, atol=1e-12)
+    assert w.wcs.cunit[0] == "mm"
+
+
+def test_arcsec_wcs_has_the_plate_scale_of_the_reported_diameters(plain):
+    header = fits.getheader(plain / "sensor.fits")
+    summary = json.loads((plain / "sensor.json").read_text())["sensor"]
+    q = summary["image_quality"]
+    f_mm = q["focal_length_mm"]
+    wa = WCS(header, key="A")
+    assert str(wa.wcs.cunit[0]) == "arcsec"
+    ix = np.arange(200)
+    ax, _ = wa.pixel_to_world_values(ix, np.zeros(200))
+    x_mm, _ = WCS(header).pixel_to_world_values(ix, np.zeros(200))
+    # Small-angle plate scale: 206264.806″ per radian over the focal length.
+    assert np.allclose(ax, x_mm / f_mm * 206264.80624709636, rtol=1e-12, atol=1e-9)
+    # traxer's diameters in arcsec are 2 atan(r/f): the same scale to (r/f)²/3.
+    for d in ("hpd", "d80", "d90"):
+        scale = q[d + "_arcsec"] / q[d + "_mm"]
+        assert scale == pytest.approx(header["CDELT1A"] / header["CDELT1"], rel=1e-5)
+
+
+def test_header_carries_unit_band_and_provenance(plain):
+    header = fits.getheader(plain / "sensor.fits")
+    prov = json.loads((plain / "sensor.json").read_text())["provenance"]
+    assert header["BUNIT"] == "ph"
+    assert header["E_MIN"] == header["E_MAX"] == 1.49
+    assert header["SEED"] == prov["seed"] == 1
+    assert header["PHOTONS"] == prov["photons"] == 60000
+    assert header["SCENESHA"] == prov["scene_sha256"]
+    assert header["SCENE"] == "plain.toml"
+    assert prov["git_hash"] in header["CREATOR"]
+    assert header["PROVFILE"] == "sensor.json"
+
+
+def test_energy_bins_make_a_cube_with_an_energy_axis(tmp_path):
+    out = run(tmp_path, wolter_scene(tmp_path, True), "binned")
+    with fits.open(out / "sensor.fits") as f:
+        data, header = f[0].data, f[0].header
+    npy = np.load(out / "sensor.npy")
+    assert data.shape == npy.shape == (4, 150, 200)
+    assert np.array_equal(data, npy)
+    edges = json.loads((out / "sensor.json").read_text())["sensor"]["energy_band_edges_keV"]
+    centres = 0.5 * (np.array(edges[:-1]) + np.array(edges[1:]))
+    w = WCS(header)
+    assert w.naxis == 3 and str(w.wcs.cunit[2]) == "keV"
+    _, _, e = w.pixel_to_world_values(np.zeros(4), np.zeros(4), np.arange(4))
+    assert np.allclose(e, centres, rtol=1e-12)
+    # No focal length in this scene: no angular WCS.
+    assert "CTYPE1A" not in header
+    assert (header["E_MIN"], header["E_MAX"]) == (1.0, 2.0)
+
+
+def test_merged_shards_give_the_fits_data_of_one_run(tmp_path, plain):
+    scene = wolter_scene(tmp_path, False)
+    parts = [run(tmp_path, scene, "shard%d" % k, "--shard", "%d/2" % k) for k in (1, 2)]
+    merged = tmp_path / "merged"
+    traxer("merge", *parts, "--out", merged, "-q", "--fits")
+    one = fits.getdata(plain / "sensor.fits")
+    assert np.array_equal(fits.getdata(merged / "sensor.fits"), one)
+    assert fits.getheader(merged / "sensor.fits")["PHOTONS"] == 60000
+
+
+def test_without_fits_no_fits_file(tmp_path):
+    out = tmp_path / "nofits"
+    traxer("trace", wolter_scene(tmp_path, False), "-n", 1000, "--out", out, "-q")
+    assert not (out / "sensor.fits").exists()
+    assert (out / "sensor.npy").exists()
