@@ -198,6 +198,7 @@ fn write_sensor(
             "png_linear": files[2], "png_log": files[3],
             "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
             "projections_csv": files[6],
+            "fits": run.fits.then(|| fits_file_name(&spec.name)),
             "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
         },
     });

@@ -111,6 +111,8 @@ def test_header_carries_unit_band_and_provenance(plain):
     assert header["SCENE"] == "plain.toml"
     assert prov["git_hash"] in header["CREATOR"]
     assert header["PROVFILE"] == "sensor.json"
+    files = json.loads((plain / "sensor.json").read_text())["sensor"]["files"]
+    assert files["fits"] == "sensor.fits"
 
 
 def test_energy_bins_make_a_cube_with_an_energy_axis(tmp_path):
