@@ -107,49 +107,39 @@ fn fits_file(tmp_file: &Path, image: &SensorFits) -> fitsio::errors::Result<()> 
     });
     // The primary WCS: mm on the sensor.
     for (i, name) in ["X", "Y"].iter().enumerate() {
-        let k = i + 1;
-        keys.text(
-            &format!("CTYPE{k}"),
-            name,
-            "position on the sensor (local axes)",
-        );
-        keys.text(&format!("CUNIT{k}"), "mm", "");
-        keys.float(&format!("CRPIX{k}"), 1.0, "the first pixel's centre");
-        keys.float(&format!("CRVAL{k}"), first[i], "[mm] its position");
-        keys.float(&format!("CDELT{k}"), pitch[i], "[mm] pixel pitch");
+        let axis = LinearAxis {
+            ctype: name,
+            unit: "mm",
+            first: first[i],
+            step: pitch[i],
+        };
+        keys.axis(i + 1, "", &axis, "position on the sensor (local axes)");
     }
     // The alternative WCS: arcsec at the focal length.
     if let Some(f_mm) = spec.focal_length {
         keys.text("WCSNAMEA", "ANGLE", "field angle at the focal length");
+        let scale = ARCSEC_PER_RAD / f_mm;
         for (i, name) in ["XANG", "YANG"].iter().enumerate() {
-            let k = i + 1;
-            let scale = ARCSEC_PER_RAD / f_mm;
-            keys.text(
-                &format!("CTYPE{k}A"),
-                name,
-                "angle = position / focal length",
-            );
-            keys.text(&format!("CUNIT{k}A"), "arcsec", "");
-            keys.float(&format!("CRPIX{k}A"), 1.0, "the first pixel's centre");
-            keys.float(&format!("CRVAL{k}A"), first[i] * scale, "[arcsec]");
-            keys.float(
-                &format!("CDELT{k}A"),
-                pitch[i] * scale,
-                "[arcsec] per pixel",
-            );
+            let axis = LinearAxis {
+                ctype: name,
+                unit: "arcsec",
+                first: first[i] * scale,
+                step: pitch[i] * scale,
+            };
+            keys.axis(i + 1, "A", &axis, "angle = position / focal length");
         }
         keys.float("FOCALLEN", f_mm, "[mm] focal length of the angular WCS");
     }
     if let Some((centre, width)) = energy_axis {
-        for alt in ["", "A"] {
-            if alt == "A" && spec.focal_length.is_none() {
-                continue;
-            }
-            keys.text(&format!("CTYPE3{alt}"), "ENERGY", "photon energy band");
-            keys.text(&format!("CUNIT3{alt}"), "keV", "");
-            keys.float(&format!("CRPIX3{alt}"), 1.0, "the first band");
-            keys.float(&format!("CRVAL3{alt}"), centre, "[keV] its centre");
-            keys.float(&format!("CDELT3{alt}"), width, "[keV] band width");
+        let axis = LinearAxis {
+            ctype: "ENERGY",
+            unit: "keV",
+            first: centre,
+            step: width,
+        };
+        keys.axis(3, "", &axis, "photon energy band");
+        if spec.focal_length.is_some() {
+            keys.axis(3, "A", &axis, "photon energy band");
         }
     }
     provenance_keys(&mut keys, prov, json_name);
@@ -215,6 +205,15 @@ enum Value {
     Int(i64, String),
 }
 
+/// A linear WCS axis: its type and unit, the world coordinate of the first
+/// pixel's centre (FITS pixel 1) and the step per pixel.
+struct LinearAxis<'a> {
+    ctype: &'a str,
+    unit: &'a str,
+    first: f64,
+    step: f64,
+}
+
 /// Cards in the order they are written.
 #[derive(Default)]
 struct Keys(Vec<(String, Value)>);
@@ -230,6 +229,24 @@ impl Keys {
         self.0
             .push((name.into(), Value::Float(value, fits_string(comment))));
     }
+    /// The cards of axis `k` of the WCS with letter `alt` ("" for the primary).
+    fn axis(&mut self, k: usize, alt: &str, a: &LinearAxis, what: &str) {
+        let unit = a.unit;
+        self.text(&format!("CTYPE{k}{alt}"), a.ctype, what);
+        self.text(&format!("CUNIT{k}{alt}"), unit, "");
+        self.float(&format!("CRPIX{k}{alt}"), 1.0, "the first pixel's centre");
+        self.float(
+            &format!("CRVAL{k}{alt}"),
+            a.first,
+            &format!("[{unit}] there"),
+        );
+        self.float(
+            &format!("CDELT{k}{alt}"),
+            a.step,
+            &format!("[{unit}] per pixel"),
+        );
+    }
+
     fn int(&mut self, name: &str, value: i64, comment: &str) {
         self.0
             .push((name.into(), Value::Int(value, fits_string(comment))));
