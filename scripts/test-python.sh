@@ -1,8 +1,11 @@
 #!/usr/bin/env bash
-# The Python tests (pytest, tests/python/): FITS files read by astropy. Installs
-# numpy, astropy and pytest from PyPI into a virtual environment under target/
-# (made once; python3-venv comes with apt where the system Python lacks venv),
-# and tests the release binary that `cargo test --release` built.
+# The Python tests (pytest, tests/python/): the Python module against the binary,
+# and FITS files read by astropy. Installs numpy, astropy and pytest from PyPI
+# into a virtual environment under target/ (made once; python3-venv comes with apt
+# where the system Python lacks venv), builds and installs the module the way a
+# user does (`pip install ./python`: maturin, in the same target folder as the
+# binary, so the traxer library is not compiled twice), and tests it against the
+# release binary that `cargo test --release` built.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/python-venv
@@ -17,4 +20,5 @@ if [ ! -x "$venv/bin/python" ]; then
 fi
 "$venv/bin/python" -m pip install -q --disable-pip-version-check -r tests/python/requirements.txt
 [ -x target/release/traxer ] || cargo build --release
+"$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps ./python
 TRAXER="$PWD/target/release/traxer" "$venv/bin/python" -m pytest -q tests/python "$@"

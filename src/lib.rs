@@ -49,3 +49,19 @@ pub mod source;
 pub mod studies;
 pub mod trace;
 pub mod xray;
+
+/// Whether an error of the library is the user's input (a scene, a mesh, a data
+/// file, an output location, a setting) rather than a failure of the machine:
+/// the binary exits with code 2 for these, the Python module raises `InputError`.
+pub fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
+    e.is::<scene::SceneError>()
+        || e.is::<mesh::MeshError>()
+        || e.is::<output::NpyError>()
+        || e.is::<files::OutputLocationError>()
+        || e.is::<source::sun::SolarDataError>()
+        || e.is::<runstate::RunStateError>()
+        || e.is::<runstate::MergeError>()
+        || e.is::<xray::CoatingSpecError>()
+        || e.downcast_ref::<studies::StudyError>()
+            .is_some_and(studies::StudyError::is_bad_input)
+}

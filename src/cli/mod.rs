@@ -48,11 +48,7 @@ pub mod view_window;
 
 use args::SceneArgs;
 use traxer::embree::Device;
-use traxer::files::OutputLocationError;
-use traxer::mesh::MeshError;
-use traxer::output::NpyError;
-use traxer::scene::{Scene, SceneError};
-use traxer::studies::StudyError;
+use traxer::scene::Scene;
 
 /// A usage problem the user can fix (exit code 2).
 #[derive(Debug, thiserror::Error)]
@@ -67,18 +63,8 @@ pub struct Stopped(pub String);
 
 /// Whether an error is the user's input (exit code 2) rather than a failed run.
 pub fn is_input_error(e: &anyhow::Error) -> bool {
-    e.chain().any(|c| {
-        c.is::<SceneError>()
-            || c.is::<MeshError>()
-            || c.is::<InputError>()
-            || c.is::<NpyError>()
-            || c.is::<OutputLocationError>()
-            || c.is::<traxer::source::sun::SolarDataError>()
-            || c.is::<traxer::runstate::RunStateError>()
-            || c.is::<traxer::runstate::MergeError>()
-            || c.downcast_ref::<StudyError>()
-                .is_some_and(StudyError::is_bad_input)
-    })
+    e.chain()
+        .any(|c| c.is::<InputError>() || traxer::is_bad_input(c))
 }
 
 /// Prints a scene's warnings once each, however often it is loaded.

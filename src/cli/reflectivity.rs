@@ -5,11 +5,11 @@ use super::args::parse_values;
 use super::InputError;
 use anyhow::Context;
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use traxer::files::atomic_write;
 use traxer::files::check_output_file;
 use traxer::output::{csv_text, line_plot, sidecar_path, write_sidecar, Provenance, Series};
-use traxer::xray::{Coating, CoatingLibrary};
+use traxer::xray::coating_from_spec;
 
 /// Print the reflectivity of a mirror coating as CSV and plot it.
 ///
@@ -39,62 +39,13 @@ pub struct ReflectivityArgs {
     pub csv: Option<PathBuf>,
 }
 
-fn load_coating(spec: &str) -> Result<Coating, InputError> {
-    let shipped = CoatingLibrary::shipped();
-    if shipped.is_perfect(spec) {
-        return Err(InputError(format!(
-            "--coating {spec}: R = 1 everywhere, nothing to plot"
-        )));
-    }
-    if shipped.coatings.contains_key(spec) {
-        return shipped.coating(spec).map_err(|e| InputError(e.to_string()));
-    }
-    let (file, name) = match spec.rsplit_once(':') {
-        Some((f, n)) if Path::new(f).is_file() => (f, Some(n)),
-        _ => (spec, None),
-    };
-    if !Path::new(file).is_file() {
-        return Err(InputError(format!(
-            "--coating {spec}: not a shipped coating (have: {}) and not a file",
-            shipped
-                .coatings
-                .keys()
-                .cloned()
-                .collect::<Vec<_>>()
-                .join(", ")
-        )));
-    }
-    let text = std::fs::read_to_string(file).map_err(|e| InputError(format!("{file}: {e}")))?;
-    let lib: CoatingLibrary = toml::from_str(&text).map_err(|e| {
-        let line = e
-            .span()
-            .map(|s| text[..s.start].lines().count().max(1))
-            .unwrap_or(0);
-        InputError(format!("{file}:{line}: {}", e.message()))
-    })?;
-    let name = match name {
-        Some(n) => n.to_string(),
-        None if lib.coatings.len() == 1 => lib.coatings.keys().next().expect("one").clone(),
-        None => {
-            return Err(InputError(format!(
-                "{file} defines {} coatings; choose one with --coating {file}:NAME",
-                lib.coatings.len()
-            )))
-        }
-    };
-    shipped
-        .merged(&lib)
-        .coating(&name)
-        .map_err(|e| InputError(format!("{file}: {e}")))
-}
-
 pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
     check_output_file(&a.plot)?;
     check_output_file(&sidecar_path(&a.plot))?;
     if let Some(csv) = &a.csv {
         check_output_file(csv)?;
     }
-    let coating = load_coating(&a.coating)?;
+    let coating = coating_from_spec(&a.coating).map_err(|e| InputError(e.to_string()))?;
     let energies = parse_values("energy", &a.energy)?;
     let angles = parse_values("angle", &a.angle)?;
     let versus_angle = energies.len() <= 8 && (angles.len() > 8 || angles.len() >= energies.len());

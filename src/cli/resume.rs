@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use traxer::embree::Device;
 use traxer::files::OutputFolder;
-use traxer::output::{write_run, Provenance};
+use traxer::output::Provenance;
 use traxer::runstate::{
     read_header, read_state, write_state, RunIdentity, RunPart, Shard, StateHeader,
     CHECKPOINT_FILE, RUN_STATE_FILE,
@@ -33,10 +33,7 @@ pub struct Settings {
 /// Every file a trace may leave in its results folder: the results, the run
 /// state, and the checkpoint while it runs.
 pub fn file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
-    let mut names = traxer::output::run_file_names(scene, photon_list, fits);
-    names.push(RUN_STATE_FILE.into());
-    names.push(CHECKPOINT_FILE.into());
-    names
+    traxer::output::results_file_names(scene, photon_list, fits)
 }
 
 /// A new run into `out` while it holds another run's checkpoint would throw the
@@ -137,9 +134,7 @@ pub fn trace_into(
     Ok(())
 }
 
-/// Writes a finished run's `run_state.bin` and results into `folder` and puts
-/// them in place; returns the number of files and the run's result (the tally,
-/// moved, not copied: it may be large).
+/// [`traxer::output::write_results`], saying which folder could not be written.
 pub fn write_results(
     folder: OutputFolder,
     scene: &Scene,
@@ -150,15 +145,8 @@ pub fn write_results(
     fits: bool,
 ) -> anyhow::Result<(usize, trace::RunResult)> {
     let out = folder.target().to_path_buf();
-    let context = || format!("cannot write the results into {}", out.display());
-    let state = folder.path().join(RUN_STATE_FILE);
-    write_state(&state, header.clone(), &tally).with_context(context)?;
-    let photon_list = header.identity.photon_list;
-    let result = tally.into_result(photon_list, header.seconds, threads);
-    let files = write_run(folder.path(), scene, &result, provenance, fits)
-        .and_then(|files| folder.commit().map(|_| files.len() + 1))
-        .with_context(context)?;
-    Ok((files, result))
+    traxer::output::write_results(folder, scene, header, tally, threads, provenance, fits)
+        .with_context(|| format!("cannot write the results into {}", out.display()))
 }
 
 /// `traxer trace --resume DIR`.

@@ -146,18 +146,9 @@ fn mirror_index(m: u32) -> i32 {
     }
 }
 
-/// Writes the photon list: `photons.npy` (structured: index, sensor, x_mm, y_mm
-/// on the sensor, dir_x/y/z, energy_kev, weight, reflections, first_mirror,
-/// last_mirror (object indices, −1 = none), class (0 direct, 1 front_rear,
-/// 2 front_only, 3 rear_only, 4 other)) and `photons.csv` with names instead of
-/// indices. Weights are in the images' units (`scale`).
-pub fn write_photon_list(
-    dir: &Path,
-    scene: &Scene,
-    photons: &[RecordedPhoton],
-    scale: f64,
-) -> std::io::Result<Vec<PathBuf>> {
-    let rows: Vec<PhotonRow> = photons
+/// The photon list's rows, weights in the images' units (`scale`).
+fn photon_rows(photons: &[RecordedPhoton], scale: f64) -> Vec<PhotonRow> {
+    photons
         .iter()
         .map(|p| {
             let r = &p.record;
@@ -177,7 +168,11 @@ pub fn write_photon_list(
                 class: r.history.class() as u8,
             }
         })
-        .collect();
+        .collect()
+}
+
+/// `photons.npy` as bytes: a structured array with the fields of [`PhotonRow`].
+fn npy_bytes(rows: &[PhotonRow]) -> std::io::Result<Vec<u8>> {
     let mut buf = Vec::new();
     {
         let mut w = npyz::WriteOptions::new()
@@ -188,6 +183,28 @@ pub fn write_photon_list(
         w.extend(rows.iter().copied())?;
         w.finish()?;
     }
+    Ok(buf)
+}
+
+/// The photon list as the bytes of `photons.npy` (see [`write_photon_list`]);
+/// the Python module hands them to numpy.
+pub fn photon_list_npy(photons: &[RecordedPhoton], scale: f64) -> std::io::Result<Vec<u8>> {
+    npy_bytes(&photon_rows(photons, scale))
+}
+
+/// Writes the photon list: `photons.npy` (structured: index, sensor, x_mm, y_mm
+/// on the sensor, dir_x/y/z, energy_kev, weight, reflections, first_mirror,
+/// last_mirror (object indices, −1 = none), class (0 direct, 1 front_rear,
+/// 2 front_only, 3 rear_only, 4 other)) and `photons.csv` with names instead of
+/// indices. Weights are in the images' units (`scale`).
+pub fn write_photon_list(
+    dir: &Path,
+    scene: &Scene,
+    photons: &[RecordedPhoton],
+    scale: f64,
+) -> std::io::Result<Vec<PathBuf>> {
+    let rows = photon_rows(photons, scale);
+    let buf = npy_bytes(&rows)?;
     let npy = dir.join(PHOTON_LIST_FILES[0]);
     atomic_write(&npy, &buf)?;
     let csv = dir.join(PHOTON_LIST_FILES[1]);

@@ -113,10 +113,7 @@ fn write_sensor(
         Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
         None => vec![ny as u64, nx as u64],
     };
-    let mut flux = image.flux();
-    if let Some(k) = absolute {
-        flux.iter_mut().for_each(|f| *f *= k);
-    }
+    let flux = image_flux(image, absolute);
     let flux = &flux[..];
     let summed = crate::sensor::sum_bands(flux, spec.pixel_count());
     let files = sensor_file_names(&spec.name);
@@ -219,10 +216,20 @@ fn write_sensor(
     Ok((sensor, written))
 }
 
+/// A sensor's image as its `.npy` holds it: the sum of weights per pixel, times
+/// `absolute` (axions/s per unit weight, with a Sun) when given.
+pub fn image_flux(image: &crate::sensor::SensorImage, absolute: Option<f64>) -> Vec<f64> {
+    let mut flux = image.flux();
+    if let Some(k) = absolute {
+        flux.iter_mut().for_each(|f| *f *= k);
+    }
+    flux
+}
+
 /// What a sensor's pixel values are (as FITS BUNIT): photons per pixel, weighted
 /// as each source says (`sources[].weight` in the sensor's JSON), or axions per
 /// second with a Sun.
-fn flux_unit(absolute: bool) -> FluxUnit {
+pub fn flux_unit(absolute: bool) -> FluxUnit {
     if absolute {
         FluxUnit {
             bunit: "s-1",
@@ -307,7 +314,8 @@ pub fn write_json(path: &Path, v: &Value) -> std::io::Result<()> {
     atomic_write(path, text.as_bytes())
 }
 
-fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
+/// The run's statistics as `summary.json` gives them.
+pub fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
     let s = &r.stats;
     let per_object: serde_json::Map<String, Value> = scene
         .objects
@@ -343,7 +351,8 @@ fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
     })
 }
 
-fn sources_json(scene: &Scene, photons: u64) -> Value {
+/// The scene's sources as `summary.json` describes them, for a run of `photons`.
+pub fn sources_json(scene: &Scene, photons: u64) -> Value {
     Value::Array(
         scene
             .sources

@@ -10,6 +10,7 @@
 //! error; `traxer reflectivity` prints and plots R.
 
 pub mod coating;
+pub mod coating_spec;
 pub mod compound;
 pub mod elements;
 pub mod figure_error;
@@ -19,6 +20,7 @@ pub mod parratt;
 pub mod table;
 
 pub use coating::{Coating, CoatingLibrary};
+pub use coating_spec::{coating_from_spec, CoatingSpecError};
 pub use figure_error::{FigureError, FigureErrorLibrary};
 pub use foil::Foil;
 pub use optical::OpticalMaterial;

@@ -1,0 +1,129 @@
+//! Conversions at the border: Python values into the library's settings (scene
+//! variables, thread counts, paths) and the library's results into Python (JSON
+//! reports as dicts, vectors as numpy arrays that take over the Rust buffer
+//! without a copy), and the optional progress bar.
+
+use crate::errors::input;
+use numpy::ndarray::{ArrayD, IxDyn};
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyString, PyTuple};
+
+/// More worker threads than this is a typo, not a machine (as in the CLI).
+const MAX_THREADS: usize = 1024;
+
+/// Checks a thread count: 0 (one per core) to [`MAX_THREADS`].
+pub fn threads(n: usize) -> PyResult<usize> {
+    if n > MAX_THREADS {
+        return Err(input(format!(
+            "threads={n}: expected 0 (one per core) to {MAX_THREADS} worker threads"
+        )));
+    }
+    Ok(n)
+}
+
+/// Scene variables as the CLI's `-D name=value`: from a mapping {name: value} or
+/// from a sequence of "name=value" strings. Values become TOML: booleans,
+/// integers and floats as such, strings quoted (so "1.5" stays a string), lists
+/// and tuples as arrays.
+pub fn defines(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
+    let Some(obj) = obj.filter(|o| !o.is_none()) else {
+        return Ok(Vec::new());
+    };
+    if let Ok(map) = obj.cast::<PyDict>() {
+        let mut out = Vec::new();
+        for (k, v) in map.iter() {
+            let name: String = k
+                .extract()
+                .map_err(|_| input(format!("defines: the key {k} is not a variable name (str)")))?;
+            out.push(format!("{name}={}", toml_value(&name, &v)?));
+        }
+        return Ok(out);
+    }
+    if obj.is_instance_of::<PyString>() {
+        return Err(input(
+            "defines: expected a dict {name: value} or a list of \"name=value\" strings, not one string",
+        ));
+    }
+    let items: Vec<String> = obj.extract().map_err(|_| {
+        input("defines: expected a dict {name: value} or a list of \"name=value\" strings")
+    })?;
+    for d in &items {
+        match d.split_once('=') {
+            Some((k, _)) if !k.trim().is_empty() => {}
+            _ => return Err(input(format!("defines: expected name=value, got `{d}`"))),
+        }
+    }
+    Ok(items)
+}
+
+/// A Python value as TOML text for the variable `name`.
+fn toml_value(name: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
+    if let Ok(b) = v.extract::<bool>() {
+        return Ok(b.to_string());
+    }
+    if v.is_instance_of::<PyString>() {
+        let s: String = v.extract()?;
+        // A JSON string is a TOML basic string (the same escapes).
+        return Ok(serde_json::to_string(&s).expect("a string is JSON"));
+    }
+    if let Ok(i) = v.extract::<i64>() {
+        return Ok(i.to_string());
+    }
+    if let Ok(f) = v.extract::<f64>() {
+        return Ok(match f {
+            f if f.is_nan() => "nan".into(),
+            f if f.is_infinite() => if f > 0.0 { "inf" } else { "-inf" }.into(),
+            // Debug prints the shortest text that reads back as the same f64.
+            f => format!("{f:?}"),
+        });
+    }
+    if v.is_instance_of::<PyList>() || v.is_instance_of::<PyTuple>() {
+        let items: Vec<Bound<'_, PyAny>> = v.extract()?;
+        let parts = items
+            .iter()
+            .map(|i| toml_value(name, i))
+            .collect::<PyResult<Vec<_>>>()?;
+        return Ok(format!("[{}]", parts.join(", ")));
+    }
+    Err(input(format!(
+        "defines: `{name}` = {v}: expected a bool, number, string or list of them"
+    )))
+}
+
+/// A JSON value as the Python object `json.loads` makes of it.
+pub fn json<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    let text = serde_json::to_string(v).expect("JSON of plain values");
+    py.import("json")?.call_method1("loads", (text,))
+}
+
+/// Anything serialisable as the Python object of its JSON.
+pub fn to_json<'py, T: serde::Serialize>(py: Python<'py>, v: &T) -> PyResult<Bound<'py, PyAny>> {
+    json(py, &serde_json::to_value(v).expect("JSON of plain values"))
+}
+
+/// A numpy array of `shape` that owns `data` (no copy).
+pub fn array<'py, T: numpy::Element>(
+    py: Python<'py>,
+    shape: &[usize],
+    data: Vec<T>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let a = ArrayD::from_shape_vec(IxDyn(shape), data)
+        .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py).into_any())
+}
+
+/// A progress bar on stderr when asked for (and stderr is a terminal), else none.
+pub fn progress_bar(total: u64, show: bool) -> indicatif::ProgressBar {
+    if !show {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{bar:40} {human_pos}/{human_len} photons, {per_sec}, {eta} left",
+        )
+        .expect("a valid template"),
+    );
+    bar
+}

@@ -1,0 +1,175 @@
+//! `Scene.effective_area` and `traxer.EffectiveArea`: the sweep of `traxer
+//! effective-area` (same photons, same numbers) as numpy arrays over
+//! [angle, energy], and `EffectiveArea.save`, which writes the CLI's files.
+
+use crate::convert::{array, progress_bar, to_json};
+use crate::errors::{lib, to_py};
+use crate::scene::Loaded;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::Arc;
+use traxer::files::OutputFolder;
+use traxer::history::PathClass;
+use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
+use traxer::studies::effective_area::{sweep, AreaResult, AreaSweep};
+use traxer::trace::RunConfig;
+
+/// Runs the sweep with the GIL released.
+pub fn run(
+    py: Python<'_>,
+    loaded: Arc<Loaded>,
+    s: AreaSweep,
+    progress: bool,
+) -> PyResult<EffectiveArea> {
+    let scene = &loaded.scene;
+    traxer::studies::require_sources(scene).map_err(lib)?;
+    let bar = progress_bar(
+        s.photons.saturating_mul(s.angles_arcmin.len() as u64),
+        progress,
+    );
+    let result = py.detach(|| sweep(scene, &s, &[], &|n| bar.inc(n), |_| {}));
+    bar.finish_and_clear();
+    let result = result.map_err(lib)?;
+    let cfg = RunConfig {
+        threads: s.threads,
+        ..RunConfig::new(s.photons, s.seed)
+    };
+    let mut provenance = Provenance::new(Some(loaded.device.info().version))
+        .scene(scene)
+        .run(&cfg, result.threads);
+    provenance.command_line = vec![
+        "python".into(),
+        format!(
+            "traxer.Scene({:?}, defines={:?}).effective_area({:?}, angles_arcmin={:?}, photons={}, seed={}, sensor={:?}, radius_mm={:?})",
+            scene.path.display().to_string(),
+            scene.overrides,
+            s.energies,
+            s.angles_arcmin,
+            s.photons,
+            s.seed,
+            s.sensor,
+            s.radius_mm
+        ),
+    ];
+    EffectiveArea::new(py, result, s, provenance)
+}
+
+/// The effective area of a telescope over energies and off-axis angles.
+///
+/// Arrays over [angle, energy]: `area_cm2` and its Monte Carlo standard error
+/// `error_cm2`; `by_class_cm2` [angle, energy, class] split by photon path
+/// (`classes`: direct, front_rear, front_only, rear_only, other). Per angle:
+/// `geometric_area_cm2` (every reflectivity and transmission 1), `quality` (a
+/// dict of centroid and 50/80/90 % diameters, or None), `on_sensor` and
+/// `counted` photons. `aperture_cm2`: the beam's cross-section on axis.
+#[pyclass(module = "traxer", frozen)]
+#[allow(non_snake_case)]
+pub struct EffectiveArea {
+    #[pyo3(get)]
+    pub sensor: String,
+    #[pyo3(get)]
+    pub energies_keV: Py<PyAny>,
+    #[pyo3(get)]
+    pub angles_arcmin: Py<PyAny>,
+    #[pyo3(get)]
+    pub area_cm2: Py<PyAny>,
+    #[pyo3(get)]
+    pub error_cm2: Py<PyAny>,
+    #[pyo3(get)]
+    pub by_class_cm2: Py<PyAny>,
+    #[pyo3(get)]
+    pub classes: Vec<&'static str>,
+    #[pyo3(get)]
+    pub geometric_area_cm2: Py<PyAny>,
+    #[pyo3(get)]
+    pub quality: Vec<Py<PyAny>>,
+    #[pyo3(get)]
+    pub on_sensor: Vec<u64>,
+    #[pyo3(get)]
+    pub counted: Vec<u64>,
+    #[pyo3(get)]
+    pub aperture_cm2: f64,
+    #[pyo3(get)]
+    pub radius_mm: Option<f64>,
+    #[pyo3(get)]
+    pub seconds: f64,
+    #[pyo3(get)]
+    pub threads: usize,
+    result: AreaResult,
+    provenance: Provenance,
+}
+
+impl EffectiveArea {
+    fn new(
+        py: Python<'_>,
+        r: AreaResult,
+        s: AreaSweep,
+        provenance: Provenance,
+    ) -> PyResult<EffectiveArea> {
+        let (na, ne) = (r.angles.len(), s.energies.len());
+        let points = || r.angles.iter().flat_map(|a| a.points.iter());
+        let area = points().map(|p| p.area_cm2).collect();
+        let error = points().map(|p| p.error_cm2).collect();
+        let by_class = points().flat_map(|p| p.by_class_cm2).collect();
+        let quality = r
+            .angles
+            .iter()
+            .map(|a| to_json(py, &a.quality).map(Bound::unbind))
+            .collect::<PyResult<_>>()?;
+        Ok(EffectiveArea {
+            sensor: r.sensor.clone(),
+            energies_keV: array(py, &[ne], s.energies)?.unbind(),
+            angles_arcmin: array(py, &[na], s.angles_arcmin)?.unbind(),
+            area_cm2: array(py, &[na, ne], area)?.unbind(),
+            error_cm2: array(py, &[na, ne], error)?.unbind(),
+            by_class_cm2: array(py, &[na, ne, PathClass::ALL.len()], by_class)?.unbind(),
+            classes: PathClass::ALL.iter().map(|c| c.name()).collect(),
+            geometric_area_cm2: array(
+                py,
+                &[na],
+                r.angles.iter().map(|a| a.geometric_area_cm2).collect(),
+            )?
+            .unbind(),
+            quality,
+            on_sensor: r.angles.iter().map(|a| a.on_sensor).collect(),
+            counted: r.angles.iter().map(|a| a.counted).collect(),
+            aperture_cm2: r.aperture_cm2,
+            radius_mm: s.radius_mm,
+            seconds: r.seconds,
+            threads: r.threads,
+            result: r,
+            provenance,
+        })
+    }
+}
+
+#[pymethods]
+impl EffectiveArea {
+    /// The provenance record of the sweep.
+    #[getter]
+    fn provenance<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_json(py, &self.provenance)
+    }
+
+    /// Writes the files of `traxer effective-area` into `folder`:
+    /// effective_area.csv, off_axis.csv, effective_area.json and the plots
+    /// effective_area.png, vignetting.png and off_axis.png, all at once.
+    fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
+        py.detach(|| -> anyhow::Result<()> {
+            let out = OutputFolder::prepare(&folder, &EFFECTIVE_AREA_FILES)?;
+            write_effective_area(out.path(), &self.result, self.radius_mm, &self.provenance)?;
+            out.commit()?;
+            Ok(())
+        })
+        .map_err(to_py)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "traxer.EffectiveArea(sensor {:?}: {} angles × {} energies)",
+            self.sensor,
+            self.result.angles.len(),
+            self.result.angles.first().map_or(0, |a| a.points.len())
+        )
+    }
+}

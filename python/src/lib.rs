@@ -1,0 +1,47 @@
+//! The Python module `traxer`: the traxer library seen from Python, with no
+//! second implementation of anything. Scenes load and trace through the same
+//! calls as the `traxer` binary, so a result equals the CLI's bit for bit for the
+//! same scene and seed; images come back as numpy arrays, reports as dicts, and
+//! `save` writes the binary's output set.
+//!
+//! Data flow: Python arguments → checked here ([`convert`]) → the traxer library
+//! (scene, trace, studies, analysis, output) with the GIL released while it
+//! computes → numpy arrays and dicts; errors become the exceptions of [`errors`].
+//! Built by maturin (python/pyproject.toml); its type hints are traxer.pyi.
+
+#![deny(unsafe_code)]
+
+mod analysis;
+mod convert;
+mod effective_area;
+mod errors;
+mod result;
+mod scene;
+mod solar;
+
+use pyo3::prelude::*;
+
+/// traxer: an X-ray raytracer for the grazing-incidence telescopes of axion
+/// helioscopes, on Intel Embree.
+///
+/// Load a scene with `traxer.Scene(path, defines={...})` and trace it with
+/// `scene.trace(photons, seed=1)`; the result holds each sensor's image as numpy
+/// arrays and `result.save(folder)` writes the same files as `traxer trace`.
+/// Also: `traxer.reflectivity`, `traxer.eef`, `Scene.effective_area` and
+/// `traxer.SolarEmission`.
+#[pymodule]
+#[pyo3(name = "traxer")]
+fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("embree_version", scene::embree_version()?)?;
+    m.add("git_hash", traxer::output::git_hash())?;
+    errors::register(m)?;
+    m.add_class::<scene::Scene>()?;
+    m.add_class::<result::TraceResult>()?;
+    m.add_class::<result::SensorImage>()?;
+    m.add_class::<effective_area::EffectiveArea>()?;
+    m.add_class::<solar::SolarEmission>()?;
+    m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;
+    m.add_function(wrap_pyfunction!(analysis::eef, m)?)?;
+    Ok(())
+}

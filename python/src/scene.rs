@@ -1,0 +1,229 @@
+//! `traxer.Scene`: a scene file loaded and built with Embree, as the CLI loads it,
+//! and `Scene.trace`, the run of `traxer trace` (same photons, same sums, so the
+//! images are bit for bit the CLI's), with the GIL released while it traces.
+
+use crate::convert::{defines, progress_bar, threads, to_json};
+use crate::errors::{input, lib, to_py};
+use crate::result::TraceResult;
+use pyo3::prelude::*;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Instant;
+use traxer::embree::Device;
+use traxer::output::Provenance;
+use traxer::runstate::{RunPart, Shard};
+use traxer::trace::{run_part, Flow, RunConfig, Tally};
+
+/// At most this many photons in a photon list (about 100 bytes each), as in the CLI.
+const MAX_LIST: usize = 20_000_000;
+
+/// A scene and the Embree device it was built on (the device must outlive it).
+pub struct Loaded {
+    pub scene: traxer::scene::Scene,
+    pub device: Device,
+}
+
+/// The Embree version, e.g. "3.13.5".
+pub fn embree_version() -> PyResult<String> {
+    Ok(Device::new().map_err(lib)?.info().version)
+}
+
+/// A scene file (TOML), loaded and built for tracing.
+///
+/// Scene(path, defines=None)
+///
+/// `defines` sets scene variables declared in the file's [vars], like the CLI's
+/// `-D name=value`: a dict {"name": value} (bool, number, string or list) or a
+/// list of "name=value" strings. A scene that cannot be loaded raises
+/// `traxer.SceneError` with `file`, `line` and `message`.
+#[pyclass(module = "traxer", frozen)]
+pub struct Scene {
+    pub loaded: Arc<Loaded>,
+}
+
+#[pymethods]
+impl Scene {
+    #[new]
+    #[pyo3(signature = (path, defines = None))]
+    fn new(py: Python<'_>, path: PathBuf, defines: Option<&Bound<'_, PyAny>>) -> PyResult<Scene> {
+        let overrides = self::defines(defines)?;
+        let loaded = py
+            .detach(|| -> anyhow::Result<Loaded> {
+                let device = Device::new()?;
+                let scene = traxer::scene::Scene::load(&device, &path, &overrides)?;
+                Ok(Loaded { scene, device })
+            })
+            .map_err(to_py)?;
+        Ok(Scene {
+            loaded: Arc::new(loaded),
+        })
+    }
+
+    /// The scene file's path.
+    #[getter]
+    fn path(&self) -> PathBuf {
+        self.loaded.scene.path.clone()
+    }
+
+    /// SHA-256 of the scene file's bytes.
+    #[getter]
+    fn sha256(&self) -> String {
+        self.loaded.scene.text_sha256.clone()
+    }
+
+    /// The sensors' names, in the scene's order.
+    #[getter]
+    fn sensors(&self) -> Vec<String> {
+        self.loaded
+            .scene
+            .sensors
+            .iter()
+            .map(|s| s.name.clone())
+            .collect()
+    }
+
+    /// The objects' names, in the scene's order (photon lists index them).
+    #[getter]
+    fn objects(&self) -> Vec<String> {
+        self.loaded
+            .scene
+            .objects
+            .iter()
+            .map(|o| o.name.clone())
+            .collect()
+    }
+
+    /// The scene's variables after `defines`: {name: value}.
+    #[getter]
+    fn variables<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        to_json(py, &self.loaded.scene.vars)
+    }
+
+    /// The warnings the scene gave when it was loaded.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.loaded.scene.warnings.clone()
+    }
+
+    /// Number of triangles of the meshed objects.
+    #[getter]
+    fn triangle_count(&self) -> usize {
+        self.loaded.scene.triangle_count
+    }
+
+    fn __repr__(&self) -> String {
+        let s = &self.loaded.scene;
+        format!(
+            "traxer.Scene({:?}: {} objects, {} sensors, {} sources)",
+            s.path.display().to_string(),
+            s.objects.len(),
+            s.sensors.len(),
+            s.sources.len()
+        )
+    }
+
+    /// Traces `photons` photons, as `traxer trace SCENE --photons N --seed S`.
+    ///
+    /// photon i uses the random stream (seed, i), so the images are the same for
+    /// any `threads` (0: one per core) and equal the CLI's bit for bit.
+    /// `photon_list`: also keep the first N photons recorded on a sensor
+    /// (`TraceResult.photons`). `progress`: draw a progress bar on stderr. The
+    /// GIL is released while tracing; Ctrl-C (KeyboardInterrupt) stops the run
+    /// after the current batch of about a million photons.
+    #[pyo3(signature = (photons, seed = 1, threads = 0, photon_list = 0, progress = false))]
+    fn trace(
+        &self,
+        py: Python<'_>,
+        photons: u64,
+        seed: u64,
+        threads: usize,
+        photon_list: usize,
+        progress: bool,
+    ) -> PyResult<TraceResult> {
+        if photons == 0 {
+            return Err(input("photons must be at least 1"));
+        }
+        if photon_list > MAX_LIST {
+            return Err(input(format!(
+                "photon_list={photon_list}: at most {MAX_LIST} photons are listed"
+            )));
+        }
+        let scene = &self.loaded.scene;
+        traxer::studies::require_sources(scene).map_err(lib)?;
+        let cfg = RunConfig {
+            threads: self::threads(threads)?,
+            photon_list,
+            ..RunConfig::new(photons, seed)
+        };
+        let mut part = RunPart::new(scene, &cfg, Shard::whole(photons));
+        let bar = progress_bar(photons, progress);
+        let start = Instant::now();
+        let mut interrupted = None;
+        let traced = py.detach(|| {
+            run_part(scene, &cfg, Tally::new(scene), &|n| bar.inc(n), &mut |_| {
+                // Ctrl-C in Python is seen between batches, with the GIL held.
+                match Python::attach(|py| py.check_signals()) {
+                    Ok(()) => Flow::Continue,
+                    Err(e) => {
+                        interrupted = Some(e);
+                        Flow::Stop
+                    }
+                }
+            })
+        });
+        bar.finish_and_clear();
+        if let Some(e) = interrupted {
+            return Err(e);
+        }
+        let (tally, used) = traced.map_err(lib)?;
+        part.seconds = start.elapsed().as_secs_f64();
+        let header = part.header(&tally);
+        let mut provenance = Provenance::new(Some(self.loaded.device.info().version))
+            .scene(scene)
+            .run(&cfg, used)
+            .parts(&header, &[]);
+        provenance.command_line = vec![
+            "python".into(),
+            format!(
+                "traxer.Scene({:?}, defines={:?}).trace({photons}, seed={seed}, threads={threads}, photon_list={photon_list})",
+                scene.path.display().to_string(),
+                scene.overrides
+            ),
+        ];
+        TraceResult::new(py, self.loaded.clone(), header, tally, used, provenance)
+    }
+
+    /// The telescope's effective area A_eff(E, θ), as `traxer effective-area`.
+    ///
+    /// The scene's only source must be a parallel beam covering the telescope's
+    /// entrance; it is tilted to each of `angles_arcmin`. At each angle `photons`
+    /// photons are traced once and each photon's weight is evaluated at every
+    /// energy of `energies_keV`. `sensor`: the sensor to count on (default: the
+    /// only one); `radius_mm`: count only within this radius of the image
+    /// centroid. Returns a `traxer.EffectiveArea`.
+    #[pyo3(signature = (energies_keV, angles_arcmin = vec![0.0], photons = 200_000, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false))]
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    fn effective_area(
+        &self,
+        py: Python<'_>,
+        energies_keV: Vec<f64>,
+        angles_arcmin: Vec<f64>,
+        photons: u64,
+        seed: u64,
+        threads: usize,
+        sensor: Option<String>,
+        radius_mm: Option<f64>,
+        progress: bool,
+    ) -> PyResult<crate::effective_area::EffectiveArea> {
+        let sweep = traxer::studies::effective_area::AreaSweep {
+            energies: energies_keV,
+            angles_arcmin,
+            photons,
+            seed,
+            threads: self::threads(threads)?,
+            sensor,
+            radius_mm,
+        };
+        crate::effective_area::run(py, self.loaded.clone(), sweep, progress)
+    }
+}

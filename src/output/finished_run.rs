@@ -1,0 +1,39 @@
+//! A finished run's results folder: `run_state.bin` (the exact sums, for
+//! `traxer merge`) and every file of [`write_run`], put in place together. Used by
+//! `traxer trace` (also resumed), `traxer merge` and the Python module's
+//! `TraceResult.save`.
+
+use super::{write_run, Provenance};
+use crate::files::OutputFolder;
+use crate::runstate::{write_state, StateHeader, RUN_STATE_FILE};
+use crate::scene::Scene;
+use crate::trace::{RunResult, Tally};
+
+/// Every file a finished run leaves in its results folder: the results, the run
+/// state, and the checkpoint a run keeps while it runs (listed so that a stale
+/// one is replaced, never mixed in).
+pub fn results_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
+    let mut names = super::run_file_names(scene, photon_list, fits);
+    names.push(RUN_STATE_FILE.into());
+    names.push(crate::runstate::CHECKPOINT_FILE.into());
+    names
+}
+
+/// Writes a finished run's `run_state.bin` and results into `folder` and puts
+/// them in place; returns the number of files and the run's result (the tally,
+/// moved, not copied: it may be large).
+pub fn write_results(
+    folder: OutputFolder,
+    scene: &Scene,
+    header: &StateHeader,
+    tally: Tally,
+    threads: usize,
+    provenance: &Provenance,
+    fits: bool,
+) -> std::io::Result<(usize, RunResult)> {
+    write_state(&folder.path().join(RUN_STATE_FILE), header.clone(), &tally)?;
+    let result = tally.into_result(header.identity.photon_list, header.seconds, threads);
+    let files = write_run(folder.path(), scene, &result, provenance, fits)?;
+    folder.commit()?;
+    Ok((files.len() + 1, result))
+}

@@ -1,0 +1,360 @@
+"""The Python module `traxer` (python/, installed by scripts/test-python.sh with
+`pip install ./python`) against the `traxer` binary built from the same sources:
+
+- the same scene and seed give the CLI's images, counts, photon list, statistics
+  and image quality bit for bit, and `save` writes byte-identical arrays, PNGs and
+  CSVs; the images do not depend on `threads`;
+- reflectivity, effective area and solar emission equal the CLI's numbers;
+- `eef` gives the closed-form diameters of a uniform disk;
+- bad input raises SceneError (with file, line and message) or InputError,
+  never a crash; the GIL is released while tracing and Ctrl-C stops a run.
+
+TRAXER names the binary (default: target/release/traxer).
+"""
+
+import csv
+import io
+import json
+import math
+import os
+import pathlib
+import subprocess
+import threading
+import time
+import _thread
+
+import numpy as np
+import pytest
+
+import traxer
+
+REPO = pathlib.Path(__file__).resolve().parents[2]
+BIN = os.environ.get("TRAXER", str(REPO / "target" / "release" / "traxer"))
+WOLTER = REPO / "scenes" / "wolter1_parallel.toml"
+CAST = REPO / "scenes" / "cast_axion_image.toml"
+LLNL_AREA = REPO / "scenes" / "llnl_effective_area.toml"
+SOLAR_MODEL = REPO.parent / "shared" / "solar" / "SolarModel_B16-AGSS09met.dat"
+
+
+def cli(*args):
+    out = subprocess.run([BIN, *map(str, args)], capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    return out
+
+
+def binned_scene(tmp):
+    """The Wolter-I scene with a 120 × 90 sensor (x and y cannot swap unnoticed)
+    with 3 energy bands (a [band, iy, ix] cube) and a focal length (arcsec)."""
+    text = WOLTER.read_text().replace('"../meshes/', '"%s/' % (REPO / "meshes"))
+    assert "pixels = [512, 512]" in text
+    text = text.replace(
+        "pixels = [512, 512]",
+        "pixels = [120, 90]\nenergy_bins = [1.0, 2.0, 3]\nfocal_length = 1500.0",
+    )
+    path = tmp / "binned.toml"
+    path.write_text(text)
+    return path
+
+
+# Each case: scene, CLI -D definitions and the same as Python defines, photons,
+# seed, photon list. CAST has a Sun (images in axions/s), a pixel grid, foils.
+CASES = {
+    "wolter": (WOLTER, ["off_axis=0.02", "coating=gold"], {"off_axis": 0.02, "coating": "gold"},
+               150_000, 7, 50),
+    "cast": (CAST, ["window_nm=150"], {"window_nm": 150.0}, 100_000, 3, 0),
+}
+
+
+@pytest.fixture(scope="module", params=sorted(CASES))
+def pair(request, tmp_path_factory):
+    """(CLI results folder, Python result, Python saved folder, case)."""
+    scene, defs, defines, n, seed, listed = CASES[request.param]
+    tmp = tmp_path_factory.mktemp(request.param)
+    args = ["trace", scene, "-n", n, "--seed", seed, "--out", tmp / "cli", "-q", "--fits"]
+    for d in defs:
+        args += ["-D", d]
+    if listed:
+        args += ["--photon-list", listed]
+    cli(*args)
+    result = traxer.Scene(scene, defines=defines).trace(n, seed=seed, photon_list=listed)
+    result.save(tmp / "py", fits=True)
+    return tmp / "cli", result, tmp / "py", request.param
+
+
+def test_images_equal_the_cli_bit_for_bit(pair):
+    out, result, _, _ = pair
+    assert list(result.sensors) == [s["name"] for s in json.loads((out / "summary.json").read_text())["sensors"]]
+    for name, img in result.sensors.items():
+        flux = np.load(out / f"{name}.npy")
+        counts = np.load(out / f"{name}_counts.npy")
+        assert img.flux.dtype == np.float64 and img.counts.dtype == np.uint64
+        assert img.flux.shape == flux.shape and img.flux.tobytes() == flux.tobytes()
+        assert img.counts.shape == counts.shape and np.array_equal(img.counts, counts)
+        assert img.total_counts > 1000, "too few photons for the comparison to mean anything"
+
+
+def test_statistics_quality_and_units_equal_the_cli(pair):
+    out, result, _, case = pair
+    summary = json.loads((out / "summary.json").read_text())
+    timing = {"seconds", "threads", "photons_per_second", "sensor_photons_per_second"}
+    cli_stats = {k: v for k, v in summary["statistics"].items() if k not in timing}
+    py_stats = {k: v for k, v in result.statistics.items() if k not in timing}
+    assert py_stats == cli_stats
+    for name, img in result.sensors.items():
+        sensor = json.loads((out / f"{name}.json").read_text())["sensor"]
+        assert img.quality == sensor["image_quality"]
+        assert img.quality["hpd_mm"] > 0
+        assert list(img.pixel_pitch_mm) == sensor["pixel_pitch_mm"]
+        assert img.total_flux == sensor["total_flux"]
+    # A Sun makes images in axions per second, the others weighted photons.
+    assert {img.unit for img in result.sensors.values()} == {"s-1" if case == "cast" else "ph"}
+    assert result.provenance["seed"] == summary["provenance"]["seed"]
+    assert result.provenance["scene_sha256"] == summary["provenance"]["scene_sha256"]
+    assert result.provenance["variables"] == summary["provenance"]["variables"]
+
+
+def test_photon_list_equals_the_cli(pair):
+    out, result, _, case = pair
+    if case != "wolter":
+        assert result.photons is None
+        return
+    listed = np.load(out / "photons.npy")
+    assert result.photons.dtype == listed.dtype
+    assert len(result.photons) == 50 and result.photons.tobytes() == listed.tobytes()
+
+
+def test_save_writes_the_cli_files(pair):
+    out, _, saved, _ = pair
+    cli_files = sorted(p.name for p in out.iterdir())
+    assert sorted(p.name for p in saved.iterdir()) == cli_files
+    same_bytes = [n for n in cli_files if n.endswith((".npy", ".png", ".csv"))]
+    assert any(n.endswith("_counts.npy") for n in same_bytes)
+    for n in same_bytes:
+        assert (saved / n).read_bytes() == (out / n).read_bytes(), n
+    # FITS headers carry a date: compare the data.
+    from astropy.io import fits
+    for n in cli_files:
+        if n.endswith(".fits"):
+            with fits.open(out / n) as a, fits.open(saved / n) as b:
+                assert np.array_equal(a[0].data, b[0].data)
+    # A saved run merges like a CLI run (run_state.bin holds the exact sums).
+    cli("merge", saved, "--out", saved.parent / "merged", "-q")
+    for n in cli_files:
+        if n.endswith(".npy"):
+            assert (saved.parent / "merged" / n).read_bytes() == (out / n).read_bytes(), n
+
+
+def test_energy_cube_and_threads(tmp_path):
+    scene = binned_scene(tmp_path)
+    cli("trace", scene, "-n", 80_000, "--seed", 11, "--out", tmp_path / "cli", "-q")
+    s = traxer.Scene(scene)
+    one = s.trace(80_000, seed=11, threads=1)
+    two = s.trace(80_000, seed=11, threads=2)
+    img = one["sensor"]
+    assert img.flux.shape == (3, 90, 120)
+    assert img.flux.tobytes() == np.load(tmp_path / "cli" / "sensor.npy").tobytes()
+    assert img.flux.tobytes() == two["sensor"].flux.tobytes()
+    assert img.energy_band_edges_keV == pytest.approx([1.0, 4 / 3, 5 / 3, 2.0], abs=1e-12)
+    # Pixel centres: 120 pixels across the sensor's width, symmetric about 0.
+    assert img.x_mm.shape == (120,) and img.y_mm.shape == (90,)
+    assert img.x_mm[0] == pytest.approx(-img.x_mm[-1]) and img.x_mm[0] < 0
+    assert img.x_mm[1] - img.x_mm[0] == pytest.approx(img.pixel_pitch_mm[0])
+    # The arcsec diameters are the mm ones at the focal length.
+    q = img.quality
+    assert q["hpd_arcsec"] == pytest.approx(2 * math.degrees(math.atan(q["hpd_mm"] / 2 / 1500)) * 3600, rel=1e-9)
+
+
+def test_reflectivity_equals_the_cli(tmp_path):
+    energies = [1.49, 4.51, 8.05]
+    angles = np.arange(0.1, 1.2, 0.1)
+    cli("reflectivity", "--coating", "llnl_recipe_3", "--energy", ",".join(map(str, energies)),
+        "--angle", ",".join(repr(float(a)) for a in angles), "--plot", tmp_path / "r.png",
+        "--csv", tmp_path / "r.csv")
+    rows = list(csv.DictReader(open(tmp_path / "r.csv")))
+    grid = traxer.reflectivity("llnl_recipe_3", np.array(energies)[:, None], angles[None, :])
+    assert grid.shape == (3, len(angles))
+    s = traxer.reflectivity("llnl_recipe_3", np.array(energies)[:, None], angles[None, :], "s")
+    p = traxer.reflectivity("llnl_recipe_3", np.array(energies)[:, None], angles[None, :], polarisation="p")
+    assert np.allclose(grid, 0.5 * (s + p), rtol=0, atol=1e-15)
+    assert len(rows) == grid.size
+    for row in rows:
+        i = energies.index(float(row["energy_keV"]))
+        j = int(np.argmin(abs(angles - float(row["angle_deg"]))))
+        assert grid[i, j] == float(row["R"])
+    # Pairs broadcast element by element; a scalar with an array too.
+    pairs = traxer.reflectivity("gold", [1.49, 8.05], [0.3, 0.3])
+    assert pairs.shape == (2,)
+    assert traxer.reflectivity("gold", 8.05, [0.3])[0] == pairs[1]
+    # Total external reflection: far below the critical angle R is near 1.
+    assert 0.9 < traxer.reflectivity("gold", 1.49, 0.05)
+
+
+def test_eef_of_a_uniform_disk():
+    """A uniform disk of radius R: the fraction within r is (r/R)², so the
+    diameters holding 50/80/90 % are 2R√0.5, 2R√0.8, 2R√0.9. Pixelation on a
+    0.01 mm grid at R = 1 mm moves them by well under 1 %."""
+    n, pitch, radius = 400, 0.01, 1.0
+    c = (np.arange(n) + 0.5) * pitch - n * pitch / 2
+    x, y = np.meshgrid(c + 0.1, c - 0.05)
+    disk = (x**2 + y**2 <= radius**2).astype(np.int32)
+    q = traxer.eef(disk, pixel_pitch_mm=pitch, focal_length_mm=10_000.0)
+    assert q["centroid_mm"] == pytest.approx([-0.1, 0.05], abs=2e-4)
+    for key, f in (("hpd_mm", 0.5), ("d80_mm", 0.8), ("d90_mm", 0.9)):
+        assert q[key] == pytest.approx(2 * radius * math.sqrt(f), rel=0.01), key
+    assert q["hpd_arcsec"] == pytest.approx(2 * math.degrees(math.atan(q["hpd_mm"] / 2e4)) * 3600)
+    assert q["fraction"][-1] == pytest.approx(1.0) and np.all(np.diff(q["radius_mm"]) >= 0)
+    # Summed over bands for a cube; (x, y) pitches.
+    cube = np.stack([disk, disk]).astype(float)
+    assert traxer.eef(cube, (pitch, pitch))["hpd_mm"] == q["hpd_mm"]
+
+
+def test_eef_equals_the_cli(tmp_path):
+    rng = np.random.default_rng(5)
+    image = rng.exponential(size=(40, 60))
+    np.save(tmp_path / "img.npy", image)
+    out = cli("eef", tmp_path / "img.npy", "--pixel-pitch", "0.05,0.07", "--focal-length", 1500,
+              "--json", "--plot", tmp_path / "e.png")
+    q = traxer.eef(image, (0.05, 0.07), 1500.0)
+    assert {k: v for k, v in q.items() if k not in ("radius_mm", "fraction")} == json.loads(out.stdout)
+
+
+def test_effective_area_equals_the_cli(tmp_path):
+    args = dict(energies=[1.5, 4.5, 8.0], angles=[0.0, 6.0], photons=20_000, seed=2)
+    cli("effective-area", LLNL_AREA, "--energies", "1.5,4.5,8.0", "--angles", "0,6",
+        "-n", args["photons"], "--seed", args["seed"], "--out", tmp_path / "cli", "-q")
+    a = traxer.Scene(LLNL_AREA).effective_area(args["energies"], args["angles"],
+                                                photons=args["photons"], seed=args["seed"])
+    assert a.area_cm2.shape == (2, 3) and a.by_class_cm2.shape == (2, 3, 5)
+    rows = list(csv.DictReader(open(tmp_path / "cli" / "effective_area.csv")))
+    assert len(rows) == 6
+    area_key = next(k for k in rows[0] if k.startswith("area"))
+    for row in rows:
+        i = [0.0, 6.0].index(float(next(v for k, v in row.items() if "arcmin" in k)))
+        j = args["energies"].index(float(next(v for k, v in row.items() if k.startswith("energy"))))
+        assert a.area_cm2[i, j] == float(row[area_key])
+    # The classes add up to the whole; on axis the telescope is not vignetted.
+    assert np.allclose(a.by_class_cm2.sum(axis=2), a.area_cm2, rtol=1e-12)
+    assert a.area_cm2[0, 0] > a.area_cm2[1, 0] > 0
+    a.save(tmp_path / "py")
+    assert (tmp_path / "py" / "effective_area.csv").read_bytes() == (tmp_path / "cli" / "effective_area.csv").read_bytes()
+
+
+def test_solar_emission_equals_the_cli(tmp_path):
+    cli("solar-flux", "--out", tmp_path / "cli")
+    doc = json.loads((tmp_path / "cli" / "solar_flux.json").read_text())
+    sun = traxer.SolarEmission.builtin()
+    assert sun.flux(1.0) == pytest.approx(doc["flux_per_cm2_s"], rel=1e-12)
+    # Within 20 % of the CAST 2007 parameterisation (another solar model).
+    assert 0.8 < sun.flux() / doc["cast2007_flux_per_cm2_s_0_to_20keV"] < 1.2
+    spectrum = list(csv.reader(open(tmp_path / "cli" / "spectrum.csv")))
+    assert sun.rates.shape == (len(sun.radii), len(sun.energies_keV))
+    assert len(sun.spectrum()) == len(sun.energies_keV)
+    # dΦ/dE falls as 1/d²; its integral is the flux.
+    assert sun.spectrum(2.0) == pytest.approx(sun.spectrum(1.0) / 4, rel=1e-12)
+    assert sun.flux(0.989) == pytest.approx(sun.flux(1.0) / 0.989**2, rel=1e-12)
+    assert sun.luminosity(0, 5) + sun.luminosity(5, 100) == pytest.approx(sun.luminosity(), rel=1e-12)
+    del spectrum
+    sun.save_csv(tmp_path / "table.csv")
+    again = traxer.SolarEmission.from_csv(tmp_path / "table.csv")
+    assert np.array_equal(again.rates, sun.rates) and np.array_equal(again.radii, sun.radii)
+
+
+@pytest.mark.skipif(not SOLAR_MODEL.exists(), reason="../shared/solar is not here")
+def test_solar_model_equals_the_cli(tmp_path):
+    radii, energies = "0.05,0.1,0.2,0.3", "1.0,3.0,6.0"
+    cli("solar-flux", "--model", SOLAR_MODEL, "--radii", radii, "--energies", energies,
+        "--out", tmp_path / "cli")
+    table = traxer.SolarEmission.from_csv(tmp_path / "cli" / "emission.csv")
+    model = traxer.SolarEmission.from_model(SOLAR_MODEL, [1.0, 3.0, 6.0], radii=[0.05, 0.1, 0.2, 0.3])
+    # The CSV holds 7 significant digits: a relative rounding of at most 5e-7.
+    assert np.allclose(model.rates, table.rates, rtol=6e-7, atol=0)
+    assert model.rates.min() > 0
+
+
+def test_scene_errors_name_file_line_and_key(tmp_path):
+    bad = tmp_path / "bad.toml"
+    text = WOLTER.read_text().replace('"../meshes/', '"%s/' % (REPO / "meshes"))
+    lines = text.splitlines()
+    at = next(i for i, l in enumerate(lines) if l.startswith("pixels = "))
+    lines[at] = "pixels = [512, -3]"
+    bad.write_text("\n".join(lines) + "\n")
+    with pytest.raises(traxer.SceneError) as e:
+        traxer.Scene(bad)
+    assert e.value.file == str(bad) and e.value.line == at + 1
+    assert "pixels" in str(e.value) and "pixels" in e.value.message
+    with pytest.raises(traxer.SceneError) as e:
+        traxer.Scene(WOLTER, defines={"no_such_variable": 1})
+    assert "no_such_variable" in str(e.value) and e.value.line is None
+    with pytest.raises(traxer.SceneError):
+        traxer.Scene(tmp_path / "missing.toml")
+    # Scene errors are input errors are ValueErrors.
+    assert issubclass(traxer.SceneError, traxer.InputError) and issubclass(traxer.InputError, ValueError)
+
+
+def test_bad_input_raises_never_crashes(tmp_path):
+    s = traxer.Scene(WOLTER)
+    bad_calls = [
+        lambda: s.trace(0),
+        lambda: s.trace(10, threads=100_000),
+        lambda: s.trace(10, photon_list=10**9),
+        lambda: traxer.Scene(WOLTER, defines="coating=gold"),
+        lambda: traxer.Scene(WOLTER, defines=["coating"]),
+        lambda: traxer.Scene(WOLTER, defines={"coating": object()}),
+        lambda: traxer.reflectivity("unobtainium", 1.0, 0.5),
+        lambda: traxer.reflectivity("gold", 100.0, 0.5),
+        lambda: traxer.reflectivity("gold", 1.0, 0.5, polarisation="q"),
+        lambda: traxer.eef(np.ones(5), 0.1),
+        lambda: traxer.eef(-np.ones((3, 3)), 0.1),
+        lambda: traxer.eef(np.zeros((3, 3)), 0.1),
+        lambda: traxer.eef(np.ones((3, 3)), -1.0),
+        lambda: traxer.eef(np.ones((3, 3)), 0.1, focal_length_mm=0.0),
+        lambda: s.effective_area([1.0], sensor="nope", photons=100),
+        lambda: s.effective_area([100.0], photons=100),
+        lambda: traxer.SolarEmission.from_csv(tmp_path / "missing.csv"),
+        lambda: traxer.SolarEmission.builtin().flux(-1.0),
+    ]
+    for i, call in enumerate(bad_calls):
+        with pytest.raises(traxer.InputError):
+            call()
+    # A folder of other files is not overwritten.
+    (tmp_path / "mine.txt").write_text("keep")
+    with pytest.raises(traxer.InputError):
+        s.trace(1000).save(tmp_path)
+    assert (tmp_path / "mine.txt").read_text() == "keep"
+    with pytest.raises(KeyError):
+        s.trace(1000)["no_such_sensor"]
+
+
+def test_gil_is_released_while_tracing():
+    """While another thread traces, this one keeps running Python: with the GIL
+    held it could not run at all until the trace returned."""
+    s = traxer.Scene(WOLTER)
+    started = threading.Event()
+    result = {}
+
+    def work():
+        started.set()
+        result["r"] = s.trace(3_000_000, threads=1)
+
+    t = threading.Thread(target=work)
+    t.start()
+    started.wait()
+    time.sleep(0.05)  # into the trace
+    spins = 0
+    while t.is_alive():
+        spins += 1
+    t.join()
+    assert result["r"].photons_traced == 3_000_000
+    assert spins > 100_000
+
+
+def test_ctrl_c_stops_a_trace():
+    """KeyboardInterrupt arrives between batches (about a million photons), long
+    before the 200 million photons are done."""
+    s = traxer.Scene(WOLTER)
+    timer = threading.Timer(0.5, _thread.interrupt_main)
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        s.trace(200_000_000)
+    assert time.monotonic() - start < 30
