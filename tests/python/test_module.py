@@ -358,3 +358,15 @@ def test_ctrl_c_stops_a_trace():
     with pytest.raises(KeyboardInterrupt):
         s.trace(200_000_000)
     assert time.monotonic() - start < 30
+
+
+def test_the_example_runs(tmp_path):
+    """python/examples/axion_image.py, with fewer photons: it ends well and
+    writes the files of `traxer trace`."""
+    import sys
+    env = dict(os.environ, PHOTONS="100000", OUT=str(tmp_path / "out"), MPLBACKEND="Agg")
+    out = subprocess.run([sys.executable, str(REPO / "python" / "examples" / "axion_image.py")],
+                         capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    assert "window transmission" in out.stdout
+    assert (tmp_path / "out" / "chip.npy").exists() and (tmp_path / "out" / "summary.json").exists()
