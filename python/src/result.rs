@@ -175,6 +175,20 @@ impl TraceResult {
     }
 }
 
+impl TraceResult {
+    /// The scene's sensors, "a, b, c".
+    fn sensor_names(&self) -> String {
+        let names: Vec<&str> = self
+            .loaded
+            .scene
+            .sensors
+            .iter()
+            .map(|s| s.name.as_str())
+            .collect();
+        names.join(", ")
+    }
+}
+
 #[pymethods]
 impl TraceResult {
     /// The provenance record of the run (as in every JSON the CLI writes).
@@ -207,13 +221,7 @@ impl TraceResult {
             Some(s) => Ok(s),
             None => Err(pyo3::exceptions::PyKeyError::new_err(format!(
                 "{name}: no such sensor (have: {})",
-                self.loaded
-                    .scene
-                    .sensors
-                    .iter()
-                    .map(|s| s.name.as_str())
-                    .collect::<Vec<_>>()
-                    .join(", ")
+                self.sensor_names()
             ))),
         }
     }
@@ -224,13 +232,7 @@ impl TraceResult {
             "traxer.TraceResult({} photons, {} reached a sensor, sensors: {})",
             s.photons_emitted,
             s.reached_sensor,
-            self.loaded
-                .scene
-                .sensors
-                .iter()
-                .map(|s| s.name.as_str())
-                .collect::<Vec<_>>()
-                .join(", ")
+            self.sensor_names()
         )
     }
 

@@ -3,7 +3,7 @@
 //! in one piece.
 
 use super::args::{DefineArgs, OutputArgs, SceneArgs};
-use super::resume::{file_names, fits_scene, read_shard, refuse_unfinished_run, write_results};
+use super::resume::{file_names, fits_scene, read_shard, refuse_unfinished_run};
 use super::{load_xray_scene, InputError};
 use anyhow::Context;
 use std::path::PathBuf;
@@ -94,7 +94,8 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
     let provenance = Provenance::new(Some(device.info().version))
         .scene(&scene)
         .parts(h, &folders);
-    let (files, result) = write_results(folder, &scene, h, merged.tally, 0, &provenance, a.fits)?;
+    let (files, result) =
+        traxer::output::write_results(folder, &scene, h, merged.tally, 0, &provenance, a.fits)?;
     if !a.output.quiet.quiet {
         if !h.missing.is_empty() {
             tell!(

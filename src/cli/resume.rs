@@ -2,8 +2,8 @@
 //! keeps `checkpoint.bin` in its results folder (written atomically between
 //! batches of photons, every `--checkpoint-every` seconds and on a stopping
 //! signal), and a resumed run continues from it. Finished runs, resumed or not,
-//! write their results and `run_state.bin` through [`write_results`], which
-//! `traxer merge` uses too.
+//! write their results and `run_state.bin` through
+//! [`traxer::output::write_results`], which `traxer merge` uses too.
 
 use super::signals::{checkpoint_on_signals, stop_requested};
 use super::{load_xray_scene, progress, InputError, Stopped};
@@ -118,7 +118,7 @@ pub fn trace_into(
         .scene(scene)
         .run(cfg, threads)
         .parts(&header, &[]);
-    let (files, result) = write_results(
+    let (files, result) = traxer::output::write_results(
         folder,
         scene,
         &header,
@@ -132,21 +132,6 @@ pub fn trace_into(
         say!("wrote {} files to {}", files, target.display());
     }
     Ok(())
-}
-
-/// [`traxer::output::write_results`], saying which folder could not be written.
-pub fn write_results(
-    folder: OutputFolder,
-    scene: &Scene,
-    header: &StateHeader,
-    tally: Tally,
-    threads: usize,
-    provenance: &Provenance,
-    fits: bool,
-) -> anyhow::Result<(usize, trace::RunResult)> {
-    let out = folder.target().to_path_buf();
-    traxer::output::write_results(folder, scene, header, tally, threads, provenance, fits)
-        .with_context(|| format!("cannot write the results into {}", out.display()))
 }
 
 /// `traxer trace --resume DIR`.

@@ -31,9 +31,14 @@ pub fn write_results(
     provenance: &Provenance,
     fits: bool,
 ) -> std::io::Result<(usize, RunResult)> {
-    write_state(&folder.path().join(RUN_STATE_FILE), header.clone(), &tally)?;
+    let out = folder.target().to_path_buf();
+    let failed = |e: std::io::Error| {
+        let message = format!("cannot write the results into {}: {e}", out.display());
+        std::io::Error::new(e.kind(), message)
+    };
+    write_state(&folder.path().join(RUN_STATE_FILE), header.clone(), &tally).map_err(failed)?;
     let result = tally.into_result(header.identity.photon_list, header.seconds, threads);
-    let files = write_run(folder.path(), scene, &result, provenance, fits)?;
-    folder.commit()?;
+    let files = write_run(folder.path(), scene, &result, provenance, fits).map_err(failed)?;
+    folder.commit().map_err(failed)?;
     Ok((files.len() + 1, result))
 }
