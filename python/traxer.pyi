@@ -34,8 +34,12 @@ class SceneError(InputError):
     """The scene (or included) file."""
     line: Optional[int]
     """1-based line of the problem, when it has a place in the file."""
+    key: Optional[str]
+    """The dotted key of the value or table at fault, e.g.
+    "materials.detector.pixels[1]" or "objects[3].shape"; None for problems of
+    the whole file or of a ``defines`` entry."""
     message: str
-    """What is wrong, naming the key and what is expected."""
+    """What is wrong and what is expected."""
 
 class Scene:
     """A scene file (TOML, see docs/scene-format.md), loaded and built for tracing.

@@ -1,6 +1,6 @@
 //! traxer's errors as Python exceptions: `InputError` (a `ValueError`) for what
 //! the user can fix, `SceneError` (an `InputError`) for a scene file with its
-//! `file`, `line` and `message`, `OSError` for files that cannot be written or
+//! `file`, `line`, `key` and `message`, `OSError` for files that cannot be written or
 //! read, `RuntimeError` for the rest. Never a crash: every library error passes
 //! through [`to_py`].
 
@@ -17,7 +17,7 @@ pyo3::create_exception!(
     traxer,
     SceneError,
     InputError,
-    "A scene file that cannot be loaded. Attributes: file (path), line (1-based, or None), message (naming the key and what is expected)."
+    "A scene file that cannot be loaded. Attributes: file (path), line (1-based, or None), key (the dotted key of the value at fault, or None), message."
 );
 
 /// Adds the exception types to the module.
@@ -40,7 +40,8 @@ fn scene_error(py: Python<'_>, e: &traxer::scene::SceneError) -> PyErr {
     let set = || -> PyResult<()> {
         value.setattr("file", e.file.display().to_string())?;
         value.setattr("line", e.line)?;
-        value.setattr("message", e.message.clone())
+        value.setattr("message", e.message.clone())?;
+        value.setattr("key", e.key.clone())
     };
     if let Err(e) = set() {
         return e;

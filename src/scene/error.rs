@@ -10,6 +10,9 @@ pub struct SceneError {
     /// 1-based line number, when the problem has a place in the file.
     pub line: Option<usize>,
     pub message: String,
+    /// The dotted key of the value at fault (`objects[2].shape.radius`), when
+    /// the problem is located at a value of the file (the message names it too).
+    pub key: Option<String>,
 }
 
 impl SceneError {
@@ -18,12 +21,19 @@ impl SceneError {
             file: file.to_path_buf(),
             line,
             message: message.into(),
+            key: None,
         }
+    }
+
+    /// The same error, about the value at `key`.
+    fn keyed(self, key: Option<String>) -> SceneError {
+        SceneError { key, ..self }
     }
 
     /// An error at byte offset `offset` of `text`.
     pub fn at(file: &Path, text: &str, offset: usize, message: impl Into<String>) -> SceneError {
         SceneError::new(file, Some(line_of(text, offset)), message)
+            .keyed(key_at(text, offset..offset))
     }
 
     /// Converts a TOML syntax or type error into a located error with the
@@ -35,13 +45,13 @@ impl SceneError {
         let message = e.message().trim_end();
         // Inside tables read through `type = ...` (materials, sources, shapes) serde
         // reports the whole table: find the offending value in it.
-        let (offset, message) = match locate_bad_value(text, span.clone(), message) {
-            Some((offset, key)) => (offset, format!("`{key}`: {message}")),
-            None => (span.start, message.to_string()),
+        let (offset, message, key) = match locate_bad_value(text, span.clone(), message) {
+            Some((offset, key)) => (offset, format!("`{key}`: {message}"), Some(key)),
+            None => (span.start, message.to_string(), key_at(text, span)),
         };
         let line = line_of(text, offset);
         let quoted = excerpt(text, offset);
-        SceneError::new(file, Some(line), format!("{message}\n    | {quoted}"))
+        SceneError::new(file, Some(line), format!("{message}\n    | {quoted}")).keyed(key)
     }
 }
 
@@ -75,7 +85,7 @@ impl SceneText<'_> {
             Some(d) => format!("{message} (from -D {d})"),
             None => message,
         };
-        SceneError::new(self.path, Some(line), message)
+        SceneError::new(self.path, Some(line), message).keyed(key_at(self.text, span))
     }
 
     /// The `-D` override of a variable that lines `first..=last` (1-based) of the
@@ -169,6 +179,49 @@ fn locate_bad_value(
     }
 }
 
+/// The dotted key of the innermost value or table of `text` whose text holds
+/// `span`.
+fn key_at(text: &str, span: std::ops::Range<usize>) -> Option<String> {
+    let doc = toml_edit::ImDocument::parse(text).ok()?;
+    let mut best: Option<(usize, String)> = None;
+    let mut consider = |key: &str, s: Option<std::ops::Range<usize>>| {
+        let Some(s) = s else { return };
+        let holds = s.start <= span.start && span.end <= s.end;
+        // Children come after their parents: an equal span is the deeper one.
+        if holds && best.as_ref().is_none_or(|(len, _)| s.len() <= *len) {
+            best = Some((s.len(), key.to_string()));
+        }
+    };
+    visit_subtables(doc.as_table(), "", &mut |key, t| consider(key, t.span()));
+    visit_table(doc.as_table(), "", &mut |key, v| consider(key, v.span()));
+    best.map(|(_, key)| key)
+}
+
+/// Calls `f(dotted key, table)` for every table under `table` (`[a.b]`, and
+/// each `[[a]]` as `a[i]`), depth first.
+fn visit_subtables(
+    table: &toml_edit::Table,
+    prefix: &str,
+    f: &mut dyn FnMut(&str, &toml_edit::Table),
+) {
+    for (key, item) in table.iter() {
+        let path = dotted(prefix, key);
+        let tables: Vec<(String, &toml_edit::Table)> = match item {
+            toml_edit::Item::Table(t) => vec![(path, t)],
+            toml_edit::Item::ArrayOfTables(a) => a
+                .iter()
+                .enumerate()
+                .map(|(i, t)| (format!("{path}[{i}]"), t))
+                .collect(),
+            _ => Vec::new(),
+        };
+        for (path, t) in tables {
+            f(&path, t);
+            visit_subtables(t, &path, f);
+        }
+    }
+}
+
 /// Tables in which exactly one of a few keys is written (an energy: `line` or
 /// `band`; a transform step: `translate`, `rotate` or `scale`), written with
 /// more than one of them.
@@ -208,14 +261,19 @@ fn unescape(s: &str) -> String {
     debug[1..debug.len() - 1].to_string()
 }
 
+/// `key` under `prefix` ("a.b" + "c" = "a.b.c").
+fn dotted(prefix: &str, key: &str) -> String {
+    if prefix.is_empty() {
+        key.to_string()
+    } else {
+        format!("{prefix}.{key}")
+    }
+}
+
 /// Calls `f(dotted key, value)` for every value under `table`, depth first.
 fn visit_table(table: &toml_edit::Table, prefix: &str, f: &mut dyn FnMut(&str, &toml_edit::Value)) {
     for (key, item) in table.iter() {
-        let path = if prefix.is_empty() {
-            key.to_string()
-        } else {
-            format!("{prefix}.{key}")
-        };
+        let path = dotted(prefix, key);
         match item {
             toml_edit::Item::Value(v) => visit_value(v, &path, f),
             toml_edit::Item::Table(t) => visit_table(t, &path, f),

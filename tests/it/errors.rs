@@ -274,3 +274,45 @@ fn missing_scene_bad_arguments_and_run_failures() {
     );
     assert!(err.contains("more than 50000000 quads"), "{err}");
 }
+
+/// A scene error located at a value also names that value's dotted key (the
+/// Python module hands it on as `SceneError.key`): for TOML type errors, for the
+/// scene's own checks and for the checks of sources and shapes.
+#[test]
+fn scene_errors_name_the_key_of_the_value() {
+    let cases = [
+        (
+            GOOD.replace("pixels = [10, 10]", "pixels = [10, -1]"),
+            "materials.detector.pixels[1]",
+        ),
+        (
+            GOOD.replace("material = \"detector\"", "material = \"nothing\""),
+            "objects[0].material",
+        ),
+        (
+            GOOD.replace("radius = 1.0 }", "radius = -1.0 }"),
+            "sources[0]",
+        ),
+        (
+            GOOD.replace("size = [14.0, 14.0] }", "size = [14.0, -2.0] }"),
+            "objects[0].shape",
+        ),
+    ];
+    let device = crate::common::device();
+    for (text, key) in cases {
+        let dir = tempfile::tempdir().unwrap();
+        let scene = write(dir.path(), "scene.toml", &text);
+        let e = traxer::scene::Scene::load(&device, &scene, &[])
+            .err()
+            .expect("refused");
+        assert_eq!(e.key.as_deref(), Some(key), "{e}");
+        assert!(e.line.is_some(), "{e}");
+    }
+    // Errors of the whole file or of a -D override have no key.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "scene.toml", GOOD);
+    let e = traxer::scene::Scene::load(&device, &scene, &["nope=1".into()])
+        .err()
+        .expect("refused");
+    assert_eq!(e.key, None, "{e}");
+}

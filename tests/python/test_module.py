@@ -281,10 +281,11 @@ def test_scene_errors_name_file_line_and_key(tmp_path):
     with pytest.raises(traxer.SceneError) as e:
         traxer.Scene(bad)
     assert e.value.file == str(bad) and e.value.line == at + 1
-    assert "pixels" in str(e.value) and "pixels" in e.value.message
+    assert e.value.key == "materials.detector.pixels[1]"
+    assert "pixels" in str(e.value) and "expected u32" in e.value.message
     with pytest.raises(traxer.SceneError) as e:
         traxer.Scene(WOLTER, defines={"no_such_variable": 1})
-    assert "no_such_variable" in str(e.value) and e.value.line is None
+    assert "no_such_variable" in str(e.value) and e.value.line is None and e.value.key is None
     with pytest.raises(traxer.SceneError):
         traxer.Scene(tmp_path / "missing.toml")
     # Scene errors are input errors are ValueErrors.
