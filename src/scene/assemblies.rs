@@ -113,16 +113,13 @@ pub fn expand(
     Ok(materials)
 }
 
-/// The LLNL telescope's parts as objects: analytic, tessellated, or read from a
-/// mesh file that holds them (tessellated at azimuth 0 and rotated into place).
-fn expand_llnl(
+/// The telescope's shell data (shipped, or the scene's `data` file), checked.
+fn llnl_data(
     at: SceneText,
     dir: &Path,
     t: &LlnlTelescopeDesc,
     span: Range<usize>,
-    objects: &mut Vec<Spanned<ObjectDesc>>,
-    materials: &mut Vec<GeneratedMaterial>,
-) -> Result<(), SceneError> {
+) -> Result<LlnlTelescope, SceneError> {
     let err = |m: String| at.error(span.clone(), m);
     let data = match &t.data {
         None => LlnlTelescope::shipped(),
@@ -141,6 +138,21 @@ fn expand_llnl(
         )),
         None => err(format!("llnl_telescope data: {m}")),
     })?;
+    Ok(data)
+}
+
+/// The LLNL telescope's parts as objects: analytic, tessellated, or read from a
+/// mesh file that holds them (tessellated at azimuth 0 and rotated into place).
+fn expand_llnl(
+    at: SceneText,
+    dir: &Path,
+    t: &LlnlTelescopeDesc,
+    span: Range<usize>,
+    objects: &mut Vec<Spanned<ObjectDesc>>,
+    materials: &mut Vec<GeneratedMaterial>,
+) -> Result<(), SceneError> {
+    let err = |m: String| at.error(span.clone(), m);
+    let data = llnl_data(at, dir, t, span.clone())?;
     if !t.azimuth_center.is_finite() {
         return Err(err("azimuth_center must be a number (degrees)".into()));
     }
