@@ -198,17 +198,32 @@ class SolarEmission:
     """A solar axion emission table w(r, E) on a radius × energy grid."""
 
     description: str
+    coupling: str
     @staticmethod
-    def builtin() -> SolarEmission:
-        """Primakoff emission of the B16-AGSS09met solar model, g_aγ = 1e-10 GeV⁻¹."""
+    def builtin(
+        emission: Literal["primakoff", "abc", "primakoff+abc"] = "primakoff",
+        g_agamma: float = 1e-10,
+        g_ae: float = 1e-13,
+    ) -> SolarEmission:
+        """The built-in emission of the B16-AGSS09met solar model: Primakoff
+        (g_aγ in GeV⁻¹), ABC (axion–electron: atomic, electron–ion and
+        electron–electron bremsstrahlung, Compton; g_ae) or both; fluxes ∝ g²."""
     @staticmethod
     def from_model(
         path: _Path,
         energies_keV: Sequence[float] | npt.ArrayLike,
         radii: Optional[Sequence[float] | npt.ArrayLike] = None,
+        emission: Literal["primakoff", "abc", "primakoff+abc"] = "primakoff",
+        opacities: Optional[_Path] = None,
+        g_agamma: float = 1e-10,
+        g_ae: float = 1e-13,
     ) -> SolarEmission:
-        """Primakoff emission of a standard solar model file (B16 format) on the
-        grid; ``radii`` in fractions of R_sun (None: the model's shells)."""
+        """The emission of a standard solar model file (B16 format) on the grid;
+        ``radii`` in fractions of R_sun (None: the model's shells); ABC needs
+        ``opacities``, the Opacity Project tables' folder."""
+    def process_spectra(self, distance_au: float = 1.0) -> dict[str, npt.NDArray[np.float64]]:
+        """dΦ/dE per process (primakoff, atomic, electron_ion, electron_electron,
+        compton, abc), axions cm⁻² s⁻¹ keV⁻¹, at the grid's energies."""
     @staticmethod
     def from_csv(path: _Path) -> SolarEmission:
         """An emission table CSV (Radius, Energy [keV], emRates)."""

@@ -7,24 +7,57 @@ use crate::errors::{input, lib};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use traxer::files::atomic_write;
-use traxer::source::sun::primakoff::emission_table;
-use traxer::source::sun::{
-    builtin_table, EmissionTable, SolarModel, AU_CM, BUILTIN_COUPLING, BUILTIN_DESCRIPTION,
+use traxer::source::sun::builtin::{
+    self, builtin_emission, model_emission, AxionEmission, EmissionPart, G_AGAMMA_REFERENCE_PER_GEV,
 };
+use traxer::source::sun::opacity_project::OpacityTables;
+use traxer::source::sun::{abc::G_AE_REFERENCE, EmissionTable, SolarModel, AU_CM};
 
 /// A solar axion emission table w(r, E) on a radius × energy grid.
 ///
 /// `radii`: fractions of the solar radius; `energies_keV`; `rates` [radius,
 /// energy]: the rate per axion phase-space mode w (keV), as in the emission CSV
 /// that a Sun source's `emission = "FILE.csv"` reads. Make one with
-/// `SolarEmission.builtin()`, `.from_model(path, energies_keV)` or
-/// `.from_csv(path)`.
+/// `SolarEmission.builtin(emission="primakoff"|"abc"|"primakoff+abc", g_agamma=,
+/// g_ae=)`, `.from_model(path, energies_keV, ...)` or `.from_csv(path)`;
+/// `process_spectra()` gives dΦ/dE per process (Primakoff, atomic, electron–ion,
+/// electron–electron, Compton, ABC).
 #[pyclass(module = "traxer", frozen)]
 pub struct SolarEmission {
     table: EmissionTable,
+    parts: Vec<EmissionPart>,
     /// Where the table comes from.
     #[pyo3(get)]
     description: String,
+    /// The couplings it is for.
+    #[pyo3(get)]
+    coupling: String,
+}
+
+impl From<AxionEmission> for SolarEmission {
+    fn from(e: AxionEmission) -> SolarEmission {
+        SolarEmission {
+            table: e.table,
+            parts: e.parts,
+            description: e.description,
+            coupling: e.coupling,
+        }
+    }
+}
+
+/// (g_aγ, g_ae) for the processes that `emission` names.
+fn couplings(emission: &str, g_agamma: f64, g_ae: f64) -> PyResult<(Option<f64>, Option<f64>)> {
+    let (p, a) = builtin::parse_name(emission).ok_or_else(|| {
+        input(format!(
+            "emission={emission:?}: expected \"primakoff\", \"abc\" or \"primakoff+abc\""
+        ))
+    })?;
+    for (name, g) in [("g_agamma", g_agamma), ("g_ae", g_ae)] {
+        if !(g.is_finite() && g > 0.0) {
+            return Err(input(format!("{name}={g}: expected a positive coupling")));
+        }
+    }
+    Ok((p.then_some(g_agamma), a.then_some(g_ae)))
 }
 
 fn au(distance_au: f64) -> PyResult<f64> {
@@ -38,40 +71,71 @@ fn au(distance_au: f64) -> PyResult<f64> {
 
 #[pymethods]
 impl SolarEmission {
-    /// The built-in table: Primakoff emission of the B16-AGSS09met standard
-    /// solar model for g_aγ = 1e-10 GeV⁻¹.
+    /// The built-in emission of the B16-AGSS09met standard solar model:
+    /// "primakoff" (g_aγ in GeV⁻¹), "abc" (the axion–electron processes, g_ae) or
+    /// "primakoff+abc"; fluxes scale as the couplings squared.
     #[staticmethod]
-    fn builtin() -> SolarEmission {
-        SolarEmission {
-            table: builtin_table().clone(),
-            description: format!("{BUILTIN_DESCRIPTION} ({BUILTIN_COUPLING})"),
-        }
+    #[pyo3(signature = (emission = "primakoff", g_agamma = G_AGAMMA_REFERENCE_PER_GEV, g_ae = G_AE_REFERENCE))]
+    fn builtin(emission: &str, g_agamma: f64, g_ae: f64) -> PyResult<SolarEmission> {
+        let (p, a) = couplings(emission, g_agamma, g_ae)?;
+        Ok(builtin_emission(p, a).map_err(lib)?.into())
     }
 
-    /// The Primakoff emission (g_aγ = 1e-10 GeV⁻¹, Debye–Hückel screening) of a
-    /// standard solar model file in the B16 format, on `energies_keV` and `radii`
-    /// (fractions of R_sun; None: every shell of the model file).
+    /// The emission of a standard solar model file in the B16 format, on
+    /// `energies_keV` (cell centres) and `radii` (fractions of R_sun; None: every
+    /// shell of the model file). ABC needs `opacities`, the folder of the Opacity
+    /// Project tables (e.g. ../shared/solar/op).
     #[staticmethod]
-    #[pyo3(signature = (path, energies_keV, radii = None))]
-    #[allow(non_snake_case)]
+    #[pyo3(signature = (path, energies_keV, radii = None, emission = "primakoff", opacities = None, g_agamma = G_AGAMMA_REFERENCE_PER_GEV, g_ae = G_AE_REFERENCE))]
+    #[allow(non_snake_case, clippy::too_many_arguments)]
     fn from_model(
         py: Python<'_>,
         path: PathBuf,
         energies_keV: Vec<f64>,
         radii: Option<Vec<f64>>,
+        emission: &str,
+        opacities: Option<PathBuf>,
+        g_agamma: f64,
+        g_ae: f64,
     ) -> PyResult<SolarEmission> {
+        let (p, a) = couplings(emission, g_agamma, g_ae)?;
         let model = SolarModel::read(&path).map_err(lib)?;
         let radii = radii.unwrap_or_else(|| model.shells.iter().map(|s| s.radius).collect());
         EmissionTable::check_grid(&radii, &energies_keV)
             .map_err(|e| input(format!("radii/energies_keV: {e}")))?;
-        let table = py.detach(|| emission_table(&model, &radii, &energies_keV));
-        Ok(SolarEmission {
-            table,
-            description: format!(
-                "Primakoff emission of {} ({BUILTIN_COUPLING})",
-                path.display()
-            ),
-        })
+        let op = match (opacities, a) {
+            (Some(dir), Some(_)) => Some(OpacityTables::read(&dir).map_err(lib)?),
+            (None, Some(_)) => {
+                return Err(input(
+                    "the ABC emission needs opacities= (the Opacity Project tables' folder)",
+                ))
+            }
+            _ => None,
+        };
+        let name = path.display().to_string();
+        let e = py
+            .detach(|| model_emission(&model, &name, op.as_ref(), &radii, &energies_keV, p, a))
+            .map_err(lib)?;
+        Ok(e.into())
+    }
+
+    /// dΦ/dE per process at the grid's energies (axions cm⁻² s⁻¹ keV⁻¹ at
+    /// `distance_au`): a dict with "primakoff", "atomic", "electron_ion",
+    /// "electron_electron", "compton" and "abc" as the emission has them (empty
+    /// for a table read from a CSV).
+    #[pyo3(signature = (distance_au = 1.0))]
+    fn process_spectra<'py>(
+        &self,
+        py: Python<'py>,
+        distance_au: f64,
+    ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let scale = (AU_CM / au(distance_au)?).powi(2);
+        let d = pyo3::types::PyDict::new(py);
+        for p in &self.parts {
+            let s: Vec<f64> = p.spectrum_1au.iter().map(|x| x * scale).collect();
+            d.set_item(&p.name, array(py, &[s.len()], s)?)?;
+        }
+        Ok(d)
     }
 
     /// An emission table CSV (columns Radius, Energy [keV], emRates).
@@ -79,7 +143,9 @@ impl SolarEmission {
     fn from_csv(path: PathBuf) -> PyResult<SolarEmission> {
         Ok(SolarEmission {
             table: EmissionTable::read_csv(&path).map_err(lib)?,
+            parts: Vec::new(),
             description: path.display().to_string(),
+            coupling: "the table's coupling".into(),
         })
     }
 

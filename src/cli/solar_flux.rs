@@ -1,36 +1,49 @@
 //! `traxer solar-flux`: an axion emission table — computed from a standard solar
-//! model, read from a CSV, or the built-in one — with its spectrum at Earth and
-//! its radial profiles (`traxer::output::write_solar_flux`).
+//! model (Primakoff, and ABC with the Opacity Project tables), read from a CSV,
+//! or a built-in one — with its spectrum at Earth per process and its radial
+//! profiles (`traxer::output::write_solar_flux`).
 
 use super::args::{parse_values, OutputArgs};
 use super::InputError;
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use traxer::files::{sha256_hex, OutputFolder};
 use traxer::output::{write_solar_flux, Provenance, SolarFluxInfo, SOLAR_FLUX_FILES};
-use traxer::source::sun::primakoff::emission_table;
-use traxer::source::sun::{
-    builtin_table, EmissionTable, SolarModel, BUILTIN_COUPLING, BUILTIN_DESCRIPTION,
+use traxer::source::sun::abc::G_AE_REFERENCE;
+use traxer::source::sun::builtin::{
+    self, builtin_emission, model_emission, EmissionPart, G_AGAMMA_REFERENCE_PER_GEV,
 };
+use traxer::source::sun::opacity_project::OpacityTables;
+use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 
-/// Solar axion emission: the table, the spectrum at Earth and where it comes from.
+/// Solar axion emission: the table, the spectrum at Earth per process and where
+/// the axions come from.
 ///
-/// With --model, computes the Primakoff emission (g_aγ = 1e-10 GeV⁻¹, Debye–Hückel
-/// screening) of a standard solar model file in the B16 format (e.g.
-/// ../shared/solar/SolarModel_B16-AGSS09met.dat) on the --radii × --energies grid;
-/// with --table, reads an emission table CSV (Radius, Energy [keV], emRates);
-/// with neither, takes the built-in table. Writes into --out: emission.csv (the
-/// table), spectrum.csv and spectrum.png (dΦ/dE at --distance-au, with the CAST
-/// 2007 parameterisation), radial_profile.csv, projected_profile.csv, profiles.png
-/// and solar_flux.json (total flux, ratio to CAST 2007, radii holding 50/90/99 %).
-/// The built-in table was made with:
-///   traxer solar-flux --model ../shared/solar/SolarModel_B16-AGSS09met.dat --out out/solar
+/// --emission chooses primakoff (g_aγ), abc (the axion–electron processes: atomic,
+/// electron–ion and electron–electron bremsstrahlung, Compton; g_ae) or
+/// primakoff+abc. With --model, computes it from a standard solar model file in
+/// the B16 format (e.g. ../shared/solar/SolarModel_B16-AGSS09met.dat) on the
+/// --radii × --energies grid (ABC also needs --opacities, the Opacity Project
+/// tables, e.g. ../shared/solar/op); with --table, reads an emission table CSV
+/// (Radius, Energy [keV], emRates); with neither, takes the built-in tables.
+/// Fluxes scale as the couplings squared (--g-agamma, --g-ae). Writes into --out:
+/// emission.csv (the table), spectrum.csv and spectrum.png (dΦ/dE at
+/// --distance-au, total and per process), radial_profile.csv,
+/// projected_profile.csv, profiles.png and solar_flux.json (fluxes, radii holding
+/// 50/80/90/99 % of the emission in 3D and on the sky). The built-in tables are
+/// made by scripts/solar_table.sh.
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("out/solar")))]
 pub struct SolarFluxArgs {
-    /// A standard solar model in the B16 format to compute the Primakoff emission of.
+    /// primakoff, abc or primakoff+abc.
+    #[arg(value_name = "NAME", long, default_value = "primakoff")]
+    pub emission: String,
+    /// A standard solar model in the B16 format to compute the emission of.
     #[arg(value_name = "FILE", long, conflicts_with = "table")]
     pub model: Option<PathBuf>,
+    /// With --model and ABC: the Opacity Project folder (opacity/, ionisation/).
+    #[arg(value_name = "DIR", long, requires = "model")]
+    pub opacities: Option<PathBuf>,
     /// An emission table CSV to check and describe.
     #[arg(value_name = "CSV", long)]
     pub table: Option<PathBuf>,
@@ -43,19 +56,32 @@ pub struct SolarFluxArgs {
         requires = "model"
     )]
     pub radii: String,
-    /// With --model: energies (keV) as a,b,c or start:stop:step.
-    #[arg(
-        value_name = "KEV_LIST",
-        long,
-        default_value = "0.1:15:0.1",
-        requires = "model"
-    )]
-    pub energies: String,
+    /// With --model: energies (keV, the centres of the energy cells) as a,b,c or
+    /// start:stop:step [default: 0.1:15:0.1 for primakoff, 0.1125:14.9875:0.025
+    /// with abc].
+    #[arg(value_name = "KEV_LIST", long, requires = "model")]
+    pub energies: Option<String>,
+    /// The axion–photon coupling g_aγ in GeV⁻¹ (Primakoff).
+    #[arg(value_name = "G", long, default_value_t = G_AGAMMA_REFERENCE_PER_GEV)]
+    pub g_agamma: f64,
+    /// The axion–electron coupling g_ae (ABC).
+    #[arg(value_name = "G", long, default_value_t = G_AE_REFERENCE)]
+    pub g_ae: f64,
     /// Sun–Earth distance for the spectrum, astronomical units.
     #[arg(value_name = "AU", long, default_value_t = 1.0)]
     pub distance_au: f64,
     #[command(flatten)]
     pub output: OutputArgs,
+}
+
+/// An emission with its parts and what it is.
+struct Emission {
+    table: EmissionTable,
+    parts: Vec<EmissionPart>,
+    description: String,
+    coupling: String,
+    origin: serde_json::Value,
+    csv: String,
 }
 
 pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
@@ -66,85 +92,166 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
+    for (name, g) in [("--g-agamma", a.g_agamma), ("--g-ae", a.g_ae)] {
+        if !(g.is_finite() && g > 0.0) {
+            return Err(InputError(format!("{name} {g}: expected a positive coupling")).into());
+        }
+    }
+    let Some((primakoff, abc)) = builtin::parse_name(&a.emission) else {
+        return Err(InputError(format!(
+            "--emission {}: expected primakoff, abc or primakoff+abc",
+            a.emission
+        ))
+        .into());
+    };
     let folder = OutputFolder::prepare(&a.output.out, &SOLAR_FLUX_FILES)?;
-    let version = env!("CARGO_PKG_VERSION");
-    let (table, description, coupling, origin, csv) = if let Some(path) = &a.model {
-        let bytes = std::fs::read(path)
-            .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
-        let model = SolarModel::parse(&String::from_utf8_lossy(&bytes), path)?;
-        let radii = if a.radii == "model" {
-            model.shells.iter().map(|s| s.radius).collect()
-        } else {
-            parse_values("radii", &a.radii)?
-        };
-        let energies = parse_values("energies", &a.energies)?;
-        EmissionTable::check_grid(&radii, &energies)
-            .map_err(|e| InputError(format!("--radii/--energies: {e}")))?;
-        let table = emission_table(&model, &radii, &energies);
-        let name = path.file_name().map_or_else(
-            || path.display().to_string(),
-            |n| n.to_string_lossy().into_owned(),
-        );
-        let sha = sha256_hex(&bytes);
-        let comment = format!(
-            "Primakoff axion emission (rate per axion phase-space mode w = 2 Γ_γ→a f_B, keV) for g_aγ = 1e-10 GeV⁻¹,\n\
-             Γ_γ→a from Raffelt, Phys. Rev. D 33 (1986) 897 with Debye–Hückel screening (full ionisation),\n\
-             computed by traxer {version} (`traxer solar-flux --model {name} --radii {} --energies {}`)\n\
-             from the solar model {name} (SHA-256 {sha}):\n\
-             B16-AGSS09met, N. Vinyoles et al., ApJ 835 (2017) 202, arXiv:1611.09867.\n\
-             Axions per volume, time and energy: w E²/(2π²) in natural units (see src/source/sun/primakoff.rs).",
-            a.radii, a.energies
-        );
-        let csv = table.to_csv(&comment);
-        let origin = json!({"model": path.display().to_string(), "model_sha256": sha, "radii": a.radii, "energies_keV": a.energies});
-        (
-            table,
-            format!("Primakoff emission of {name}"),
-            BUILTIN_COUPLING.to_string(),
-            origin,
-            csv,
-        )
+    let g_agamma = primakoff.then_some(a.g_agamma);
+    let g_ae = abc.then_some(a.g_ae);
+    let e = if let Some(path) = &a.model {
+        from_model(&a, path, g_agamma, g_ae)?
     } else if let Some(path) = &a.table {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
         let table = EmissionTable::parse_csv(&text, path)?;
-        let origin = json!({"table": path.display().to_string(), "table_sha256": sha256_hex(text.as_bytes())});
-        (
+        Emission {
             table,
-            path.display().to_string(),
-            "the table's coupling".to_string(),
-            origin,
-            text,
-        )
+            parts: Vec::new(),
+            description: path.display().to_string(),
+            coupling: "the table's coupling".into(),
+            origin: json!({"table": path.display().to_string(), "table_sha256": sha256_hex(text.as_bytes())}),
+            csv: text,
+        }
     } else {
-        let table = builtin_table().clone();
-        let csv = table.to_csv(&format!(
-            "The built-in table of traxer {version}: {BUILTIN_DESCRIPTION}"
+        let b = builtin_emission(g_agamma, g_ae)?;
+        let csv = b.table.to_csv(&format!(
+            "The built-in emission of traxer {}: {} ({})",
+            env!("CARGO_PKG_VERSION"),
+            b.description,
+            b.coupling
         ));
-        (
-            table,
-            BUILTIN_DESCRIPTION.to_string(),
-            BUILTIN_COUPLING.to_string(),
-            json!({"builtin": true}),
+        Emission {
+            table: b.table,
+            parts: b.parts,
+            description: b.description,
+            coupling: b.coupling,
+            origin: json!({"builtin": a.emission}),
             csv,
-        )
+        }
     };
     let info = SolarFluxInfo {
-        description: &description,
-        coupling: &coupling,
+        description: &e.description,
+        coupling: &e.coupling,
         distance_au: a.distance_au,
-        table_csv: &csv,
-        origin,
+        table_csv: &e.csv,
+        origin: e.origin.clone(),
     };
-    write_solar_flux(folder.path(), &table, &info, &Provenance::new(None))?;
+    write_solar_flux(
+        folder.path(),
+        &e.table,
+        &e.parts,
+        &info,
+        &Provenance::new(None),
+    )?;
     folder.commit()?;
-    let d_cm = a.distance_au * traxer::source::sun::AU_CM;
-    let total: f64 =
-        table.luminosity(0.0, f64::INFINITY) / (4.0 * std::f64::consts::PI * d_cm * d_cm);
+    let d_cm = a.distance_au * AU_CM;
+    let area = 4.0 * std::f64::consts::PI * d_cm * d_cm;
+    let total = e.table.luminosity(0.0, f64::INFINITY) / area;
     say!(
-        "{description}: {total:.4e} axions cm⁻² s⁻¹ at {} AU ({coupling})",
-        a.distance_au
+        "{}: {total:.4e} axions cm⁻² s⁻¹ at {} AU ({})",
+        e.description,
+        a.distance_au,
+        e.coupling
     );
+    let widths: Vec<f64> = e
+        .table
+        .energy_edges()
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .collect();
+    for p in &e.parts {
+        let flux: f64 = p
+            .spectrum_1au
+            .iter()
+            .zip(&widths)
+            .map(|(f, w)| f * w)
+            .sum::<f64>()
+            / (a.distance_au * a.distance_au);
+        say!("  {:<18} {flux:.4e} cm⁻² s⁻¹", p.name);
+    }
     say!("wrote {}", a.output.out.display());
     Ok(())
+}
+
+/// The emission computed from a solar model file (and the OP tables for ABC).
+fn from_model(
+    a: &SolarFluxArgs,
+    path: &Path,
+    g_agamma: Option<f64>,
+    g_ae: Option<f64>,
+) -> anyhow::Result<Emission> {
+    let bytes = std::fs::read(path)
+        .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
+    let model = SolarModel::parse(&String::from_utf8_lossy(&bytes), path)?;
+    let radii = if a.radii == "model" {
+        model.shells.iter().map(|s| s.radius).collect()
+    } else {
+        parse_values("radii", &a.radii)?
+    };
+    let energies_text = a.energies.clone().unwrap_or_else(|| {
+        if g_ae.is_some() {
+            "0.1125:14.9875:0.025".into()
+        } else {
+            "0.1:15:0.1".into()
+        }
+    });
+    let energies = parse_values("energies", &energies_text)?;
+    EmissionTable::check_grid(&radii, &energies)
+        .map_err(|e| InputError(format!("--radii/--energies: {e}")))?;
+    let name = path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let op = match (&a.opacities, g_ae) {
+        (Some(dir), Some(_)) => Some(OpacityTables::read(dir)?),
+        (None, Some(_)) => return Err(InputError("--emission with abc and --model need --opacities DIR (the Opacity Project tables, e.g. ../shared/solar/op)".into()).into()),
+        _ => None,
+    };
+    let e = model_emission(
+        &model,
+        &name,
+        op.as_ref(),
+        &radii,
+        &energies,
+        g_agamma,
+        g_ae,
+    )?;
+    let sha = sha256_hex(&bytes);
+    let mut origin = json!({"model": path.display().to_string(), "model_sha256": sha, "radii": a.radii, "energies_keV": energies_text});
+    let mut how = Vec::new();
+    if let Some(g) = g_agamma {
+        how.push(format!("Primakoff (w = 2 Γ_γ→a f_B, Raffelt, Phys. Rev. D 33 (1986) 897, Debye–Hückel screening, full ionisation; src/source/sun/primakoff.rs) for g_aγ = {g:e} GeV⁻¹"));
+    }
+    if let (Some(g), Some(dir)) = (g_ae, &a.opacities) {
+        how.push(format!("ABC (atomic from the Opacity Project tables in {}, electron–ion and electron–electron bremsstrahlung, Compton; Redondo, JCAP 12 (2013) 008; src/source/sun/abc.rs) for g_ae = {g:e}, each rate the average of w E² over its energy cell divided by the cell centre's E²", dir.display()));
+        origin["opacities"] = json!(dir.display().to_string());
+    }
+    let header = format!(
+        "Axion emission: rate per axion phase-space mode w (keV); {}.\n\
+         Computed by traxer {} (`traxer solar-flux --emission {} --model {name} --radii {} --energies {energies_text}`)\n\
+         from the solar model {name} (SHA-256 {sha}):\n\
+         B16-AGSS09met, N. Vinyoles et al., ApJ 835 (2017) 202, arXiv:1611.09867.\n\
+         Axions per volume, time and energy: w E²/(2π²) in natural units (see src/source/sun/).",
+        how.join("; "),
+        env!("CARGO_PKG_VERSION"),
+        a.emission,
+        a.radii
+    );
+    Ok(Emission {
+        csv: e.table.to_csv(&header),
+        table: e.table,
+        parts: e.parts,
+        description: e.description,
+        coupling: e.coupling,
+        origin,
+    })
 }

@@ -3,6 +3,7 @@
 //! JSON summary — what a user checks a table with before tracing it.
 
 use super::{line_plot, write_csv, write_json, Provenance, Series};
+use crate::source::sun::builtin::EmissionPart;
 use crate::source::sun::{EmissionSampler, EmissionTable, AU_CM, R_SUN_CM};
 use serde_json::json;
 use std::path::Path;
@@ -35,84 +36,101 @@ pub struct SolarFluxInfo<'a> {
     pub origin: serde_json::Value,
 }
 
-/// Writes [`SOLAR_FLUX_FILES`] into `dir`.
+/// The enclosed fractions asked for in the summary.
+const QUANTILES: [(&str, f64); 4] = [("50%", 0.5), ("80%", 0.8), ("90%", 0.9), ("99%", 0.99)];
+
+/// Writes [`SOLAR_FLUX_FILES`] into `dir`: the table `table`, its spectrum and
+/// profiles, and those of its `parts` (processes; spectra on the table's
+/// energies at 1 AU, profiles for the parts that have a table).
 pub fn write_solar_flux(
     dir: &Path,
     table: &EmissionTable,
+    parts: &[EmissionPart],
     info: &SolarFluxInfo,
     provenance: &Provenance,
 ) -> std::io::Result<()> {
     let d_cm = info.distance_au * AU_CM;
     let arcmin_per_rsun = (R_SUN_CM / d_cm).atan().to_degrees() * 60.0;
     crate::files::atomic_write(&dir.join(SOLAR_FLUX_FILES[0]), info.table_csv.as_bytes())?;
-    write_spectrum(dir, table, info)?;
+    write_spectrum(dir, table, parts, info)?;
     let at_1au = 1.0 / (info.distance_au * info.distance_au);
     let (e_lo, e_hi) = (
         table.energy_edges()[0],
         *table.energy_edges().last().unwrap(),
     );
-    let sampler = EmissionSampler::new(table, e_lo, e_hi)
-        .ok_or_else(|| std::io::Error::other("the table emits nothing"))?;
+    let sampler_of = |t: &EmissionTable| {
+        EmissionSampler::new(t, e_lo, e_hi)
+            .ok_or_else(|| std::io::Error::other("the table emits nothing"))
+    };
+    // The total first, then each part with a table of its own.
+    let mut profiled = vec![("total".to_string(), sampler_of(table)?)];
+    for p in parts.iter().filter(|p| p.table.is_some()) {
+        profiled.push((p.name.clone(), sampler_of(p.table.as_ref().unwrap())?));
+    }
+    if profiled.len() == 2 {
+        profiled.pop(); // one part: the same as the total
+    }
     let re = table.radius_edges();
+    let mut header = vec!["radius_from".to_string(), "radius_to".to_string()];
+    for (name, _) in &profiled {
+        header.push(format!("fraction_of_emission_{name}"));
+        header.push(format!("enclosed_fraction_{name}"));
+    }
     write_csv(
         &dir.join(SOLAR_FLUX_FILES[3]),
-        &[
-            "radius_from",
-            "radius_to",
-            "fraction_of_emission",
-            "enclosed_fraction",
-        ],
+        &header.iter().map(String::as_str).collect::<Vec<_>>(),
         (0..table.radii.len()).map(|i| {
-            let f = sampler.enclosed_3d(re[i + 1]) - sampler.enclosed_3d(re[i]);
-            vec![
-                re[i].to_string(),
-                re[i + 1].to_string(),
-                format!("{f:.6e}"),
-                format!("{:.6}", sampler.enclosed_3d(re[i + 1])),
-            ]
+            let mut row = vec![re[i].to_string(), re[i + 1].to_string()];
+            for (_, s) in &profiled {
+                let f = s.enclosed_3d(re[i + 1]) - s.enclosed_3d(re[i]);
+                row.push(format!("{f:.6e}"));
+                row.push(format!("{:.6}", s.enclosed_3d(re[i + 1])));
+            }
+            row
         }),
     )?;
     let rhos: Vec<f64> = (0..=400).map(|k| k as f64 / 400.0).collect();
+    let mut header = vec!["projected_radius".to_string(), "arcmin".to_string()];
+    for (name, _) in &profiled {
+        header.push(format!("enclosed_fraction_{name}"));
+        header.push(format!("surface_brightness_per_rsun2_{name}"));
+    }
     write_csv(
         &dir.join(SOLAR_FLUX_FILES[4]),
-        &[
-            "projected_radius",
-            "arcmin",
-            "enclosed_fraction",
-            "surface_brightness_per_rsun2",
-        ],
+        &header.iter().map(String::as_str).collect::<Vec<_>>(),
         rhos.windows(2).map(|w| {
             let (a, b) = (w[0], w[1]);
-            let ring = sampler.enclosed_projected(b) - sampler.enclosed_projected(a);
-            let brightness = ring / (std::f64::consts::PI * (b * b - a * a));
-            vec![
-                b.to_string(),
-                format!("{:.4}", b * arcmin_per_rsun),
-                format!("{:.6}", sampler.enclosed_projected(b)),
-                format!("{brightness:.6e}"),
-            ]
+            let mut row = vec![b.to_string(), format!("{:.4}", b * arcmin_per_rsun)];
+            for (_, s) in &profiled {
+                let ring = s.enclosed_projected(b) - s.enclosed_projected(a);
+                let brightness = ring / (std::f64::consts::PI * (b * b - a * a));
+                row.push(format!("{:.6}", s.enclosed_projected(b)));
+                row.push(format!("{brightness:.6e}"));
+            }
+            row
         }),
     )?;
+    let mut curves = Vec::new();
+    for (name, s) in &profiled {
+        curves.push(Series::line(
+            format!("{name}: within radius r (3D)"),
+            rhos.iter().map(|&r| (r, s.enclosed_3d(r))).collect(),
+        ));
+        curves.push(Series::line(
+            format!("{name}: within projected radius on the disk"),
+            rhos.iter().map(|&r| (r, s.enclosed_projected(r))).collect(),
+        ));
+    }
     line_plot(
         &dir.join(SOLAR_FLUX_FILES[5]),
         "Where the axions come from",
         "radius [R_sun]",
         "enclosed fraction of the emission",
-        &[
-            Series::line(
-                "within radius r (3D)",
-                rhos.iter().map(|&r| (r, sampler.enclosed_3d(r))).collect(),
-            ),
-            Series::line(
-                "within projected radius on the disk",
-                rhos.iter()
-                    .map(|&r| (r, sampler.enclosed_projected(r)))
-                    .collect(),
-            ),
-        ],
+        &curves,
         (900, 560),
     )?;
-    let total = sampler.luminosity / (4.0 * std::f64::consts::PI * d_cm * d_cm);
+    let area = 4.0 * std::f64::consts::PI * d_cm * d_cm;
+    let total = profiled[0].1.luminosity / area;
     let radius_of = |f: &dyn Fn(f64) -> f64, q: f64| {
         let (mut lo, mut hi) = (0.0, 1.0);
         for _ in 0..60 {
@@ -126,14 +144,37 @@ pub fn write_solar_flux(
         hi
     };
     let quantiles = |f: &dyn Fn(f64) -> f64| {
-        json!({
-            "50%": radius_of(f, 0.5), "90%": radius_of(f, 0.9), "99%": radius_of(f, 0.99),
-        })
+        serde_json::Value::Object(
+            QUANTILES
+                .iter()
+                .map(|(k, q)| (k.to_string(), json!(radius_of(f, *q))))
+                .collect(),
+        )
     };
     let cast_total: f64 = (0..20000)
         .map(|k| cast2007_flux(0.001 * (k as f64 + 0.5)) * 0.001)
         .sum::<f64>()
         * at_1au;
+    let widths: Vec<f64> = re_widths(&table.energy_edges());
+    let part_docs: serde_json::Map<String, serde_json::Value> = parts
+        .iter()
+        .map(|p| {
+            let flux: f64 = p
+                .spectrum_1au
+                .iter()
+                .zip(&widths)
+                .map(|(f, w)| f * w)
+                .sum::<f64>()
+                * at_1au;
+            let mut doc = json!({"flux_per_cm2_s": flux, "fraction_of_total": flux / total});
+            if let Some((_, s)) = profiled.iter().find(|(n, _)| *n == p.name) {
+                doc["radius_enclosing_rsun"] = quantiles(&|r| s.enclosed_3d(r));
+                doc["projected_radius_enclosing_rsun"] = quantiles(&|r| s.enclosed_projected(r));
+            }
+            (p.name.clone(), doc)
+        })
+        .collect();
+    let main = &profiled[0].1;
     let doc = json!({
         "provenance": provenance,
         "emission": info.description,
@@ -141,62 +182,85 @@ pub fn write_solar_flux(
         "origin": info.origin,
         "distance_au": info.distance_au,
         "energy_range_keV": [e_lo, e_hi],
-        "luminosity_axions_per_s": sampler.luminosity,
+        "luminosity_axions_per_s": main.luminosity,
         "flux_per_cm2_s": total,
+        "parts": part_docs,
         "cast2007_flux_per_cm2_s_0_to_20keV": cast_total,
         "ratio_to_cast2007": total / cast_total,
-        "radius_enclosing_rsun": quantiles(&|r| sampler.enclosed_3d(r)),
-        "projected_radius_enclosing_rsun": quantiles(&|r| sampler.enclosed_projected(r)),
+        "radius_enclosing_rsun": quantiles(&|r| main.enclosed_3d(r)),
+        "projected_radius_enclosing_rsun": quantiles(&|r| main.enclosed_projected(r)),
         "arcmin_per_rsun": arcmin_per_rsun,
         "files": SOLAR_FLUX_FILES,
     });
     write_json(&dir.join(SOLAR_FLUX_FILES[6]), &doc)
 }
 
-/// spectrum.csv and spectrum.png: dΦ/dE at the distance, with CAST 2007.
-fn write_spectrum(dir: &Path, table: &EmissionTable, info: &SolarFluxInfo) -> std::io::Result<()> {
+/// Widths of the cells between consecutive edges.
+fn re_widths(edges: &[f64]) -> Vec<f64> {
+    edges.windows(2).map(|w| w[1] - w[0]).collect()
+}
+
+/// spectrum.csv and spectrum.png: dΦ/dE at the distance, per part, with CAST 2007.
+fn write_spectrum(
+    dir: &Path,
+    table: &EmissionTable,
+    parts: &[EmissionPart],
+    info: &SolarFluxInfo,
+) -> std::io::Result<()> {
     let d_cm = info.distance_au * AU_CM;
     let spectrum = table.spectrum_at(d_cm);
     let at_1au = 1.0 / (info.distance_au * info.distance_au);
+    let mut header = vec!["energy_keV".to_string(), "flux_per_cm2_s_keV".to_string()];
+    for p in parts {
+        header.push(format!("flux_{}_per_cm2_s_keV", p.name));
+    }
+    header.push("cast2007_at_this_distance_per_cm2_s_keV".into());
     write_csv(
         &dir.join(SOLAR_FLUX_FILES[1]),
-        &[
-            "energy_keV",
-            "flux_per_cm2_s_keV",
-            "cast2007_at_this_distance_per_cm2_s_keV",
-        ],
-        table.energies.iter().zip(&spectrum).map(|(e, f)| {
-            vec![
-                e.to_string(),
-                format!("{f:.6e}"),
-                format!("{:.6e}", cast2007_flux(*e) * at_1au),
-            ]
+        &header.iter().map(String::as_str).collect::<Vec<_>>(),
+        table.energies.iter().enumerate().map(|(j, e)| {
+            let mut row = vec![e.to_string(), format!("{:.6e}", spectrum[j])];
+            for p in parts {
+                row.push(format!("{:.6e}", p.spectrum_1au[j] * at_1au));
+            }
+            row.push(format!("{:.6e}", cast2007_flux(*e) * at_1au));
+            row
         }),
     )?;
+    let curve = |values: &[f64], scale: f64| -> Vec<(f64, f64)> {
+        table
+            .energies
+            .iter()
+            .zip(values)
+            .map(|(&e, &f)| (e, f * scale))
+            .collect()
+    };
+    let mut series = vec![Series::line(
+        format!("total ({})", info.coupling),
+        curve(&spectrum, 1.0),
+    )];
+    if parts.len() > 1 {
+        for p in parts {
+            series.push(Series::line(p.name.clone(), curve(&p.spectrum_1au, at_1au)));
+        }
+    }
+    let primakoff_only = parts.iter().all(|p| p.name == "primakoff");
+    if primakoff_only {
+        series.push(Series::line(
+            "CAST 2007 parameterisation (g_aγ = 1e-10 GeV⁻¹)",
+            table
+                .energies
+                .iter()
+                .map(|&e| (e, cast2007_flux(e) * at_1au))
+                .collect(),
+        ));
+    }
     line_plot(
         &dir.join(SOLAR_FLUX_FILES[2]),
         &format!("Axion flux at {} AU", info.distance_au),
         "energy [keV]",
         "dΦ/dE [cm⁻² s⁻¹ keV⁻¹]",
-        &[
-            Series::line(
-                info.coupling,
-                table
-                    .energies
-                    .iter()
-                    .copied()
-                    .zip(spectrum.iter().copied())
-                    .collect(),
-            ),
-            Series::line(
-                "CAST 2007 parameterisation (g_aγ = 1e-10 GeV⁻¹)",
-                table
-                    .energies
-                    .iter()
-                    .map(|&e| (e, cast2007_flux(e) * at_1au))
-                    .collect(),
-            ),
-        ],
+        &series,
         (900, 560),
     )?;
     Ok(())

@@ -271,6 +271,41 @@ def test_solar_model_equals_the_cli(tmp_path):
     assert model.rates.min() > 0
 
 
+def test_abc_emission_per_process_equals_the_cli_and_scales_as_g_squared(tmp_path):
+    cli("solar-flux", "--emission", "primakoff+abc", "--g-agamma", "1e-12", "--g-ae", "2e-13",
+        "--out", tmp_path / "cli")
+    doc = json.loads((tmp_path / "cli" / "solar_flux.json").read_text())
+    both = traxer.SolarEmission.builtin("primakoff+abc", g_agamma=1e-12, g_ae=2e-13)
+    assert both.flux() == pytest.approx(doc["flux_per_cm2_s"], rel=1e-12)
+    parts = both.process_spectra()
+    assert set(parts) == {"primakoff", "atomic", "electron_ion", "electron_electron", "compton", "abc"}
+    # The four processes add up to ABC, ABC and Primakoff to the total.
+    four = sum(parts[k] for k in ("atomic", "electron_ion", "electron_electron", "compton"))
+    assert np.allclose(four, parts["abc"], rtol=2e-6)
+    assert np.allclose(parts["abc"] + parts["primakoff"], both.spectrum(), rtol=1e-9)
+    # Fluxes scale as the couplings squared (the reference couplings: 1e-10, 1e-13).
+    abc = traxer.SolarEmission.builtin("abc")
+    assert np.allclose(4 * abc.spectrum(), parts["abc"], rtol=1e-12)
+    with pytest.raises(traxer.InputError, match="g_ae"):
+        traxer.SolarEmission.builtin("abc", g_ae=-1.0)
+    with pytest.raises(traxer.InputError, match="emission"):
+        traxer.SolarEmission.builtin("axion")
+
+
+@pytest.mark.skipif(not SOLAR_MODEL.exists(), reason="../shared/solar is not here")
+def test_abc_from_the_model_equals_the_cli(tmp_path):
+    op = SOLAR_MODEL.parent / "op"
+    radii, energies = "0.05,0.1,0.2,0.3", "0.9,1.0,3.0,6.0"
+    cli("solar-flux", "--emission", "abc", "--model", SOLAR_MODEL, "--opacities", op,
+        "--radii", radii, "--energies", energies, "--out", tmp_path / "cli")
+    table = traxer.SolarEmission.from_csv(tmp_path / "cli" / "emission.csv")
+    model = traxer.SolarEmission.from_model(SOLAR_MODEL, [0.9, 1.0, 3.0, 6.0], radii=[0.05, 0.1, 0.2, 0.3],
+                                            emission="abc", opacities=op)
+    assert np.allclose(model.rates, table.rates, rtol=6e-7, atol=0)
+    with pytest.raises(traxer.InputError, match="opacities"):
+        traxer.SolarEmission.from_model(SOLAR_MODEL, [1.0], radii=[0.1], emission="abc")
+
+
 def test_scene_errors_name_file_line_and_key(tmp_path):
     bad = tmp_path / "bad.toml"
     text = WOLTER.read_text().replace('"../meshes/', '"%s/' % (REPO / "meshes"))

@@ -302,6 +302,61 @@ impl EmissionTable {
     pub fn luminosity(&self, e_min: f64, e_max: f64) -> f64 {
         self.cell_rates(e_min, e_max).iter().sum()
     }
+
+    /// The table with every rate multiplied by `factor` (a coupling's square).
+    pub fn scaled(&self, factor: f64) -> EmissionTable {
+        EmissionTable {
+            rates: self.rates.iter().map(|w| w * factor).collect(),
+            ..self.clone()
+        }
+    }
+
+    /// The same emission on the energy cells of `energies` (same radii): the
+    /// emission per energy is constant over each of this table's cells (the
+    /// quadrature used everywhere), and each new cell gets the overlap, so that
+    /// every shell's rate between any two edges common to both grids is kept.
+    pub fn resampled(&self, energies: &[f64]) -> Result<EmissionTable, SolarDataError> {
+        EmissionTable::check_grid(&self.radii, energies)?;
+        let old = self.energy_edges();
+        let new = edges(energies, HENKE_MIN_KEV, false, HENKE_MAX_KEV);
+        let mut rates = Vec::with_capacity(self.radii.len() * energies.len());
+        for i in 0..self.radii.len() {
+            for (k, &e) in energies.iter().enumerate() {
+                let (a, b) = (new[k], new[k + 1]);
+                let mut sum = 0.0;
+                for (j, &ej) in self.energies.iter().enumerate() {
+                    let overlap = old[j + 1].min(b) - old[j].max(a);
+                    if overlap > 0.0 {
+                        sum += self.rate(i, j) * ej * ej * overlap;
+                    }
+                }
+                rates.push(sum / (e * e * (b - a)));
+            }
+        }
+        Ok(EmissionTable {
+            radii: self.radii.clone(),
+            energies: energies.to_vec(),
+            rates,
+        })
+    }
+
+    /// The sum of tables on one grid.
+    pub fn sum(tables: &[EmissionTable]) -> Result<EmissionTable, SolarDataError> {
+        let first = tables.first().ok_or("no tables to add")?;
+        if tables
+            .iter()
+            .any(|t| t.radii != first.radii || t.energies != first.energies)
+        {
+            return Err("emission tables to be added need the same radii and energies".into());
+        }
+        let rates = (0..first.rates.len())
+            .map(|k| tables.iter().map(|t| t.rates[k]).sum())
+            .collect();
+        Ok(EmissionTable {
+            rates,
+            ..first.clone()
+        })
+    }
 }
 
 /// The energies of every radius must be those of the first.

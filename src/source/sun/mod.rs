@@ -20,8 +20,11 @@
 //! Data flow: `SourceDesc::Sun` → [`SunDesc::build`] (reads the table) →
 //! `Source::Sun`; trace outputs ask [`SunSource::rate_per_unit_weight`].
 
+pub mod abc;
+pub mod builtin;
 pub mod emission;
 pub mod model;
+pub mod opacity_project;
 pub mod primakoff;
 pub mod sampler;
 
@@ -34,31 +37,10 @@ use crate::random::PhotonRng;
 use glam::DVec3;
 use serde::Deserialize;
 use std::path::Path;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
-/// The shipped Primakoff table (see data/solar/README.md for how it was made).
-const BUILTIN_TABLE: &str = include_str!(concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/data/solar/primakoff_b16_agss09met.csv"
-));
-/// Its name in scene files.
+/// The default emission in scene files.
 pub const BUILTIN: &str = "primakoff";
-/// What the built-in table is, for summaries.
-pub const BUILTIN_DESCRIPTION: &str = "Primakoff emission (Raffelt 1986, Debye–Hückel screening) of the B16-AGSS09met standard solar model (Vinyoles et al. 2017), data/solar/primakoff_b16_agss09met.csv";
-/// The coupling of the built-in table.
-pub const BUILTIN_COUPLING: &str = "g_aγ = 1e-10 GeV⁻¹";
-
-/// The built-in emission table, parsed once.
-pub fn builtin_table() -> &'static EmissionTable {
-    static TABLE: OnceLock<EmissionTable> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        EmissionTable::parse_csv(
-            BUILTIN_TABLE,
-            Path::new("data/solar/primakoff_b16_agss09met.csv"),
-        )
-        .expect("the shipped emission table is valid (tested)")
-    })
-}
 
 /// The solar radius in mm.
 const R_SUN_MM: f64 = R_SUN_CM * 10.0;
@@ -67,10 +49,19 @@ const R_SUN_MM: f64 = R_SUN_CM * 10.0;
 #[derive(Debug, Deserialize, Clone)]
 #[serde(deny_unknown_fields)]
 pub struct SunDesc {
-    /// "primakoff" (built in) or the path of an emission table CSV, relative to
-    /// the scene file.
+    /// "primakoff", "abc" or "primakoff+abc" (built in, computed from the
+    /// B16-AGSS09met solar model), or the path of an emission table CSV, relative
+    /// to the scene file.
     #[serde(default = "default_emission")]
     pub emission: String,
+    /// The axion–photon coupling g_aγ in GeV⁻¹ of the built-in Primakoff
+    /// emission (default 1e-10); its flux scales as g_aγ².
+    #[serde(default)]
+    pub g_agamma: Option<f64>,
+    /// The axion–electron coupling g_ae of the built-in ABC emission (default
+    /// 1e-13); its flux scales as g_ae².
+    #[serde(default)]
+    pub g_ae: Option<f64>,
     /// What coupling a CSV table is computed for (reported in summaries).
     #[serde(default)]
     pub coupling: Option<String>,
@@ -125,6 +116,46 @@ pub struct SunSource {
 }
 
 impl SunDesc {
+    /// The emission table (read relative to `dir`), what it is and its coupling.
+    fn emission_table(&self, dir: &Path) -> Result<(EmissionTable, String, String), InvalidSource> {
+        let check = |name: &str, g: Option<f64>, unit: &str| match g {
+            Some(g) if !(g.is_finite() && g > 0.0) => Err(InvalidSource(format!(
+                "sun: {name} = {g}: expected a positive coupling{unit}"
+            ))),
+            _ => Ok(()),
+        };
+        check("g_agamma", self.g_agamma, " in GeV⁻¹ (e.g. 1e-12)")?;
+        check("g_ae", self.g_ae, " (e.g. 1e-13)")?;
+        if let Some((primakoff, abc)) = builtin::parse_name(&self.emission) {
+            if self.coupling.is_some() {
+                return Err("sun: coupling describes an emission table file; a built-in emission takes g_agamma (Primakoff) and g_ae (ABC)".into());
+            }
+            if self.g_agamma.is_some() && !primakoff {
+                return Err(format!("sun: g_agamma is the coupling of the Primakoff emission, but emission = \"{}\" (use \"primakoff+abc\" for both)", self.emission).into());
+            }
+            if self.g_ae.is_some() && !abc {
+                return Err(format!("sun: g_ae is the coupling of the ABC emission, but emission = \"{}\" (use \"abc\" or \"primakoff+abc\")", self.emission).into());
+            }
+            let g_agamma =
+                primakoff.then(|| self.g_agamma.unwrap_or(builtin::G_AGAMMA_REFERENCE_PER_GEV));
+            let g_ae = abc.then(|| self.g_ae.unwrap_or(builtin::G_AE_REFERENCE));
+            let e = builtin::builtin_emission(g_agamma, g_ae)
+                .map_err(|e| InvalidSource(format!("sun: {e}")))?;
+            return Ok((e.table, e.description, e.coupling));
+        }
+        if self.g_agamma.is_some() || self.g_ae.is_some() {
+            return Err("sun: g_agamma and g_ae scale the built-in emissions (\"primakoff\", \"abc\", \"primakoff+abc\"); for an emission table file, give its coupling as text in coupling".into());
+        }
+        let path = dir.join(&self.emission);
+        let table = EmissionTable::read_csv(&path)
+            .map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
+        let coupling = self
+            .coupling
+            .clone()
+            .unwrap_or_else(|| "the coupling the table was computed for".into());
+        Ok((table, path.display().to_string(), coupling))
+    }
+
     /// The source, its table read relative to `dir`; or what is wrong.
     pub fn build(&self, dir: &Path) -> Result<SunSource, InvalidSource> {
         let p = self;
@@ -151,25 +182,7 @@ impl SunDesc {
         {
             return Err("sun: offset_arcmin = [x, y] must be finite and below 600′ (10°)".into());
         }
-        let (table, emission, coupling) = if p.emission == BUILTIN {
-            (
-                builtin_table().clone(),
-                BUILTIN_DESCRIPTION.to_string(),
-                BUILTIN_COUPLING.to_string(),
-            )
-        } else {
-            let path = dir.join(&p.emission);
-            let table = EmissionTable::read_csv(&path)
-                .map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
-            let coupling = p
-                .coupling
-                .clone()
-                .unwrap_or_else(|| "the coupling the table was computed for".into());
-            (table, path.display().to_string(), coupling)
-        };
-        if p.emission == BUILTIN && p.coupling.is_some() {
-            return Err(format!("sun: coupling is fixed for the built-in table ({BUILTIN_COUPLING}); give it only with an emission table file").into());
-        }
+        let (table, emission, coupling) = p.emission_table(dir)?;
         let (t_min, t_max) = (
             table.energy_edges()[0],
             *table.energy_edges().last().unwrap(),

@@ -1,0 +1,288 @@
+//! traxer's built-in solar axion emissions and their sum for chosen couplings:
+//! Primakoff (g_aγ) and the axion–electron ABC processes (g_ae), both computed
+//! from the B16-AGSS09met solar model (data/solar/README.md says how). Each
+//! table is for a reference coupling; rates scale as the coupling squared.
+//!
+//! Data flow: a `sun` source (`emission = "primakoff" | "abc" | "primakoff+abc"`)
+//! and `traxer solar-flux` ask [`builtin_emission`] for the table they sample
+//! and report; the per-process split of ABC (atomic, electron–ion,
+//! electron–electron, Compton) comes with it for spectra.
+
+use super::emission::{EmissionTable, AU_CM};
+use super::model::{SolarDataError, SolarModel};
+use super::opacity_project::OpacityTables;
+use std::path::Path;
+use std::sync::OnceLock;
+
+const PRIMAKOFF_CSV: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/solar/primakoff_b16_agss09met.csv"
+));
+const ABC_CSV: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/solar/abc_b16_agss09met.csv"
+));
+const ABC_SPECTRUM_CSV: &str = include_str!(concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/data/solar/abc_b16_agss09met_spectrum.csv"
+));
+
+/// The reference coupling of the Primakoff table, GeV⁻¹.
+pub const G_AGAMMA_REFERENCE_PER_GEV: f64 = 1e-10;
+/// The reference coupling of the ABC table.
+pub use super::abc::G_AE_REFERENCE;
+
+/// What the built-in tables are, for summaries.
+pub const PRIMAKOFF_DESCRIPTION: &str = "Primakoff emission (Raffelt 1986, Debye–Hückel screening) of the B16-AGSS09met standard solar model (Vinyoles et al. 2017), data/solar/primakoff_b16_agss09met.csv";
+pub const ABC_DESCRIPTION: &str = "axion–electron ABC emission (atomic from Opacity Project cross sections, electron–ion and electron–electron bremsstrahlung, Compton; Redondo 2013) of the B16-AGSS09met standard solar model, data/solar/abc_b16_agss09met.csv";
+
+/// The built-in Primakoff table (g_aγ = 1e-10 GeV⁻¹), parsed once.
+pub fn primakoff_table() -> &'static EmissionTable {
+    static TABLE: OnceLock<EmissionTable> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        EmissionTable::parse_csv(
+            PRIMAKOFF_CSV,
+            Path::new("data/solar/primakoff_b16_agss09met.csv"),
+        )
+        .expect("the shipped Primakoff table is valid (tested)")
+    })
+}
+
+/// The built-in ABC table (g_ae = 1e-13), parsed once.
+pub fn abc_table() -> &'static EmissionTable {
+    static TABLE: OnceLock<EmissionTable> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        EmissionTable::parse_csv(ABC_CSV, Path::new("data/solar/abc_b16_agss09met.csv"))
+            .expect("the shipped ABC table is valid (tested)")
+    })
+}
+
+/// The ABC spectrum at 1 AU per process on the ABC table's energies
+/// (cm⁻² s⁻¹ keV⁻¹, g_ae = 1e-13), in the order of [`super::abc::PROCESSES`].
+pub fn abc_process_spectra() -> &'static [Vec<f64>; 4] {
+    static SPECTRA: OnceLock<[Vec<f64>; 4]> = OnceLock::new();
+    SPECTRA.get_or_init(|| {
+        parse_process_spectra(ABC_SPECTRUM_CSV, &abc_table().energies)
+            .expect("the shipped ABC spectrum is valid (tested)")
+    })
+}
+
+/// Reads the per-process columns `flux_<process>_per_cm2_s_keV` of a
+/// `traxer solar-flux` spectrum.csv whose energies are `energies`.
+pub fn parse_process_spectra(
+    text: &str,
+    energies: &[f64],
+) -> Result<[Vec<f64>; 4], SolarDataError> {
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let headers = reader
+        .headers()
+        .map_err(|e| SolarDataError(format!("spectrum: {e}")))?
+        .clone();
+    let column = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| SolarDataError(format!("spectrum: no column {name}")))
+    };
+    let energy = column("energy_keV")?;
+    let columns: Vec<usize> = super::abc::PROCESSES
+        .iter()
+        .map(|p| column(&format!("flux_{p}_per_cm2_s_keV")))
+        .collect::<Result<_, _>>()?;
+    let mut out: [Vec<f64>; 4] = Default::default();
+    for (k, record) in reader.records().enumerate() {
+        let record = record.map_err(|e| SolarDataError(format!("spectrum: {e}")))?;
+        let value = |i: usize| -> Result<f64, SolarDataError> {
+            record
+                .get(i)
+                .and_then(|v| v.parse().ok())
+                .ok_or_else(|| SolarDataError(format!("spectrum row {}: not a number", k + 2)))
+        };
+        let e = value(energy)?;
+        if energies.get(k).is_none_or(|x| (x - e).abs() > 1e-9) {
+            return Err(SolarDataError(format!(
+                "spectrum row {}: energy {e} is not the table's",
+                k + 2
+            )));
+        }
+        for (o, &c) in out.iter_mut().zip(&columns) {
+            o.push(value(c)?);
+        }
+    }
+    if out[0].len() != energies.len() {
+        return Err("spectrum: not one row per energy of the table".into());
+    }
+    Ok(out)
+}
+
+/// Which built-in emission a name asks for: (Primakoff, ABC).
+pub fn parse_name(name: &str) -> Option<(bool, bool)> {
+    match name {
+        "primakoff" => Some((true, false)),
+        "abc" => Some((false, true)),
+        "primakoff+abc" | "abc+primakoff" => Some((true, true)),
+        _ => None,
+    }
+}
+
+/// One part of an emission: a name and its dΦ/dE at 1 AU on the emission's
+/// energies (cm⁻² s⁻¹ keV⁻¹), and (for radial profiles) its table.
+#[derive(Clone, Debug)]
+pub struct EmissionPart {
+    pub name: String,
+    pub spectrum_1au: Vec<f64>,
+    pub table: Option<EmissionTable>,
+}
+
+/// An emission for chosen couplings: the table to sample, its parts (Primakoff,
+/// the four ABC processes, ABC), and what it is.
+#[derive(Clone, Debug)]
+pub struct AxionEmission {
+    pub table: EmissionTable,
+    pub parts: Vec<EmissionPart>,
+    pub description: String,
+    pub coupling: String,
+}
+
+/// ABC at its reference coupling: the table and its spectrum per process.
+pub struct AbcAtReference<'a> {
+    pub table: &'a EmissionTable,
+    pub process_spectra_1au: &'a [Vec<f64>; 4],
+    pub description: &'a str,
+}
+
+/// Primakoff (table at g_aγ = 1e-10 GeV⁻¹, description, coupling in GeV⁻¹) and/or
+/// ABC (at g_ae = 1e-13, with g_ae) summed for those couplings. With both, the
+/// Primakoff table is resampled onto the ABC table's energy cells when they
+/// differ (the same radii), keeping its rate between common cell edges.
+pub fn compose(
+    primakoff: Option<(&EmissionTable, &str, f64)>,
+    abc: Option<(AbcAtReference, f64)>,
+) -> Result<AxionEmission, SolarDataError> {
+    let valid = |g: f64| g.is_finite() && g > 0.0;
+    if primakoff.as_ref().is_some_and(|p| !valid(p.2)) || abc.as_ref().is_some_and(|a| !valid(a.1))
+    {
+        return Err("couplings must be finite and positive".into());
+    }
+    let mut tables = Vec::new();
+    let mut parts = Vec::new();
+    let mut what = Vec::new();
+    let mut coupling = Vec::new();
+    if let Some((table, description, g)) = primakoff {
+        let mut t = table.scaled((g / G_AGAMMA_REFERENCE_PER_GEV).powi(2));
+        if let Some((a, _)) = &abc {
+            if a.table.radii != t.radii {
+                return Err("Primakoff and ABC tables to be added need the same radii".into());
+            }
+            if a.table.energies != t.energies {
+                t = t.resampled(&a.table.energies)?;
+            }
+        }
+        parts.push(EmissionPart {
+            name: "primakoff".into(),
+            spectrum_1au: t.spectrum_at(AU_CM),
+            table: Some(t.clone()),
+        });
+        tables.push(t);
+        what.push(description.to_string());
+        coupling.push(format!("g_aγ = {g:e} GeV⁻¹"));
+    }
+    if let Some((a, g)) = abc {
+        let factor = (g / G_AE_REFERENCE).powi(2);
+        let t = a.table.scaled(factor);
+        for (name, s) in super::abc::PROCESSES.iter().zip(a.process_spectra_1au) {
+            parts.push(EmissionPart {
+                name: (*name).into(),
+                spectrum_1au: s.iter().map(|x| x * factor).collect(),
+                table: None,
+            });
+        }
+        parts.push(EmissionPart {
+            name: "abc".into(),
+            spectrum_1au: t.spectrum_at(AU_CM),
+            table: Some(t.clone()),
+        });
+        tables.push(t);
+        what.push(a.description.to_string());
+        coupling.push(format!("g_ae = {g:e}"));
+    }
+    if tables.is_empty() {
+        return Err("an emission needs Primakoff, ABC or both".into());
+    }
+    Ok(AxionEmission {
+        table: EmissionTable::sum(&tables)?,
+        parts,
+        description: what.join(" + "),
+        coupling: coupling.join(", "),
+    })
+}
+
+/// The built-in emission with Primakoff at g_aγ = `g_agamma` GeV⁻¹ and/or ABC at
+/// g_ae = `g_ae` (None: left out).
+pub fn builtin_emission(
+    g_agamma: Option<f64>,
+    g_ae: Option<f64>,
+) -> Result<AxionEmission, SolarDataError> {
+    compose(
+        g_agamma.map(|g| (primakoff_table(), PRIMAKOFF_DESCRIPTION, g)),
+        g_ae.map(|g| {
+            (
+                AbcAtReference {
+                    table: abc_table(),
+                    process_spectra_1au: abc_process_spectra(),
+                    description: ABC_DESCRIPTION,
+                },
+                g,
+            )
+        }),
+    )
+}
+
+/// The emission computed from a standard solar model (`name` for descriptions)
+/// on `radii` × `energies`; ABC needs the Opacity Project tables `op`.
+pub fn model_emission(
+    model: &SolarModel,
+    name: &str,
+    op: Option<&OpacityTables>,
+    radii: &[f64],
+    energies: &[f64],
+    g_agamma: Option<f64>,
+    g_ae: Option<f64>,
+) -> Result<AxionEmission, SolarDataError> {
+    EmissionTable::check_grid(radii, energies)?;
+    let primakoff = g_agamma.map(|_| super::primakoff::emission_table(model, radii, energies));
+    let abc = match g_ae {
+        Some(_) => {
+            let op = op.ok_or("the ABC emission needs the Opacity Project tables")?;
+            Some(super::abc::emission_tables(model, op, radii, energies)?)
+        }
+        None => None,
+    };
+    let spectra = abc.as_ref().map(|a| {
+        let s: [Vec<f64>; 4] = std::array::from_fn(|k| a.processes[k].spectrum_at(AU_CM));
+        s
+    });
+    let p_description = format!("Primakoff emission of {name}");
+    let a_description = format!("ABC emission of {name}");
+    compose(
+        primakoff
+            .as_ref()
+            .zip(g_agamma)
+            .map(|(t, g)| (t, p_description.as_str(), g)),
+        abc.as_ref()
+            .zip(spectra.as_ref())
+            .zip(g_ae)
+            .map(|((a, s), g)| {
+                (
+                    AbcAtReference {
+                        table: &a.total,
+                        process_spectra_1au: s,
+                        description: &a_description,
+                    },
+                    g,
+                )
+            }),
+    )
+}
