@@ -162,20 +162,9 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         a.distance_au,
         e.coupling
     );
-    let widths: Vec<f64> = e
-        .table
-        .energy_edges()
-        .windows(2)
-        .map(|w| w[1] - w[0])
-        .collect();
+    let edges = e.table.energy_edges();
     for p in &e.parts {
-        let flux: f64 = p
-            .spectrum_1au
-            .iter()
-            .zip(&widths)
-            .map(|(f, w)| f * w)
-            .sum::<f64>()
-            / (a.distance_au * a.distance_au);
+        let flux = p.flux_1au(&edges) / (a.distance_au * a.distance_au);
         say!("  {:<18} {flux:.4e} cm⁻² s⁻¹", p.name);
     }
     say!("wrote {}", a.output.out.display());

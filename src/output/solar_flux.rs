@@ -155,17 +155,11 @@ pub fn write_solar_flux(
         .map(|k| cast2007_flux(0.001 * (k as f64 + 0.5)) * 0.001)
         .sum::<f64>()
         * at_1au;
-    let widths: Vec<f64> = re_widths(&table.energy_edges());
+    let edges = table.energy_edges();
     let part_docs: serde_json::Map<String, serde_json::Value> = parts
         .iter()
         .map(|p| {
-            let flux: f64 = p
-                .spectrum_1au
-                .iter()
-                .zip(&widths)
-                .map(|(f, w)| f * w)
-                .sum::<f64>()
-                * at_1au;
+            let flux = p.flux_1au(&edges) * at_1au;
             let mut doc = json!({"flux_per_cm2_s": flux, "fraction_of_total": flux / total});
             if let Some((_, s)) = profiled.iter().find(|(n, _)| *n == p.name) {
                 doc["radius_enclosing_rsun"] = quantiles(&|r| s.enclosed_3d(r));
@@ -193,11 +187,6 @@ pub fn write_solar_flux(
         "files": SOLAR_FLUX_FILES,
     });
     write_json(&dir.join(SOLAR_FLUX_FILES[6]), &doc)
-}
-
-/// Widths of the cells between consecutive edges.
-fn re_widths(edges: &[f64]) -> Vec<f64> {
-    edges.windows(2).map(|w| w[1] - w[0]).collect()
 }
 
 /// spectrum.csv and spectrum.png: dΦ/dE at the distance, per part, with CAST 2007.

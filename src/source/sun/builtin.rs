@@ -136,6 +136,18 @@ pub struct EmissionPart {
     pub table: Option<EmissionTable>,
 }
 
+impl EmissionPart {
+    /// The part's flux at 1 AU, cm⁻² s⁻¹: its spectrum integrated over the energy
+    /// cells between `energy_edges` (those of the emission's table).
+    pub fn flux_1au(&self, energy_edges: &[f64]) -> f64 {
+        self.spectrum_1au
+            .iter()
+            .zip(energy_edges.windows(2))
+            .map(|(f, w)| f * (w[1] - w[0]))
+            .sum()
+    }
+}
+
 /// An emission for chosen couplings: the table to sample, its parts (Primakoff,
 /// the four ABC processes, ABC), and what it is.
 #[derive(Clone, Debug)]
