@@ -70,87 +70,9 @@ pub fn write_solar_flux(
     if profiled.len() == 2 {
         profiled.pop(); // one part: the same as the total
     }
-    let re = table.radius_edges();
-    let mut header = vec!["radius_from".to_string(), "radius_to".to_string()];
-    for (name, _) in &profiled {
-        header.push(format!("fraction_of_emission_{name}"));
-        header.push(format!("enclosed_fraction_{name}"));
-    }
-    write_csv(
-        &dir.join(SOLAR_FLUX_FILES[3]),
-        &header.iter().map(String::as_str).collect::<Vec<_>>(),
-        (0..table.radii.len()).map(|i| {
-            let mut row = vec![re[i].to_string(), re[i + 1].to_string()];
-            for (_, s) in &profiled {
-                let f = s.enclosed_3d(re[i + 1]) - s.enclosed_3d(re[i]);
-                row.push(format!("{f:.6e}"));
-                row.push(format!("{:.6}", s.enclosed_3d(re[i + 1])));
-            }
-            row
-        }),
-    )?;
-    let rhos: Vec<f64> = (0..=400).map(|k| k as f64 / 400.0).collect();
-    let mut header = vec!["projected_radius".to_string(), "arcmin".to_string()];
-    for (name, _) in &profiled {
-        header.push(format!("enclosed_fraction_{name}"));
-        header.push(format!("surface_brightness_per_rsun2_{name}"));
-    }
-    write_csv(
-        &dir.join(SOLAR_FLUX_FILES[4]),
-        &header.iter().map(String::as_str).collect::<Vec<_>>(),
-        rhos.windows(2).map(|w| {
-            let (a, b) = (w[0], w[1]);
-            let mut row = vec![b.to_string(), format!("{:.4}", b * arcmin_per_rsun)];
-            for (_, s) in &profiled {
-                let ring = s.enclosed_projected(b) - s.enclosed_projected(a);
-                let brightness = ring / (std::f64::consts::PI * (b * b - a * a));
-                row.push(format!("{:.6}", s.enclosed_projected(b)));
-                row.push(format!("{brightness:.6e}"));
-            }
-            row
-        }),
-    )?;
-    let mut curves = Vec::new();
-    for (name, s) in &profiled {
-        curves.push(Series::line(
-            format!("{name}: within radius r (3D)"),
-            rhos.iter().map(|&r| (r, s.enclosed_3d(r))).collect(),
-        ));
-        curves.push(Series::line(
-            format!("{name}: within projected radius on the disk"),
-            rhos.iter().map(|&r| (r, s.enclosed_projected(r))).collect(),
-        ));
-    }
-    line_plot(
-        &dir.join(SOLAR_FLUX_FILES[5]),
-        "Where the axions come from",
-        "radius [R_sun]",
-        "enclosed fraction of the emission",
-        &curves,
-        (900, 560),
-    )?;
+    write_profiles(dir, table, &profiled, arcmin_per_rsun)?;
     let area = 4.0 * std::f64::consts::PI * d_cm * d_cm;
     let total = profiled[0].1.luminosity / area;
-    let radius_of = |f: &dyn Fn(f64) -> f64, q: f64| {
-        let (mut lo, mut hi) = (0.0, 1.0);
-        for _ in 0..60 {
-            let mid = 0.5 * (lo + hi);
-            if f(mid) < q {
-                lo = mid
-            } else {
-                hi = mid
-            }
-        }
-        hi
-    };
-    let quantiles = |f: &dyn Fn(f64) -> f64| {
-        serde_json::Value::Object(
-            QUANTILES
-                .iter()
-                .map(|(k, q)| (k.to_string(), json!(radius_of(f, *q))))
-                .collect(),
-        )
-    };
     let cast_total: f64 = (0..20000)
         .map(|k| cast2007_flux(0.001 * (k as f64 + 0.5)) * 0.001)
         .sum::<f64>()
@@ -162,8 +84,9 @@ pub fn write_solar_flux(
             let flux = p.flux_1au(&edges) * at_1au;
             let mut doc = json!({"flux_per_cm2_s": flux, "fraction_of_total": flux / total});
             if let Some((_, s)) = profiled.iter().find(|(n, _)| *n == p.name) {
-                doc["radius_enclosing_rsun"] = quantiles(&|r| s.enclosed_3d(r));
-                doc["projected_radius_enclosing_rsun"] = quantiles(&|r| s.enclosed_projected(r));
+                doc["radius_enclosing_rsun"] = enclosing_radii(&|r| s.enclosed_3d(r));
+                doc["projected_radius_enclosing_rsun"] =
+                    enclosing_radii(&|r| s.enclosed_projected(r));
             }
             (p.name.clone(), doc)
         })
@@ -181,12 +104,107 @@ pub fn write_solar_flux(
         "parts": part_docs,
         "cast2007_flux_per_cm2_s_0_to_20keV": cast_total,
         "ratio_to_cast2007": total / cast_total,
-        "radius_enclosing_rsun": quantiles(&|r| main.enclosed_3d(r)),
-        "projected_radius_enclosing_rsun": quantiles(&|r| main.enclosed_projected(r)),
+        "radius_enclosing_rsun": enclosing_radii(&|r| main.enclosed_3d(r)),
+        "projected_radius_enclosing_rsun": enclosing_radii(&|r| main.enclosed_projected(r)),
         "arcmin_per_rsun": arcmin_per_rsun,
         "files": SOLAR_FLUX_FILES,
     });
     write_json(&dir.join(SOLAR_FLUX_FILES[6]), &doc)
+}
+
+/// A sampler per profiled emission (the total first), by name.
+type Profiled = [(String, EmissionSampler)];
+
+/// radial_profile.csv, projected_profile.csv and profiles.png.
+fn write_profiles(
+    dir: &Path,
+    table: &EmissionTable,
+    profiled: &Profiled,
+    arcmin_per_rsun: f64,
+) -> std::io::Result<()> {
+    let re = table.radius_edges();
+    let mut header = vec!["radius_from".to_string(), "radius_to".to_string()];
+    for (name, _) in profiled {
+        header.push(format!("fraction_of_emission_{name}"));
+        header.push(format!("enclosed_fraction_{name}"));
+    }
+    write_csv(
+        &dir.join(SOLAR_FLUX_FILES[3]),
+        &header.iter().map(String::as_str).collect::<Vec<_>>(),
+        (0..table.radii.len()).map(|i| {
+            let mut row = vec![re[i].to_string(), re[i + 1].to_string()];
+            for (_, s) in profiled {
+                let f = s.enclosed_3d(re[i + 1]) - s.enclosed_3d(re[i]);
+                row.push(format!("{f:.6e}"));
+                row.push(format!("{:.6}", s.enclosed_3d(re[i + 1])));
+            }
+            row
+        }),
+    )?;
+    let rhos: Vec<f64> = (0..=400).map(|k| k as f64 / 400.0).collect();
+    let mut header = vec!["projected_radius".to_string(), "arcmin".to_string()];
+    for (name, _) in profiled {
+        header.push(format!("enclosed_fraction_{name}"));
+        header.push(format!("surface_brightness_per_rsun2_{name}"));
+    }
+    write_csv(
+        &dir.join(SOLAR_FLUX_FILES[4]),
+        &header.iter().map(String::as_str).collect::<Vec<_>>(),
+        rhos.windows(2).map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let mut row = vec![b.to_string(), format!("{:.4}", b * arcmin_per_rsun)];
+            for (_, s) in profiled {
+                let ring = s.enclosed_projected(b) - s.enclosed_projected(a);
+                let brightness = ring / (std::f64::consts::PI * (b * b - a * a));
+                row.push(format!("{:.6}", s.enclosed_projected(b)));
+                row.push(format!("{brightness:.6e}"));
+            }
+            row
+        }),
+    )?;
+    let mut curves = Vec::new();
+    for (name, s) in profiled {
+        curves.push(Series::line(
+            format!("{name}: within radius r (3D)"),
+            rhos.iter().map(|&r| (r, s.enclosed_3d(r))).collect(),
+        ));
+        curves.push(Series::line(
+            format!("{name}: within projected radius on the disk"),
+            rhos.iter().map(|&r| (r, s.enclosed_projected(r))).collect(),
+        ));
+    }
+    line_plot(
+        &dir.join(SOLAR_FLUX_FILES[5]),
+        "Where the axions come from",
+        "radius [R_sun]",
+        "enclosed fraction of the emission",
+        &curves,
+        (900, 560),
+    )?;
+    Ok(())
+}
+
+/// The radii (fractions of R_sun) enclosing each of [`QUANTILES`] of an
+/// increasing enclosed-fraction function, by bisection.
+fn enclosing_radii(f: &dyn Fn(f64) -> f64) -> serde_json::Value {
+    let radius_of = |q: f64| {
+        let (mut lo, mut hi) = (0.0, 1.0);
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if f(mid) < q {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        hi
+    };
+    serde_json::Value::Object(
+        QUANTILES
+            .iter()
+            .map(|(k, q)| (k.to_string(), json!(radius_of(*q))))
+            .collect(),
+    )
 }
 
 /// spectrum.csv and spectrum.png: dΦ/dE at the distance, per part, with CAST 2007.

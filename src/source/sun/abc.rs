@@ -52,7 +52,7 @@
 //! scripts/solar_table.sh call [`emission_tables`]; the built-in table
 //! (data/solar/abc_b16_agss09met.csv) was made that way.
 
-use super::emission::EmissionTable;
+use super::emission::{energy_cell_edges, EmissionTable};
 use super::model::{species, Shell, SolarDataError, SolarModel, Species};
 use super::opacity_project::{GridCell, OpacityTables, OP_ELEMENTS};
 use super::primakoff::{
@@ -239,12 +239,7 @@ pub fn emission_tables(
     EmissionTable::check_grid(radii, energies)?;
     let species = species();
     let g = G_AE_REFERENCE;
-    let edges = EmissionTable::new(
-        radii.to_vec(),
-        energies.to_vec(),
-        vec![1.0; radii.len() * energies.len()],
-    )?
-    .energy_edges();
+    let edges = energy_cell_edges(energies);
     // The fine energies of the atomic term, and which cell each falls in.
     let mut fine = Vec::new();
     let mut fine_cell = Vec::new();

@@ -70,6 +70,12 @@ fn edges(x: &[f64], floor: f64, from_floor: bool, ceiling: f64) -> Vec<f64> {
     e
 }
 
+/// The edges of the energy cells around increasing grid energies (keV): the
+/// midpoints, and half a step beyond the ends (within the Henke range).
+pub fn energy_cell_edges(energies: &[f64]) -> Vec<f64> {
+    edges(energies, HENKE_MIN_KEV, false, HENKE_MAX_KEV)
+}
+
 impl EmissionTable {
     /// A table from its grid and rates, checked: radii in (0, 1] and energies in
     /// the Henke range, both strictly increasing; rates finite and ≥ 0.
@@ -253,7 +259,7 @@ impl EmissionTable {
 
     /// Energy cell edges (keV).
     pub fn energy_edges(&self) -> Vec<f64> {
-        edges(&self.energies, HENKE_MIN_KEV, false, HENKE_MAX_KEV)
+        energy_cell_edges(&self.energies)
     }
 
     /// Axions per second emitted by each cell (i, j), at `i * energies.len() + j`,
@@ -318,7 +324,7 @@ impl EmissionTable {
     pub fn resampled(&self, energies: &[f64]) -> Result<EmissionTable, SolarDataError> {
         EmissionTable::check_grid(&self.radii, energies)?;
         let old = self.energy_edges();
-        let new = edges(energies, HENKE_MIN_KEV, false, HENKE_MAX_KEV);
+        let new = energy_cell_edges(energies);
         let mut rates = Vec::with_capacity(self.radii.len() * energies.len());
         for i in 0..self.radii.len() {
             for (k, &e) in energies.iter().enumerate() {
