@@ -10,6 +10,7 @@
 
 pub mod colormap;
 mod compare;
+mod conversion;
 mod csv_table;
 mod eef_plot;
 mod effective_area;

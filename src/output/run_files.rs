@@ -1,6 +1,7 @@
 //! The files of a trace run: per sensor `NAME.npy` (flux), `NAME_counts.npy`,
 //! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
 
+use super::conversion::write_conversion;
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
 use super::write_eef_plot;
 use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
@@ -168,6 +169,16 @@ fn write_sensor(
         image,
         absolute.unwrap_or(1.0),
     )?);
+    let conversion = match &image.conversion {
+        Some(tally) => {
+            let to_world = &scene.objects[spec.object].transform.to_world;
+            let (entry, files) =
+                write_conversion(dir, spec, tally, to_world, absolute.unwrap_or(1.0))?;
+            written.extend(files);
+            entry
+        }
+        None => Value::Null,
+    };
     let sensor = json!({
         "name": spec.name,
         "object": spec.object,
@@ -178,10 +189,11 @@ fn write_sensor(
         "energy_band_edges_keV": spec.band_edges(),
         "units": {
             "lengths": "mm",
-            "flux": if absolute.is_some() {
-                "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling"
-            } else {
-                "sum of photon weights per pixel (see sources[].weight)"
+            "flux": match (absolute.is_some(), spec.gas.is_some()) {
+                (true, false) => "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling",
+                (true, true) => "axions per second per pixel whose X-ray converts in the detector gas over that pixel (before the conversion probability in the magnet), for the coupling in sources[].coupling",
+                (false, false) => "sum of photon weights per pixel (see sources[].weight)",
+                (false, true) => "sum of photon weights per pixel, each times its probability of converting in the detector gas (see sources[].weight)",
             },
             "counts": "number of photons per pixel",
         },
@@ -189,6 +201,7 @@ fn write_sensor(
         "image_quality": quality.as_ref().map(|(q, _)| q),
         "total_counts": image.total_counts(),
         "pixel_grid": grid,
+        "conversion": conversion,
         "history": history_json(scene, image, absolute.unwrap_or(1.0)),
         "files": {
             "flux_npy": files[0], "counts_npy": files[1],

@@ -38,6 +38,10 @@ pub struct SensorDesc {
     /// NAME_front_rear.npy, NAME_front_only.npy, NAME_rear_only.npy, NAME_other.npy.
     #[serde(default)]
     pub history_images: bool,
+    /// A gas volume in front of the readout (a gaseous detector): photons are
+    /// recorded where they convert, projected along the drift onto the readout.
+    #[serde(default)]
+    pub gas: Option<crate::xray::gas::GasDesc>,
 }
 
 impl SensorDesc {
@@ -73,6 +77,13 @@ impl SensorDesc {
             None => None,
             Some(g) => Some(g.grid().map_err(InvalidSensor)?),
         };
+        let gas = match &self.gas {
+            None => None,
+            Some(g) => Some(
+                crate::xray::gas::DetectorGas::new(g)
+                    .map_err(|e| InvalidSensor(format!("gas: {e}")))?,
+            ),
+        };
         Ok(SensorSpec {
             name: name.to_string(),
             object,
@@ -82,6 +93,7 @@ impl SensorDesc {
             focal_length: self.focal_length,
             pixel_grid,
             history_images: self.history_images,
+            gas,
         })
     }
 }

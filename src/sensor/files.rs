@@ -49,6 +49,17 @@ pub fn grid_file_names(name: &str) -> [String; 2] {
     [format!("{stem}_grid.npy"), format!("{stem}_grid.csv")]
 }
 
+/// The files of a gas detector's conversions: the depth histogram (CSV and
+/// plot) and the depth-resolved spectrum.
+pub fn conversion_file_names(name: &str) -> [String; 3] {
+    let stem = file_stem(name);
+    [
+        format!("{stem}_conversion_depth.csv"),
+        format!("{stem}_conversion_depth.png"),
+        format!("{stem}_conversion_spectrum.csv"),
+    ]
+}
+
 /// Why a sensor's name cannot name its files.
 pub fn check_file_names(name: &str) -> Result<(), String> {
     let stem = file_stem(name);
@@ -59,6 +70,7 @@ pub fn check_file_names(name: &str) -> Result<(), String> {
     }
     let longest = sensor_file_names(name)
         .iter()
+        .chain(conversion_file_names(name).iter())
         .map(|f| f.len())
         .max()
         .unwrap_or(0);

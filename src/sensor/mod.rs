@@ -6,6 +6,7 @@
 //! per-chunk records into a [`SensorImage`] in a fixed order; `output` writes it.
 //! With energy binning the image has an energy axis: [band][iy][ix].
 
+pub mod conversion;
 mod desc;
 pub mod exact;
 mod files;
@@ -15,13 +16,15 @@ pub mod rebin;
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
-    check_file_names, file_stem, fits_file_name, grid_file_names, sensor_file_names,
-    MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    check_file_names, conversion_file_names, file_stem, fits_file_name, grid_file_names,
+    sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};
 
 use crate::history::PathClass;
+use crate::xray::gas::DetectorGas;
+use conversion::{ConversionRecord, ConversionTally};
 use glam::DVec3;
 
 /// Geometry of one sensor. Pixel (0, 0) is at local (−w/2, −h/2); ix grows with
@@ -44,6 +47,10 @@ pub struct SensorSpec {
     pub pixel_grid: Option<PixelGrid>,
     /// Write one image per photon path class (NAME_front_rear.npy, ...).
     pub history_images: bool,
+    /// The detector gas in front of the readout, if the sensor is a gaseous
+    /// detector (the gas lies on the side the sensor's normal points to).
+    #[serde(skip)]
+    pub gas: Option<DetectorGas>,
 }
 
 impl SensorSpec {
@@ -55,6 +62,9 @@ impl SensorSpec {
         }
         if self.history_images {
             names.extend(class_file_names(&self.name));
+        }
+        if self.gas.is_some() {
+            names.extend(conversion_file_names(&self.name));
         }
         names
     }
@@ -145,6 +155,8 @@ pub struct SensorImage {
     pub counts: Vec<u64>,
     /// The flux by photon path.
     pub paths: PathTally,
+    /// Where the photons converted, for a sensor with a gas.
+    pub conversion: Option<ConversionTally>,
     /// Pixels per band plane.
     plane: usize,
 }
@@ -157,6 +169,7 @@ impl SensorImage {
             flux_sum: vec![WeightSum::ZERO; n],
             counts: vec![0; n],
             paths: PathTally::new(spec.history_images, spec.pixel_count()),
+            conversion: spec.gas.as_ref().map(|g| ConversionTally::new(&g.desc)),
             plane: spec.pixel_count(),
         }
     }
@@ -172,9 +185,19 @@ impl SensorImage {
     }
 
     /// One photon: its pixel (band included), weight, path class and first and
-    /// last mirror.
+    /// last mirror, and for a gas detector its energy and conversion.
     #[inline]
-    pub fn record(&mut self, pixel: u32, weight: f64, class: PathClass, first: u32, last: u32) {
+    pub fn record(
+        &mut self,
+        pixel: u32,
+        weight: f64,
+        class: PathClass,
+        (first, last): (u32, u32),
+        (energy_kev, conversion): (f64, Option<&ConversionRecord>),
+    ) {
+        if let (Some(tally), Some(c)) = (&mut self.conversion, conversion) {
+            tally.record(weight, energy_kev, c);
+        }
         let weight = WeightSum::of(weight);
         self.flux_sum[pixel as usize].add(weight);
         self.counts[pixel as usize] += 1;
@@ -193,6 +216,9 @@ impl SensorImage {
             *a += b;
         }
         self.paths.add(&other.paths);
+        if let (Some(a), Some(b)) = (&mut self.conversion, &other.conversion) {
+            a.add(b);
+        }
     }
 
     /// Total flux, summed exactly.

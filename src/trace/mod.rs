@@ -111,8 +111,8 @@ impl Tally {
                 r.pixel,
                 r.weight,
                 h.class(),
-                h.first_mirror,
-                h.last_mirror,
+                (h.first_mirror, h.last_mirror),
+                (r.energy, r.conversion.as_ref()),
             );
         }
         self.stats.add(stats);

@@ -6,6 +6,7 @@ use crate::material::Material;
 use crate::random::PhotonRng;
 use crate::raycast::{intersect_query, query_leaving, reflect, QueryHook, SurfaceHit};
 use crate::scene::Scene;
+use crate::sensor::conversion::ConversionRecord;
 use crate::source::Photon;
 use crate::xray::figure_error::Perturbed;
 use glam::DVec3;
@@ -18,6 +19,8 @@ pub struct Record {
     pub weight: f64,
     pub energy: f64,
     pub history: History,
+    /// Where a gas detector's photon converted (`None` for other sensors).
+    pub conversion: Option<ConversionRecord>,
 }
 
 /// Everything known about a recorded photon, for photon lists.
@@ -130,34 +133,71 @@ pub fn trace_photon<H: QueryHook, A: Attenuation>(
                 start = Some(hit);
             }
             Material::Sensor { sensor } => {
-                let spec = &scene.sensors[sensor];
-                let local = object.transform.to_local.transform_point3(hit.point);
-                let Some(band) = spec.band(photon.energy) else {
-                    stats.sensor_outside_energy_range += 1;
-                    return None;
-                };
-                return match spec.pixel(local) {
-                    Some(pixel) => {
-                        let pixel = pixel + band * spec.pixel_count() as u32;
-                        stats.reached_sensor += 1;
-                        stats.recorded_per_sensor[sensor] += 1;
-                        let record = Record {
-                            sensor: sensor as u32,
-                            pixel,
-                            weight: photon.weight,
-                            energy: photon.energy,
-                            history,
-                        };
-                        Some((record, local, photon.dir))
-                    }
-                    None => {
-                        stats.sensor_outside_area += 1;
-                        None
-                    }
-                };
+                return record_on_sensor(scene, sensor, &hit, &photon, history, rng, stats);
             }
         }
     }
     stats.max_interactions_reached += 1;
     None
+}
+
+/// A photon reaching sensor `sensor` at `hit`: its record, with its local position
+/// and direction, or `None` (outside the active area or the energy bands, or for
+/// a gas detector, arriving from behind the readout).
+#[inline]
+fn record_on_sensor(
+    scene: &Scene,
+    sensor: usize,
+    hit: &SurfaceHit,
+    photon: &Photon,
+    history: History,
+    rng: &mut PhotonRng,
+    stats: &mut Statistics,
+) -> Option<(Record, DVec3, DVec3)> {
+    let spec = &scene.sensors[sensor];
+    let object = &scene.objects[hit.object];
+    let Some(band) = spec.band(photon.energy) else {
+        stats.sensor_outside_energy_range += 1;
+        return None;
+    };
+    let (mut weight, mut point, mut conversion) = (photon.weight, hit.point, None);
+    if let Some(gas) = &spec.gas {
+        // The gas lies on the side the readout's normal points to; the photon
+        // crossed it on its way here and converted at a sampled depth, whose
+        // electrons drift along the normal onto the readout.
+        let cos = photon.dir.dot(hit.geometric_normal);
+        if cos >= 0.0 {
+            stats.absorbed += 1;
+            return None;
+        }
+        let c = gas.convert(photon.energy, cos, rng.uniform());
+        let path_across = gas.desc.drift_mm / cos.abs().max(1e-12);
+        point = hit.point - photon.dir * (path_across - c.path_mm);
+        weight *= c.probability;
+        conversion = Some(ConversionRecord {
+            entered: photon.weight,
+            depth_mm: c.depth_mm,
+        });
+    }
+    let local = object.transform.to_local.transform_point3(point);
+    match spec.pixel(local) {
+        Some(pixel) => {
+            let pixel = pixel + band * spec.pixel_count() as u32;
+            stats.reached_sensor += 1;
+            stats.recorded_per_sensor[sensor] += 1;
+            let record = Record {
+                sensor: sensor as u32,
+                pixel,
+                weight,
+                energy: photon.energy,
+                history,
+                conversion,
+            };
+            Some((record, local, photon.dir))
+        }
+        None => {
+            stats.sensor_outside_area += 1;
+            None
+        }
+    }
 }

@@ -1,7 +1,7 @@
 //! X-ray mirror physics: optical constants from the Henke tables, Fresnel
 //! coefficients and the Parratt recursion, coatings (single layers, stacks,
 //! depth-graded multilayers such as the LLNL Pt/C recipes), reflectivity tables,
-//! and the mirrors' figure errors.
+//! the mirrors' figure errors, thin foils and detector gases.
 //!
 //! Data flow: the scene build builds a [`Coating`] for each coated mirror from
 //! data/coatings.toml and the scene's own entries, and resolves figure-error
@@ -15,6 +15,7 @@ pub mod compound;
 pub mod elements;
 pub mod figure_error;
 pub mod foil;
+pub mod gas;
 pub mod optical;
 pub mod parratt;
 pub mod table;

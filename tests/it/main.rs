@@ -12,6 +12,7 @@ mod figure_error;
 mod files;
 mod focusing;
 mod foil;
+mod gas;
 mod geometry;
 mod history;
 mod inspect;
