@@ -33,6 +33,13 @@ cp "$tmp/chip_log.png" docs/img/cast_axion_image_log.png
 $T render scenes/cast_axion_image.toml --camera overview --width 720 --height 450 --spp 64 \
   --sensor-image "$tmp" --log-decades 3 --out docs/img/cast_overview.png
 rm -rf "$tmp"
+# The axion–electron image (ABC + Primakoff) and where its X-rays convert.
+tmp=$(mktemp -d)
+$T trace scenes/cast_axion_electron_image.toml -n 10000000 --out "$tmp" -q
+cp "$tmp/chip.png" docs/img/cast_axion_electron_image.png
+cp "$tmp/chip_log.png" docs/img/cast_axion_electron_image_log.png
+cp "$tmp/chip_conversion_depth.png" docs/img/cast_axion_electron_conversion_depth.png
+rm -rf "$tmp"
 # The LLNL telescope's effective area, vignetting and off-axis image quality.
 tmp=$(mktemp -d)
 $T effective-area scenes/llnl_effective_area.toml --energies 1:10:0.1 --angles 0:10:2.5 --out "$tmp" -q

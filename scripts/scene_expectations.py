@@ -10,7 +10,8 @@ Run it only when a change is *meant* to alter results, check the differences, an
 say why in the commit:
     cargo build --release && scripts/scene_expectations.py > tests/data/scene_expectations.toml
 (spheres.toml, a render-only scene, is measured by the test itself; its entry is
-kept by hand.)
+kept by hand.) With scene names as arguments (e.g. `cast_axion_image`), only those
+are measured: paste their entries over the old ones.
 """
 import glob
 import json
@@ -30,6 +31,8 @@ print(f"photons = {PHOTONS}")
 with tempfile.TemporaryDirectory() as tmp:
     for scene in sorted(glob.glob(os.path.join(ROOT, "scenes", "*.toml"))):
         name = os.path.basename(scene)[:-5]
+        if len(sys.argv) > 1 and name not in sys.argv[1:]:
+            continue
         if "[[sources]]" not in open(scene).read():
             continue
         runs = []

@@ -23,8 +23,9 @@ OUT = pathlib.Path(os.environ.get("OUT", "out/python_axion_image"))
 scene = traxer.Scene(REPO / "scenes" / "cast_axion_image.toml")
 print(scene, "traxer", traxer.__version__, "Embree", traxer.embree_version)
 
-# The image in axions per second per pixel reaching the chip (before the
-# conversion probability in the magnet), for g_aγ = 1e-10 GeV⁻¹.
+# The image in axions per second per pixel whose X-ray converts in the detector
+# gas over that pixel (before the conversion probability in the magnet), for
+# g_aγ = 1e-10 GeV⁻¹.
 result = scene.trace(PHOTONS, seed=1)
 chip = result["chip"]
 print(f"{chip.total_flux:.4e} axions/s (unit {chip.unit}) on the {chip.size_mm[0]} mm chip, "
