@@ -138,6 +138,13 @@ class SensorImage:
     eef_fraction: npt.NDArray[np.float64]
     total_flux: float
     total_counts: int
+    conversion: Optional[dict[str, Any]]
+    """For a gas detector, where its X-rays converted (None otherwise):
+    entered_flux, converted_flux (in ``unit``), converted_fraction,
+    mean_depth_mm, median_depth_mm, quantiles_mm [(q, depth)], as in NAME.json;
+    depth_edges_mm and depth_flux (the histogram below the gas entrance, as
+    NAME_conversion_depth.csv); spectrum [depth slice, energy bin] with
+    spectrum_depth_edges_mm and spectrum_energy_edges_keV."""
 
 class TraceResult:
     """A finished trace."""

@@ -49,6 +49,13 @@ pub struct SensorImage {
     pub eef_fraction: Py<PyAny>,
     pub total_flux: f64,
     pub total_counts: u64,
+    /// For a gas detector, where its X-rays converted (None otherwise): a dict
+    /// with the numbers of NAME.json → conversion (`mean_depth_mm`,
+    /// `quantiles_mm` [(q, depth)], `converted_fraction`, `entered_flux`,
+    /// `converted_flux`, in the image's unit), `depth_edges_mm` and `depth_flux`
+    /// (the histogram below the gas entrance), and `spectrum` [slice, energy bin]
+    /// with `spectrum_depth_edges_mm` and `spectrum_energy_edges_keV`.
+    pub conversion: Py<PyAny>,
 }
 
 #[pymethods]
@@ -89,7 +96,14 @@ impl SensorImage {
                 .collect::<Vec<f64>>()
         };
         let pitch = spec.pitch();
+        let conversion = match &image.conversion {
+            Some(t) => conversion_dict(py, t, absolute.unwrap_or(1.0))?
+                .into_any()
+                .unbind(),
+            None => py.None(),
+        };
         Ok(SensorImage {
+            conversion,
             name: spec.name.clone(),
             total_flux: flux.iter().sum(),
             total_counts: image.total_counts(),
@@ -108,6 +122,41 @@ impl SensorImage {
             eef_fraction: array(py, &[fraction.len()], fraction)?.unbind(),
         })
     }
+}
+
+/// The conversion tally of a gas detector as a dict (see `SensorImage.conversion`).
+fn conversion_dict<'py>(
+    py: Python<'py>,
+    t: &traxer::sensor::conversion::ConversionTally,
+    scale: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    let s = t.summary();
+    d.set_item("entered_flux", s.entered_flux * scale)?;
+    d.set_item("converted_flux", s.converted_flux * scale)?;
+    d.set_item("converted_fraction", s.converted_fraction)?;
+    d.set_item("mean_depth_mm", s.mean_depth_mm)?;
+    d.set_item("median_depth_mm", s.median_mm())?;
+    d.set_item("quantiles_mm", s.quantiles_mm.to_vec())?;
+    let hist: Vec<f64> = t.depth_histogram().iter().map(|f| f * scale).collect();
+    let edges: Vec<f64> = (0..=hist.len())
+        .map(|i| (i as f64 * t.step_mm).min(t.drift_mm))
+        .collect();
+    d.set_item("depth_edges_mm", array(py, &[edges.len()], edges)?)?;
+    d.set_item("depth_flux", array(py, &[hist.len()], hist)?)?;
+    let (lo, hi, n) = t.energy_bins;
+    let slices = t.depth_slices as usize;
+    let spectrum: Vec<f64> = t.spectrum().iter().map(|f| f * scale).collect();
+    d.set_item("spectrum", array(py, &[slices, n as usize], spectrum)?)?;
+    let e: Vec<f64> = (0..=n)
+        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
+        .collect();
+    d.set_item("spectrum_energy_edges_keV", array(py, &[e.len()], e)?)?;
+    let z: Vec<f64> = (0..=slices)
+        .map(|i| t.drift_mm * i as f64 / slices as f64)
+        .collect();
+    d.set_item("spectrum_depth_edges_mm", array(py, &[z.len()], z)?)?;
+    Ok(d)
 }
 
 /// A finished trace: `sensors` ({name: SensorImage}, in the scene's order; also

@@ -154,3 +154,76 @@ shape = {{ type = "rectangle", size = [80.0, 80.0] }}
     let last = flux.iter().rposition(|f| *f > 0.0).unwrap() as f64 * 0.01 - 20.0;
     assert!(first >= x_entry - 0.011 && last <= x_entry + 30.0 * theta.tan() + 0.011);
 }
+
+#[test]
+fn conversion_tallies_of_two_parts_add_up_to_the_whole_run_bit_for_bit() {
+    // Shards and resumed runs rely on it: the depth histogram, spectrum and sums
+    // are exact, so parts traced apart add up to the bits of one run.
+    let s = scene(
+        r#"
+[materials.readout]
+type = "sensor"
+size = [10.0, 10.0]
+pixels = [50, 50]
+gas = { mixture = { Ar = 0.977, C4H10 = 0.023 }, pressure_mbar = 1050.0, drift_mm = 30.0 }
+
+[[sources]]
+type = "parallel"
+direction = [0.1, 0.0, -1.0]
+aperture = { center = [-5, 0, 50], radius = 2.0 }
+energy = { band = [1.0, 8.0] }
+
+[[objects]]
+material = "readout"
+shape = { type = "rectangle", size = [30.0, 30.0] }
+"#,
+    );
+    let whole = trace::run(&s, &RunConfig::new(3 * 4096, 5)).unwrap();
+    let mut first = RunConfig::new(4096, 5);
+    first.first_photon = 0;
+    let mut second = RunConfig::new(2 * 4096, 5);
+    second.first_photon = 4096;
+    let mut sum = trace::run(&s, &second).unwrap().images.remove(0);
+    sum.add(&trace::run(&s, &first).unwrap().images[0]);
+    let (a, b) = (
+        whole.images[0].conversion.as_ref().unwrap(),
+        sum.conversion.as_ref().unwrap(),
+    );
+    assert!(a.converted.value() > 0.0);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn a_gas_that_is_no_gas_is_refused_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    for (gas, expected) in [
+        (
+            "mixture = { Ar = 0.9 }, pressure_mbar = 1050.0, drift_mm = 30.0",
+            "sum to 1",
+        ),
+        (
+            "mixture = { Ar = 1.0 }, pressure_mbar = 0.0, drift_mm = 30.0",
+            "pressure_mbar",
+        ),
+        (
+            "mixture = { Ar = 1.0 }, pressure_mbar = 1050.0, drift_mm = -3.0",
+            "drift_mm",
+        ),
+        (
+            "mixture = { Qq = 1.0 }, pressure_mbar = 1050.0, drift_mm = 30.0",
+            "unknown element `Qq`",
+        ),
+        ("mixture = { Ar = 1.0 }, pressure_mbar = 1050.0", "drift_mm"),
+    ] {
+        let message = crate::common::load_error(
+            dir.path(),
+            &format!(
+                "[materials.chip]\ntype = \"sensor\"\nsize = [1.0, 1.0]\npixels = [2, 2]\ngas = {{ {gas} }}\n\n[[objects]]\nmaterial = \"chip\"\nshape = {{ type = \"rectangle\", size = [1.0, 1.0] }}\n"
+            ),
+        );
+        assert!(
+            message.contains(expected) && message.contains("chip"),
+            "{gas}: {message}"
+        );
+    }
+}

@@ -108,6 +108,20 @@ def test_statistics_quality_and_units_equal_the_cli(pair):
         assert img.total_flux == sensor["total_flux"]
     # A Sun makes images in axions per second, the others weighted photons.
     assert {img.unit for img in result.sensors.values()} == {"s-1" if case == "cast" else "ph"}
+    for name, img in result.sensors.items():
+        conv = json.loads((out / f"{name}.json").read_text())["sensor"]["conversion"]
+        if conv is None:
+            assert img.conversion is None
+            continue
+        # The CAST detector's gas: the same numbers as the CLI's, the histogram
+        # as its CSV, and the spectrum adding up to the converted flux.
+        c = img.conversion
+        assert c["median_depth_mm"] == conv["median_depth_mm"]
+        assert c["converted_fraction"] == conv["converted_fraction"]
+        rows = np.loadtxt(out / f"{name}_conversion_depth.csv", delimiter=",", skiprows=1)
+        assert np.allclose(c["depth_flux"], rows[:, 2], rtol=1e-12)
+        assert np.isclose(c["depth_flux"].sum(), c["converted_flux"], rtol=1e-9)
+        assert np.isclose(c["spectrum"].sum(), c["converted_flux"], rtol=1e-3)
     assert result.provenance["seed"] == summary["provenance"]["seed"]
     assert result.provenance["scene_sha256"] == summary["provenance"]["scene_sha256"]
     assert result.provenance["variables"] == summary["provenance"]["variables"]
