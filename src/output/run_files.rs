@@ -147,38 +147,14 @@ fn write_sensor(
         )?;
     }
     write_projections(&paths[6], &summed, &geometry)?;
-    let grid = match &spec.pixel_grid {
-        Some(g) => {
-            let names = crate::sensor::grid_file_names(&spec.name);
-            let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
-            let r = write_grid(&grid_paths, &summed, spec, g)?;
-            written.extend(grid_paths);
-            json!({
-                "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
-                "center_mm": g.center_mm,
-                "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
-                "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
-                "files": {"grid_npy": names[0], "grid_csv": names[1]},
-            })
-        }
-        None => Value::Null,
-    };
+    let grid = write_grid_files(dir, spec, &summed, &mut written)?;
     written.extend(write_class_images(
         dir,
         spec,
         image,
         absolute.unwrap_or(1.0),
     )?);
-    let conversion = match &image.conversion {
-        Some(tally) => {
-            let to_world = &scene.objects[spec.object].transform.to_world;
-            let (entry, files) =
-                write_conversion(dir, spec, tally, to_world, absolute.unwrap_or(1.0))?;
-            written.extend(files);
-            entry
-        }
-        None => Value::Null,
-    };
+    let conversion = write_conversion_files(dir, scene, spec, image, absolute, &mut written)?;
     let sensor = json!({
         "name": spec.name,
         "object": spec.object,
@@ -189,12 +165,7 @@ fn write_sensor(
         "energy_band_edges_keV": spec.band_edges(),
         "units": {
             "lengths": "mm",
-            "flux": match (absolute.is_some(), spec.gas.is_some()) {
-                (true, false) => "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling",
-                (true, true) => "axions per second per pixel whose X-ray converts in the detector gas over that pixel (before the conversion probability in the magnet), for the coupling in sources[].coupling",
-                (false, false) => "sum of photon weights per pixel (see sources[].weight)",
-                (false, true) => "sum of photon weights per pixel, each times its probability of converting in the detector gas (see sources[].weight)",
-            },
+            "flux": flux_units(absolute.is_some(), spec.gas.is_some()),
             "counts": "number of photons per pixel",
         },
         "total_flux": flux.iter().sum::<f64>(),
@@ -227,6 +198,59 @@ fn write_sensor(
             .map(|(_, p)| p),
     );
     Ok((sensor, written))
+}
+
+/// What a sensor's pixel values are, in words, for `NAME.json`.
+fn flux_units(absolute: bool, gas: bool) -> &'static str {
+    match (absolute, gas) {
+        (true, false) => "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling",
+        (true, true) => "axions per second per pixel whose X-ray converts in the detector gas over that pixel (before the conversion probability in the magnet), for the coupling in sources[].coupling",
+        (false, false) => "sum of photon weights per pixel (see sources[].weight)",
+        (false, true) => "sum of photon weights per pixel, each times its probability of converting in the detector gas (see sources[].weight)",
+    }
+}
+
+/// Writes the sensor's image on its detector pixel grid, if it has one; returns
+/// its `NAME.json` entry (null without a grid) and adds the paths to `written`.
+fn write_grid_files(
+    dir: &Path,
+    spec: &crate::sensor::SensorSpec,
+    summed: &[f64],
+    written: &mut Vec<PathBuf>,
+) -> std::io::Result<Value> {
+    let Some(g) = &spec.pixel_grid else {
+        return Ok(Value::Null);
+    };
+    let names = crate::sensor::grid_file_names(&spec.name);
+    let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
+    let r = write_grid(&grid_paths, summed, spec, g)?;
+    written.extend(grid_paths);
+    Ok(json!({
+        "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
+        "center_mm": g.center_mm,
+        "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
+        "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
+        "files": {"grid_npy": names[0], "grid_csv": names[1]},
+    }))
+}
+
+/// Writes a gas detector's conversion files; returns their `NAME.json` entry
+/// (null for other sensors) and adds the paths to `written`.
+fn write_conversion_files(
+    dir: &Path,
+    scene: &Scene,
+    spec: &crate::sensor::SensorSpec,
+    image: &crate::sensor::SensorImage,
+    absolute: Option<f64>,
+    written: &mut Vec<PathBuf>,
+) -> std::io::Result<Value> {
+    let Some(tally) = &image.conversion else {
+        return Ok(Value::Null);
+    };
+    let to_world = &scene.objects[spec.object].transform.to_world;
+    let (entry, files) = write_conversion(dir, spec, tally, to_world, absolute.unwrap_or(1.0))?;
+    written.extend(files);
+    Ok(entry)
 }
 
 /// A sensor's image as its `.npy` holds it: the sum of weights per pixel, times

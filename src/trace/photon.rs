@@ -171,8 +171,7 @@ fn record_on_sensor(
             return None;
         }
         let c = gas.convert(photon.energy, cos, rng.uniform());
-        let path_across = gas.desc.drift_mm / cos.abs().max(1e-12);
-        point = hit.point - photon.dir * (path_across - c.path_mm);
+        point = hit.point - photon.dir * c.remaining_mm;
         weight *= c.probability;
         conversion = Some(ConversionRecord {
             entered: photon.weight,

@@ -110,6 +110,8 @@ pub struct Conversion {
     pub probability: f64,
     /// Path length from the entrance to the conversion point (mm).
     pub path_mm: f64,
+    /// Path length from the conversion point on to the readout (mm).
+    pub remaining_mm: f64,
     /// Depth of the conversion point below the entrance, along the normal (mm).
     pub depth_mm: f64,
 }
@@ -215,6 +217,7 @@ impl DetectorGas {
             return Conversion {
                 probability: 0.0,
                 path_mm: path,
+                remaining_mm: 0.0,
                 depth_mm: self.desc.drift_mm,
             };
         };
@@ -224,6 +227,7 @@ impl DetectorGas {
         Conversion {
             probability,
             path_mm: s,
+            remaining_mm: path - s,
             depth_mm: s * cos,
         }
     }
