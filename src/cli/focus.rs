@@ -3,7 +3,7 @@
 //! (`traxer::studies::focus`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::record::{file_identity, Record};
+use super::record::{check_inputs, file_identity, Record};
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
@@ -87,9 +87,16 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     let device = Device::new()?;
     let mut warnings = Warnings::default();
     let mut first_scene = None;
+    // Every value's scene must read the files the first one (in this sitting
+    // or a stopped one) read.
+    let inputs = std::cell::RefCell::new(record.inputs().cloned());
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
         let defines = [a.scene.vars.define.as_slice(), extra].concat();
         let scene = Scene::load(&device, &a.scene.scene, &defines)?;
+        check_inputs(inputs.borrow().as_ref(), &scene).map_err(|e| StudyError::Input(e.0))?;
+        inputs
+            .borrow_mut()
+            .get_or_insert_with(|| scene.inputs.clone());
         warnings.show(&scene);
         first_scene.get_or_insert_with(|| Provenance::new(None).scene(&scene));
         Ok(scene)
@@ -103,6 +110,9 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         &replay,
         &|n| bar.inc(n),
         |step, sensor| {
+            if let Some(i) = inputs.borrow().as_ref() {
+                record.set_inputs(i);
+            }
             record.add(position, step);
             position += 1;
             if !quiet {

@@ -15,7 +15,8 @@ use traxer::runstate::{merge, RunIdentity};
 ///
 /// Reads each shard folder's run_state.bin (the exact sums `traxer trace --shard
 /// K/N` leaves), checks that the shards are finished parts of one run (same
-/// scene file, variables, seed, photons, number of shards and traxer build),
+/// scene file and files it reads, variables, seed, photons, number of shards
+/// and traxer build),
 /// none twice and none missing, and writes into --out the files of a single run
 /// of all the photons: bit-identical images, projections, EEF, grid output,
 /// photon list and statistics, in any order of the folders. The provenance
@@ -74,7 +75,7 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
     let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
     if let Some(diff) = id.difference(&again) {
         return Err(InputError(format!(
-            "{}: the shards are of {diff} (scene {}): the scene file changed since they ran, or --scene names another one",
+            "{}: the shards are of {diff} (scene {}): the scene file or a file it reads changed since they ran, or --scene names another scene",
             folders[0].display(),
             scene_args.scene.display()
         ))

@@ -7,13 +7,17 @@
 //! only on its settings and seed, so a study stopped at any moment and resumed
 //! ends exactly as an uninterrupted one. The file disappears when the results
 //! are put in place (it is not among them).
+//!
+//! The record carries the SHA-256 of the files the scene reads (`inputs`) and,
+//! under `sha256`, that of its own text without that key: a record whose inputs
+//! changed, or that was edited or damaged, is refused rather than replayed.
 
 use super::InputError;
 use serde::{de::DeserializeOwned, Serialize};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 use traxer::files::atomic_write;
-use traxer::scene::Scene;
+use traxer::scene::{input_difference, InputHashes, Scene};
 
 /// The identity every record starts from: the build, the scene file and its
 /// variables; studies add their settings.
@@ -23,6 +27,7 @@ pub fn base_identity(scene: &Scene) -> serde_json::Map<String, Value> {
         "git_hash": env!("TRAXER_GIT_HASH"),
         "scene_sha256": scene.text_sha256,
         "variables": scene.vars,
+        "inputs": scene.inputs,
     });
     v.as_object().expect("an object").clone()
 }
@@ -48,6 +53,9 @@ pub struct Record<T> {
     path: PathBuf,
     format: String,
     identity: Value,
+    /// The files the scene read (studies that load their scene several times
+    /// record them with the first load and check every later one).
+    inputs: Option<InputHashes>,
     items: Vec<T>,
     /// A write failed (said once; the study goes on).
     failed: bool,
@@ -72,6 +80,7 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
             path: out.join(Self::file_name(study)),
             format: format!("traxer {study} checkpoint 1"),
             identity,
+            inputs: None,
             items: Vec::new(),
             failed: false,
         };
@@ -91,18 +100,29 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
                     Self::file_name(study)
                 )))
             }
-            (true, true) => record.items = record.read()?,
+            (true, true) => (record.items, record.inputs) = record.read()?,
         }
         Ok(record)
     }
 
-    /// The recorded points, after checking the record is this study's.
-    fn read(&self) -> Result<Vec<T>, InputError> {
+    /// The recorded points and inputs, after checking the record is whole and
+    /// this study's.
+    #[allow(clippy::type_complexity)]
+    fn read(&self) -> Result<(Vec<T>, Option<InputHashes>), InputError> {
         let p = self.path.display();
         let text = std::fs::read_to_string(&self.path)
             .map_err(|e| InputError(format!("{p}: cannot read it: {e}")))?;
-        let doc: Value = serde_json::from_str(&text)
+        let mut doc: Value = serde_json::from_str(&text)
             .map_err(|e| InputError(format!("{p}: is not a traxer record: {e}")))?;
+        let recorded = doc
+            .as_object_mut()
+            .and_then(|d| d.remove("sha256"))
+            .unwrap_or_default();
+        if recorded.as_str() != Some(checksum(&doc).as_str()) {
+            return Err(InputError(format!(
+                "{p}: is damaged or was edited (its `sha256` is not that of its contents): remove it to start the study afresh"
+            )));
+        }
         if doc["format"] != self.format.as_str() {
             return Err(InputError(format!(
                 "{p}: is not a record of this command (`format` is not \"{}\")",
@@ -114,8 +134,27 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
                 "{p}: records another run: {diff}; resume with the same scene, options and traxer build"
             )));
         }
-        serde_json::from_value(doc["points"].clone())
-            .map_err(|e| InputError(format!("{p}: its points cannot be read: {e}")))
+        let inputs = match doc.get("inputs") {
+            None => None,
+            Some(v) => Some(
+                serde_json::from_value(v.clone())
+                    .map_err(|e| InputError(format!("{p}: its inputs cannot be read: {e}")))?,
+            ),
+        };
+        let points = serde_json::from_value(doc["points"].clone())
+            .map_err(|e| InputError(format!("{p}: its points cannot be read: {e}")))?;
+        Ok((points, inputs))
+    }
+
+    /// The files the scene read, as recorded (by an earlier sitting or an
+    /// earlier load).
+    pub fn inputs(&self) -> Option<&InputHashes> {
+        self.inputs.as_ref()
+    }
+
+    /// Records the files the scene read, written with the next point.
+    pub fn set_inputs(&mut self, inputs: &InputHashes) {
+        self.inputs.get_or_insert_with(|| inputs.clone());
     }
 
     /// Points recorded before (to take instead of tracing).
@@ -130,11 +169,15 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
             return;
         }
         self.items.push(item.clone());
-        let doc = json!({
+        let mut doc = json!({
             "format": self.format,
             "identity": self.identity,
             "points": self.items,
         });
+        if let Some(inputs) = &self.inputs {
+            doc["inputs"] = json!(inputs);
+        }
+        doc["sha256"] = checksum(&doc).into();
         let text = serde_json::to_string(&doc).expect("plain values");
         if let Err(err) = atomic_write(&self.path, text.as_bytes()) {
             if !self.failed {
@@ -144,6 +187,25 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
                 self.failed = true;
             }
         }
+    }
+}
+
+/// The SHA-256 of a record's text (without its `sha256` key). serde_json writes
+/// the keys of its maps in one order and numbers exactly (`float_roundtrip`),
+/// so the text read back and written again is the text written.
+fn checksum(doc: &Value) -> String {
+    traxer::files::sha256_hex(serde_json::to_string(doc).expect("plain values").as_bytes())
+}
+
+/// Whether `scene` read the same files as recorded (`then`, if any); else which
+/// one changed.
+pub fn check_inputs(then: Option<&InputHashes>, scene: &Scene) -> Result<(), InputError> {
+    match then.and_then(|t| input_difference(t, &scene.inputs)) {
+        None => Ok(()),
+        Some(diff) => Err(InputError(format!(
+            "{}: the study so far was traced with {diff} as now: a file the scene reads changed; remove the record to start afresh",
+            scene.path.display()
+        ))),
     }
 }
 

@@ -174,9 +174,9 @@ pub fn resume(dir: &Path, settings: &Settings) -> anyhow::Result<()> {
     let (device, scene) = load_xray_scene(&scene_args)
         .with_context(|| format!("cannot load the scene of the checkpoint {}", path.display()))?;
     let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
-    if let Some(diff) = again.difference(id) {
+    if let Some(diff) = id.difference(&again) {
         return Err(InputError(format!(
-            "{}: the checkpoint is of another scene than {} is now ({diff}): the scene file changed since the run stopped",
+            "{}: the checkpoint is of {diff} as now: the scene file {} or a file it reads changed since the run stopped",
             path.display(),
             header.scene_path.display()
         ))

@@ -6,7 +6,7 @@
 use super::{ImportReport, MeshError, MeshPart, Skipped, TriangleMesh};
 use glam::{DMat3, DMat4, DVec3};
 use gltf::mesh::Mode;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Required extensions that compress geometry: named in the error so users know to
 /// re-export without compression.
@@ -32,6 +32,7 @@ fn load_unguarded(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErro
     let mut report = ImportReport {
         normals_from_file: true,
         extensions_used: doc.extensions_used().map(String::from).collect(),
+        files: external_buffers(path, doc),
         ..Default::default()
     };
     let roots = root_nodes(doc, &mut report);
@@ -148,6 +149,19 @@ fn load_buffers(
             missing.unwrap_or_else(|| format!("cannot load its buffers: {}", describe(&e))),
         )
     })
+}
+
+/// The external files the buffers name (not data URIs, not the GLB blob).
+fn external_buffers(path: &Path, doc: &gltf::Document) -> Vec<PathBuf> {
+    let base = path.parent().unwrap_or(Path::new("."));
+    doc.buffers()
+        .filter_map(|b| match b.source() {
+            gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => Some(base.join(uri)),
+            _ => None,
+        })
+        // A percent-encoded name the glTF reader decoded itself is left out.
+        .filter(|f| f.is_file())
+        .collect()
 }
 
 /// The root nodes of the scene that is read (the default one, else the first;

@@ -35,6 +35,8 @@ pub struct ImportReport {
     pub normals_from_file: bool,
     /// The glTF extensions the file declares it uses (none for OBJ).
     pub extensions_used: Vec<String>,
+    /// Other files read besides the mesh file (a glTF's external buffers).
+    pub files: Vec<PathBuf>,
 }
 
 /// A piece of a mesh file that the importer left out (its fields are JSON keys of

@@ -5,8 +5,10 @@ use crate::files::{atomic_write, sha256_hex};
 use crate::trace::Tally;
 use std::path::{Path, PathBuf};
 
-/// The first line of every run-state file; the number is the layout's version.
-const MAGIC: &str = "traxer run state 1";
+/// The first line of every run-state file starts so; the number is the layout's
+/// version, and the SHA-256 of the header line follows it (the header holds the
+/// tally's SHA-256: the whole file is covered).
+const MAGIC: &str = "traxer run state 2";
 
 /// A file that is not a run-state file this traxer can read (exit code 2).
 #[derive(Debug, thiserror::Error)]
@@ -23,8 +25,9 @@ pub fn state_bytes(mut header: StateHeader, tally: &Tally) -> Vec<u8> {
     header.tally_sha256 = sha256_hex(&body);
     header.tally_bytes = body.len() as u64;
     let head = serde_json::to_string(&header).expect("a header of plain values encodes");
-    let mut bytes = Vec::with_capacity(MAGIC.len() + head.len() + body.len() + 2);
-    bytes.extend_from_slice(MAGIC.as_bytes());
+    let first = format!("{MAGIC} {}", sha256_hex(head.as_bytes()));
+    let mut bytes = Vec::with_capacity(first.len() + head.len() + body.len() + 2);
+    bytes.extend_from_slice(first.as_bytes());
     bytes.push(b'\n');
     bytes.extend_from_slice(head.as_bytes());
     bytes.push(b'\n');
@@ -78,13 +81,29 @@ fn read_bytes(path: &Path) -> Result<Vec<u8>, RunStateError> {
 /// The header and the encoded tally.
 fn split<'a>(path: &Path, bytes: &'a [u8]) -> Result<(StateHeader, &'a [u8]), RunStateError> {
     let mut lines = bytes.splitn(3, |&b| b == b'\n');
-    if lines.next() != Some(MAGIC.as_bytes()) {
+    let first = lines.next().unwrap_or_default();
+    let Some(hash) = first
+        .strip_prefix(MAGIC.as_bytes())
+        .and_then(|h| h.strip_prefix(b" "))
+    else {
+        let older = first.starts_with(b"traxer run state ");
         return Err(failure(
             path,
-            format!("is not a traxer run-state file (its first line is not `{MAGIC}`)"),
+            if older {
+                format!("was written by another traxer version (its first line is not `{MAGIC} SHA-256`): finish or merge it with that version")
+            } else {
+                format!("is not a traxer run-state file (its first line is not `{MAGIC} SHA-256`)")
+            },
+        ));
+    };
+    let head = lines.next().unwrap_or_default();
+    if sha256_hex(head).as_bytes() != hash {
+        return Err(failure(
+            path,
+            "its header (line 2) is damaged or was edited: its SHA-256 is not the one on line 1"
+                .into(),
         ));
     }
-    let head = lines.next().unwrap_or_default();
     let header: StateHeader = serde_json::from_slice(head)
         .map_err(|e| failure(path, format!("its header (line 2) cannot be read: {e}")))?;
     Ok((header, lines.next().unwrap_or_default()))

@@ -11,9 +11,10 @@
 //! depends only on (seed, i), any split, order or interruption gives the
 //! bit-identical tally of one uninterrupted run.
 //!
-//! The file: a first line `traxer run state 1`, a second line with the header as
-//! JSON (readable with `head -2`), then the tally in `postcard`'s compact binary
-//! encoding, whose SHA-256 the header records.
+//! The file: a first line `traxer run state 2` followed by the SHA-256 of the
+//! second line, the header as JSON (readable with `head -2`), then the tally in
+//! `postcard`'s compact binary encoding, whose SHA-256 the header records: every
+//! byte of the file is covered by a checksum.
 
 mod file;
 pub mod merge;
@@ -23,7 +24,7 @@ pub use file::{read_header, read_state, state_bytes, write_state, RunStateError}
 pub use merge::{merge, MergeError, Merged};
 pub use shard::Shard;
 
-use crate::scene::Scene;
+use crate::scene::{input_difference, InputHashes, Scene};
 use crate::trace::{RunConfig, Tally};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -43,6 +44,10 @@ pub struct RunIdentity {
     pub scene_sha256: String,
     /// Final values of the scene's variables.
     pub variables: BTreeMap<String, toml::Value>,
+    /// SHA-256 of every other file the scene reads (meshes, data and emission
+    /// tables), by name.
+    #[serde(default)]
+    pub inputs: InputHashes,
     pub seed: u64,
     /// Photons of the whole run (all shards).
     pub total_photons: u64,
@@ -67,6 +72,7 @@ impl RunIdentity {
             git_hash: env!("TRAXER_GIT_HASH").into(),
             scene_sha256: scene.text_sha256.clone(),
             variables: scene.vars.clone(),
+            inputs: scene.inputs.clone(),
             seed,
             total_photons,
             shards,
@@ -92,6 +98,9 @@ impl RunIdentity {
                 &short(&self.scene_sha256),
                 &short(&other.scene_sha256),
             );
+        }
+        if let Some(diff) = input_difference(&self.inputs, &other.inputs) {
+            return Some(diff);
         }
         if self.variables != other.variables {
             let mut keys: Vec<&String> = self

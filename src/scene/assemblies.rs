@@ -4,6 +4,7 @@
 
 use super::desc::{ObjectDesc, SceneDesc, ShellLabel, TessellateDesc};
 use super::error::{SceneError, SceneText};
+use super::inputs::InputFiles;
 use super::llnl::{LlnlTelescope, PartMaterial};
 use super::materials::{MaterialDesc, MirrorDesc, SideDesc};
 use super::placement::{RotateDesc, TransformStep};
@@ -100,13 +101,14 @@ pub fn expand(
     at: SceneText,
     dir: &Path,
     desc: &mut SceneDesc,
+    inputs: &InputFiles,
 ) -> Result<Vec<GeneratedMaterial>, SceneError> {
     let mut materials = Vec::new();
     for a in std::mem::take(&mut desc.assemblies) {
         let span = a.span();
         match a.into_inner() {
             AssemblyDesc::LlnlTelescope(t) => {
-                expand_llnl(at, dir, &t, span, &mut desc.objects, &mut materials)?
+                expand_llnl(at, dir, &t, span, &mut desc.objects, &mut materials, inputs)?
             }
         }
     }
@@ -119,6 +121,7 @@ fn llnl_data(
     dir: &Path,
     t: &LlnlTelescopeDesc,
     span: Range<usize>,
+    inputs: &InputFiles,
 ) -> Result<LlnlTelescope, SceneError> {
     let err = |m: String| at.error(span.clone(), m);
     let data = match &t.data {
@@ -127,6 +130,7 @@ fn llnl_data(
             let file = dir.join(f);
             let body = std::fs::read_to_string(&file)
                 .map_err(|e| err(format!("llnl_telescope data {}: {e}", file.display())))?;
+            inputs.note(&file);
             LlnlTelescope::from_toml(&body).map_err(|e| SceneError::from_toml(&file, &body, &e))?
         }
     };
@@ -150,9 +154,10 @@ fn expand_llnl(
     span: Range<usize>,
     objects: &mut Vec<Spanned<ObjectDesc>>,
     materials: &mut Vec<GeneratedMaterial>,
+    inputs: &InputFiles,
 ) -> Result<(), SceneError> {
     let err = |m: String| at.error(span.clone(), m);
-    let data = llnl_data(at, dir, t, span.clone())?;
+    let data = llnl_data(at, dir, t, span.clone(), inputs)?;
     if !t.azimuth_center.is_finite() {
         return Err(err("azimuth_center must be a number (degrees)".into()));
     }

@@ -4,6 +4,7 @@
 
 use super::assemblies;
 use super::error::{SceneError, SceneText};
+use super::inputs::InputFiles;
 use super::load::LoadedScene;
 use super::materials::Materials;
 use super::objects::ObjectBuilder;
@@ -61,12 +62,13 @@ pub(super) fn build(
         FigureErrorLibrary::shipped().merged(&desc.figure_errors),
     );
     let dir = path.parent().unwrap_or(Path::new("."));
-    for m in assemblies::expand(at, dir, &mut desc)? {
+    let inputs = InputFiles::default();
+    for m in assemblies::expand(at, dir, &mut desc, &inputs)? {
         materials.add_generated(&m.name, m.desc, m.span);
     }
 
     let mut objects = Vec::new();
-    let mut builder = ObjectBuilder::new(at, dir, representation);
+    let mut builder = ObjectBuilder::new(at, dir, representation, &inputs);
     let mut embree = device.scene::<AnalyticObject>();
     let mut triangle_count = 0;
     for (index, od) in std::mem::take(&mut desc.objects).into_iter().enumerate() {
@@ -84,6 +86,11 @@ pub(super) fn build(
         .iter()
         .map(|s| s.get_ref().build(dir).map_err(|m| at.error(s.span(), m)))
         .collect::<Result<Vec<_>, _>>()?;
+    for s in &desc.sources {
+        for file in s.get_ref().files(dir) {
+            inputs.note(&file);
+        }
+    }
     if sources.len() > 1 {
         if let Some(k) = sources.iter().position(|s| matches!(s, Source::Sun(_))) {
             return Err(at.error(
@@ -120,9 +127,12 @@ pub(super) fn build(
             sky = sky.with_sun(sun.toward_sun, sun.angular_radius(), &sky_desc);
         }
     }
+    let warnings = builder.warnings;
+    let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
     Ok(Scene {
         path: path.to_path_buf(),
         text_sha256: sha256,
+        inputs,
         overrides: overrides.clone(),
         vars,
         objects,
@@ -134,7 +144,7 @@ pub(super) fn build(
         embree,
         cameras,
         sky,
-        warnings: builder.warnings,
+        warnings,
         triangle_count,
     })
 }
@@ -209,7 +219,7 @@ pub fn analytic_shapes(path: &Path, overrides: &[String]) -> Result<Vec<NamedSha
     };
     // Assemblies (the LLNL telescope) become their objects, as in a trace.
     let dir = path.parent().unwrap_or(Path::new("."));
-    assemblies::expand(at, dir, &mut loaded.desc)?;
+    assemblies::expand(at, dir, &mut loaded.desc, &InputFiles::default())?;
     let mut out = Vec::new();
     for (index, od) in loaded.desc.objects.iter().enumerate() {
         let od = od.get_ref();

@@ -16,6 +16,7 @@ mod camera;
 pub mod desc;
 mod embree_binding;
 mod error;
+pub mod inputs;
 pub mod llnl;
 pub mod load;
 mod materials;
@@ -29,6 +30,7 @@ pub use assemblies::{AssemblyDesc, LlnlTelescopeDesc};
 pub use build::{analytic_shapes, inline_shape, NamedShape, TABLE_THETA_MAX};
 pub use camera::{Camera, CameraDesc};
 pub use error::SceneError;
+pub use inputs::{input_difference, InputHashes};
 pub use materials::{AbsorberDesc, FoilDesc, MaterialDesc, MirrorDesc, SideDesc};
 pub use placement::{RotateDesc, ScaleDesc, TransformStep};
 pub use shapes::ShapeDesc;
@@ -53,6 +55,9 @@ pub struct Scene {
     pub overrides: Vec<String>,
     /// Final values of its variables.
     pub vars: BTreeMap<String, toml::Value>,
+    /// The other files it read (meshes, data and emission tables) and their
+    /// SHA-256: part of a run's identity.
+    pub inputs: InputHashes,
     pub objects: Vec<Object>,
     pub sensors: Vec<SensorSpec>,
     /// Thin foils (windows, filters), indexed by `Material::Foil::foil`.

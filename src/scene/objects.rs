@@ -7,6 +7,7 @@
 use super::appearance::Appearance;
 use super::desc::ObjectDesc;
 use super::error::{SceneError, SceneText};
+use super::inputs::InputFiles;
 use super::materials::Materials;
 use super::placement::transform;
 use super::{MeshObject, Object, ObjectGeometry, Representation};
@@ -38,11 +39,19 @@ pub(super) struct ObjectBuilder<'a> {
     mesh_files: HashMap<PathBuf, Vec<MeshPart>>,
     /// Things the user should hear about (skipped mesh pieces, tiny meshes).
     pub warnings: Vec<String>,
+    /// The files read.
+    inputs: &'a InputFiles,
 }
 
 impl<'a> ObjectBuilder<'a> {
-    pub fn new(at: SceneText<'a>, dir: &'a Path, representation: Representation) -> Self {
+    pub fn new(
+        at: SceneText<'a>,
+        dir: &'a Path,
+        representation: Representation,
+        inputs: &'a InputFiles,
+    ) -> Self {
         ObjectBuilder {
+            inputs,
             at,
             dir,
             representation,
@@ -245,6 +254,10 @@ impl<'a> ObjectBuilder<'a> {
         };
         if !self.mesh_files.contains_key(&file) {
             let (parts, report) = mesh::load_parts(&file).map_err(at)?;
+            self.inputs.note(&file);
+            for buffer in &report.files {
+                self.inputs.note(buffer);
+            }
             self.warnings.extend(
                 report
                     .warnings()

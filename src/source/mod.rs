@@ -78,6 +78,14 @@ impl SourceDesc {
             SourceDesc::Sun(s) => Source::Sun(s.build(dir)?),
         })
     }
+
+    /// The files it reads (relative to `dir`): a Sun's emission table file.
+    pub fn files(&self, dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+        match self {
+            SourceDesc::Sun(s) => s.emission_file(dir).into_iter().collect(),
+            _ => Vec::new(),
+        }
+    }
 }
 
 /// Why sources must start near the origin: Embree works in float32.

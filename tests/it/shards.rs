@@ -455,16 +455,36 @@ fn checkpoints_of_another_scene_or_build_and_damaged_ones_are_refused() {
         c.args(["trace", "-q", "--resume"]).arg(&out);
         c
     };
-    let replace = |from: &str, to: &str| {
-        let text = String::from_utf8_lossy(&good[..200]).into_owned();
-        assert!(text.contains(from), "{text}");
-        let head = text.replacen(from, to, 1);
-        [head.as_bytes(), &good[200..]].concat()
+    // The header edited: with its checksum left as it was, and made to fit.
+    let edit_header = |from: &str, to: &str, fix_checksum: bool| {
+        let mut lines = good.splitn(3, |&b| b == b'\n');
+        let (first, head, body) = (
+            lines.next().unwrap(),
+            lines.next().unwrap(),
+            lines.next().unwrap(),
+        );
+        let head = String::from_utf8(head.to_vec()).unwrap();
+        assert!(head.contains(from), "{head}");
+        let head = head.replacen(from, to, 1);
+        let first = if fix_checksum {
+            format!(
+                "traxer run state 2 {}",
+                traxer::files::sha256_hex(head.as_bytes())
+            )
+            .into_bytes()
+        } else {
+            first.to_vec()
+        };
+        [&first[..], b"\n", head.as_bytes(), b"\n", body].concat()
     };
     for (bytes, needle) in [
         (
-            replace("\"traxer_version\":\"", "\"traxer_version\":\"9."),
+            edit_header("\"traxer_version\":\"", "\"traxer_version\":\"9.", true),
             "was written by traxer 9.",
+        ),
+        (
+            edit_header("\"seconds\":", "\"seconds\":1", false),
+            "its header (line 2) is damaged or was edited",
         ),
         (good[..good.len() - 10].to_vec(), "its tally is damaged"),
         (b"hello\n".to_vec(), "is not a traxer run-state file"),
@@ -479,7 +499,10 @@ fn checkpoints_of_another_scene_or_build_and_damaged_ones_are_refused() {
     let text = std::fs::read_to_string(&scene).unwrap();
     std::fs::write(&scene, text.replace("line = 3.0", "line = 3.5")).unwrap();
     let err = run_fails(&mut resume(), 2);
-    assert!(err.contains("the scene file changed"), "{err}");
+    assert!(
+        err.contains("changed since the run stopped") && err.contains("scene file with SHA-256"),
+        "{err}"
+    );
     std::fs::write(&scene, text).unwrap();
     // A folder that is not a stopped run's.
     let err = run_fails(traxer().args(["trace", "--resume"]).arg(dir.path()), 2);
@@ -556,4 +579,139 @@ fn the_cluster_scripts_run_shards_resume_a_stopped_one_and_merge_bit_identically
     let mut merge = script("merge-shards.sh");
     run_ok(merge.arg(&root).arg("4"));
     assert_same_results(&reference, &root.join("merged"));
+}
+
+/// A Sun whose emission is the table `table.csv` beside the scene (rates
+/// `rates` at radii 0.1 and 0.2, energies 1 and 2 keV), shining on a sensor.
+fn sun_table_scene(dir: &Path, rates: [f64; 4]) -> PathBuf {
+    let rows: String = [(0.1, 1.0), (0.1, 2.0), (0.2, 1.0), (0.2, 2.0)]
+        .iter()
+        .zip(rates)
+        .map(|((r, e), x)| format!("{r},{e},{x:e}\n"))
+        .collect();
+    write(
+        dir,
+        "table.csv",
+        &format!("Radius,Energy [keV],emRates\n{rows}"),
+    );
+    write(
+        dir,
+        "sun.toml",
+        r#"
+[materials.detector]
+type = "sensor"
+size = [40.0, 40.0]
+pixels = [100, 100]
+
+[[sources]]
+type = "sun"
+emission = "table.csv"
+target = { center = [0.0, 0.0, 0.0], radius = 10.0 }
+
+[[objects]]
+name = "sensor"
+material = "detector"
+shape = { type = "rectangle", size = [40.0, 40.0] }
+transform = [ { translate = [0.0, 0.0, -10.0] } ]
+"#,
+    )
+}
+
+#[test]
+fn shards_traced_with_two_emission_tables_or_an_edited_run_state_are_not_merged() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n);
+    let first = [1e-30, 2e-30, 1e-30, 2e-30];
+    let scene = sun_table_scene(dir.path(), first);
+    run_ok(&mut trace(
+        &scene,
+        &d("s1"),
+        &["-n", "20000", "--shard", "1/2"],
+    ));
+    sun_table_scene(dir.path(), [1e-30, 2e-30, 1e-30, 3e-30]);
+    run_ok(&mut trace(
+        &scene,
+        &d("s2"),
+        &["-n", "20000", "--shard", "2/2"],
+    ));
+    let merge = |dirs: &[&str]| {
+        let mut c = traxer();
+        c.args(["merge", "-q", "-o"]).arg(d("merged"));
+        for x in dirs {
+            c.arg(d(x));
+        }
+        c
+    };
+    // The table now differs from the first shard's: named.
+    let err = run_fails(&mut merge(&["s1", "s2"]), 2);
+    assert!(err.contains("input file table.csv with SHA-256"), "{err}");
+    assert!(!d("merged").exists());
+    // With the first table back, the second shard differs from the first.
+    sun_table_scene(dir.path(), first);
+    let err = run_fails(&mut merge(&["s1", "s2"]), 2);
+    assert!(
+        err.contains("s2")
+            && err.contains("is a shard of another run")
+            && err.contains("table.csv"),
+        "{err}"
+    );
+    assert!(!d("merged").exists());
+    // A run state whose shard list was edited (shard 1 posing as shard 2).
+    run_ok(&mut trace(
+        &scene,
+        &d("s2"),
+        &["-n", "20000", "--shard", "2/2"],
+    ));
+    run_ok(&mut merge(&["s1", "s2"]));
+    std::fs::create_dir(d("fake")).unwrap();
+    let state = std::fs::read(d("s1/run_state.bin")).unwrap();
+    let at = state
+        .windows(11)
+        .position(|w| w == b"\"parts\":[1]")
+        .expect("the header lists its shards");
+    let mut edited = state.clone();
+    edited[at + 9] = b'2';
+    std::fs::write(d("fake/run_state.bin"), edited).unwrap();
+    std::fs::remove_dir_all(d("merged")).unwrap();
+    let err = run_fails(&mut merge(&["s1", "fake"]), 2);
+    assert!(
+        err.contains("fake") && err.contains("damaged or was edited"),
+        "{err}"
+    );
+    assert!(!d("merged").exists());
+}
+
+#[test]
+fn a_run_whose_mesh_was_replaced_is_not_resumed() {
+    let dir = tempfile::tempdir().unwrap();
+    let square = |half: f64| {
+        format!("v -{half} -{half} 0\nv {half} -{half} 0\nv {half} {half} 0\nv -{half} {half} 0\nf 1 2 3\nf 1 3 4\n")
+    };
+    write(dir.path(), "sensor.obj", &square(20.0));
+    let scene = std::fs::read_to_string(big_sensor_scene(dir.path()))
+        .unwrap()
+        .replace(
+            "shape = { type = \"rectangle\", size = [40.0, 40.0] }",
+            "shape = { type = \"mesh\", file = \"sensor.obj\" }",
+        );
+    let scene = write(dir.path(), "mesh.toml", &scene);
+    let out = dir.path().join("run");
+    let checkpoint = out.join("checkpoint.bin");
+    let mut child = trace(&scene, &out, &["-n", "50000000", "--checkpoint-every", "0"])
+        .spawn()
+        .unwrap();
+    wait_for(&mut child, || checkpoint.is_file(), Duration::from_secs(60));
+    signal(&child, "-KILL");
+    child.wait().unwrap();
+    assert!(checkpoint.is_file());
+    write(dir.path(), "sensor.obj", &square(19.0));
+    let err = run_fails(traxer().args(["trace", "-q", "--resume"]).arg(&out), 2);
+    assert!(
+        err.contains("input file sensor.obj with SHA-256") && err.contains("checkpoint.bin"),
+        "{err}"
+    );
+    assert!(
+        checkpoint.is_file(),
+        "the refused resume removed the checkpoint"
+    );
 }

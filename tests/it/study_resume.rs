@@ -202,3 +202,51 @@ fn a_fit_stopped_twice_and_resumed_ends_as_the_uninterrupted_fit() {
     let err = run_fails(&mut fit(&out, &["--resume"]), 2);
     assert!(err.contains("no stopped fit"), "{err}");
 }
+
+#[test]
+fn a_study_record_edited_or_of_changed_inputs_is_not_resumed() {
+    let dir = tempfile::tempdir().unwrap();
+    // The PANTER scene reading the telescope's data from a file beside it.
+    let data = std::fs::read_to_string(repo().join("data/llnl_telescope.toml")).unwrap();
+    std::fs::write(dir.path().join("llnl.toml"), &data).unwrap();
+    let text = std::fs::read_to_string(repo().join("scenes/panter_al_ka.toml"))
+        .unwrap()
+        .replacen(
+            "name = \"llnl\"\n",
+            "name = \"llnl\"\ndata = \"llnl.toml\"\n",
+            1,
+        );
+    let scene = dir.path().join("panter.toml");
+    std::fs::write(&scene, text).unwrap();
+    let out = dir.path().join("stopped");
+    let command = |extra: &[&str]| {
+        let mut c = traxer();
+        c.arg("focus")
+            .arg(&scene)
+            .args(["--from", "-1460", "--to", "-1580", "--steps", "9"])
+            .args(["-n", "300000", "-q", "-o"])
+            .arg(&out)
+            .args(extra);
+        c
+    };
+    stop_after(command(&[]), &out, 2, "-KILL");
+    let record = out.join("focus_checkpoint.json");
+    let good = std::fs::read_to_string(&record).unwrap();
+    // One digit of a recorded point changed.
+    let at = good.find("\"value\":").expect("points have values") + "\"value\":".len();
+    let digit = good[at..].find(|c: char| c.is_ascii_digit()).unwrap() + at;
+    let mut edited = good.clone().into_bytes();
+    edited[digit] = if edited[digit] == b'7' { b'8' } else { b'7' };
+    std::fs::write(&record, edited).unwrap();
+    let err = run_fails(&mut command(&["--resume"]), 2);
+    assert!(err.contains("damaged or was edited"), "{err}");
+    // The telescope's data file changed.
+    std::fs::write(&record, &good).unwrap();
+    std::fs::write(dir.path().join("llnl.toml"), format!("{data}\n# edited\n")).unwrap();
+    let err = run_fails(&mut command(&["--resume"]), 2);
+    assert!(err.contains("input file llnl.toml with SHA-256"), "{err}");
+    // As it was, the study resumes and ends.
+    std::fs::write(dir.path().join("llnl.toml"), &data).unwrap();
+    run_ok(&mut command(&["--resume"]));
+    assert!(out.join("focus.csv").is_file());
+}

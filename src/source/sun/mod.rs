@@ -116,6 +116,13 @@ pub struct SunSource {
 }
 
 impl SunDesc {
+    /// The emission table file it reads (none for a built-in emission).
+    pub fn emission_file(&self, dir: &Path) -> Option<std::path::PathBuf> {
+        builtin::parse_name(&self.emission)
+            .is_none()
+            .then(|| dir.join(&self.emission))
+    }
+
     /// The emission table (read relative to `dir`), what it is and its coupling.
     fn emission_table(&self, dir: &Path) -> Result<(EmissionTable, String, String), InvalidSource> {
         let check = |name: &str, g: Option<f64>, unit: &str| match g {
