@@ -61,11 +61,7 @@ fn couplings(emission: &str, g_agamma: f64, g_ae: f64) -> PyResult<(Option<f64>,
 }
 
 fn au(distance_au: f64) -> PyResult<f64> {
-    if !(distance_au.is_finite() && distance_au > 0.0) {
-        return Err(input(format!(
-            "distance_au={distance_au}: expected a positive distance"
-        )));
-    }
+    traxer::source::sun::check_distance_au("distance_au =", distance_au).map_err(input)?;
     Ok(distance_au * AU_CM)
 }
 

@@ -69,6 +69,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         sensor: a.sensor.clone(),
         radius_mm: a.radius,
     };
+    traxer::studies::effective_area::check(&s)?;
     let (device, scene) = load_xray_scene(&a.scene)?;
     let record_name = Record::<AngleResult>::file_name("effective_area");
     let folder = OutputFolder::prepare(

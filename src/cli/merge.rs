@@ -3,7 +3,7 @@
 //! in one piece.
 
 use super::args::{DefineArgs, OutputArgs, SceneArgs};
-use super::resume::{file_names, fits_scene, read_shard, refuse_unfinished_run};
+use super::resume::{file_names, fits_scene, read_shard, read_shard_tally, refuse_unfinished_run};
 use super::{load_xray_scene, InputError};
 use anyhow::Context;
 use std::path::PathBuf;
@@ -81,14 +81,18 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    if let Some((dir, _, _)) = shards.iter().find(|(_, _, t)| !fits_scene(t, &scene)) {
-        return Err(InputError(format!(
-            "{}: its sums do not fit the scene's sensors: not a shard of this run",
-            dir.display()
-        ))
-        .into());
-    }
-    let merged = merge(shards, a.partial)?;
+    // One shard's tally at a time: memory does not grow with the shards.
+    let merged = merge(shards, a.partial, |dir, header| {
+        let tally = read_shard_tally(dir, header)?;
+        if !fits_scene(&tally, &scene) {
+            return Err(InputError(format!(
+                "{}: its sums do not fit the scene's sensors: not a shard of this run",
+                dir.display()
+            ))
+            .into());
+        }
+        anyhow::Ok(tally)
+    })?;
     let folder = OutputFolder::prepare(out, &file_names(&scene, id.photon_list > 0, a.fits))?;
     refuse_unfinished_run(out)?;
     let h = &merged.header;

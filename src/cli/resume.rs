@@ -254,7 +254,7 @@ pub fn fits_scene(tally: &Tally, scene: &Scene) -> bool {
 }
 
 /// A folder given to `traxer merge`, with its run state.
-pub fn read_shard(dir: &Path) -> anyhow::Result<(PathBuf, StateHeader, Tally)> {
+pub fn read_shard(dir: &Path) -> anyhow::Result<(PathBuf, StateHeader)> {
     let path = dir.join(RUN_STATE_FILE);
     if !path.is_file() {
         let hint = if dir.join(CHECKPOINT_FILE).is_file() {
@@ -271,6 +271,20 @@ pub fn read_shard(dir: &Path) -> anyhow::Result<(PathBuf, StateHeader, Tally)> {
         ))
         .into());
     }
-    let (header, tally) = read_state(&path)?;
-    Ok((dir.to_path_buf(), header, tally))
+    Ok((dir.to_path_buf(), read_header(&path)?))
+}
+
+/// The tally of the shard in `dir` whose header `header` was read before: the
+/// file must still hold that header (whole and checksummed).
+pub fn read_shard_tally(dir: &Path, header: &StateHeader) -> anyhow::Result<Tally> {
+    let path = dir.join(RUN_STATE_FILE);
+    let (now, tally) = read_state(&path)?;
+    if &now != header {
+        return Err(InputError(format!(
+            "{}: changed while the merge read it",
+            path.display()
+        ))
+        .into());
+    }
+    Ok(tally)
 }

@@ -3,6 +3,10 @@
 //! were) and exit with 130 at once. During a trace that keeps a checkpoint
 //! (`--checkpoint-every`): ask the photon loop to stop after its current batch,
 //! write the checkpoint and exit with 130 (a second signal stops at once).
+//!
+//! Every one of these signals gives 130, the code of Ctrl-C: a job script tests
+//! one code whatever stopped the run (the shell's convention of 128 + N would
+//! give 143 for SIGTERM and 129 for SIGHUP; the README says which we chose).
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;

@@ -85,13 +85,7 @@ struct Emission {
 }
 
 pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
-    if !(a.distance_au.is_finite() && a.distance_au > 0.0) {
-        return Err(InputError(format!(
-            "--distance-au {}: expected a positive distance",
-            a.distance_au
-        ))
-        .into());
-    }
+    traxer::source::sun::check_distance_au("--distance-au", a.distance_au).map_err(InputError)?;
     for (name, g) in [("--g-agamma", a.g_agamma), ("--g-ae", a.g_ae)] {
         if !(g.is_finite() && g > 0.0) {
             return Err(InputError(format!("{name} {g}: expected a positive coupling")).into());

@@ -15,6 +15,13 @@ use sha2::{Digest, Sha256};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
+/// The temporary name of `NAME` is `.NAME.XXXXXX.tmp`.
+const TEMPORARY_SUFFIX: &str = ".tmp";
+const TEMPORARY_RANDOM_CHARS: usize = 6;
+/// How many bytes the temporary name adds to a file's name: file names must
+/// stay this far below the file systems' limit.
+pub const TEMPORARY_NAME_EXTRA_BYTES: usize = 2 + TEMPORARY_RANDOM_CHARS + TEMPORARY_SUFFIX.len();
+
 /// Writes `bytes` to `path` so that readers see either the old file or the whole
 /// new one, never a part: the bytes go to a temporary file with a unique name in
 /// the same folder (two writers of one path, even in one process, never share
@@ -47,7 +54,10 @@ pub fn atomic_write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     // can be recognised.
     let prefix = format!(".{}.", name.to_string_lossy());
     let mut builder = tempfile::Builder::new();
-    builder.prefix(&prefix).suffix(".tmp");
+    builder
+        .prefix(&prefix)
+        .suffix(TEMPORARY_SUFFIX)
+        .rand_bytes(TEMPORARY_RANDOM_CHARS);
     // tempfile creates private (0600) files; results are read by others on a
     // cluster, so ask for what `File::create` gives: 0666 less the umask.
     #[cfg(unix)]

@@ -61,11 +61,25 @@ pub fn read_state(path: &Path) -> Result<(StateHeader, Tally), RunStateError> {
     Ok((header, tally))
 }
 
-/// Reads only the header of a run-state file.
+/// Reads only the header of a run-state file (its first two lines; the tally
+/// is not read).
 pub fn read_header(path: &Path) -> Result<StateHeader, RunStateError> {
-    let bytes = read_bytes(path)?;
-    split(path, &bytes).map(|(h, _)| h)
+    use std::io::{BufRead, Read};
+    let file =
+        std::fs::File::open(path).map_err(|e| failure(path, format!("cannot read it: {e}")))?;
+    // A header is a few kB; a line this long is not one.
+    let mut reader = std::io::BufReader::new(file).take(MAX_HEADER_BYTES);
+    let mut head = Vec::new();
+    for _ in 0..2 {
+        reader
+            .read_until(b'\n', &mut head)
+            .map_err(|e| failure(path, format!("cannot read it: {e}")))?;
+    }
+    split(path, &head).map(|(h, _)| h)
 }
+
+/// The longest first two lines `read_header` reads.
+const MAX_HEADER_BYTES: u64 = 1 << 24;
 
 fn failure(path: &Path, message: String) -> RunStateError {
     RunStateError {

@@ -1,5 +1,8 @@
 //! Adding the tallies of shards into the tally of their run, after checking that
-//! they are finished, disjoint parts of one and the same run.
+//! they are finished, disjoint parts of one and the same run. The headers are
+//! checked first; the tallies are then read one at a time and added into one
+//! exact sum, so a merge holds two tallies at most, whatever the number of
+//! shards.
 
 use super::StateHeader;
 use crate::trace::Tally;
@@ -30,18 +33,42 @@ fn list(parts: &[u64], of: u64) -> String {
     format!("{}{more} of {of}", shown.join(", "))
 }
 
-/// Merges `shards` (folder, header, tally); with `partial`, missing shards are
-/// allowed and recorded in the header. The result is the same for any order of
-/// the shards.
-pub fn merge(
-    shards: Vec<(PathBuf, StateHeader, Tally)>,
+/// Merges `shards` (folder, header); with `partial`, missing shards are allowed
+/// and recorded in the header. `tally_of` reads a shard's tally (given its
+/// folder and the header read before, which the tally's file must still hold).
+/// The result is the same for any order of the shards.
+pub fn merge<E: From<MergeError>>(
+    shards: Vec<(PathBuf, StateHeader)>,
     partial: bool,
-) -> Result<Merged, MergeError> {
+    mut tally_of: impl FnMut(&Path, &StateHeader) -> Result<Tally, E>,
+) -> Result<Merged, E> {
+    let (header, shards) = checked_header(shards, partial)?;
+    let photon_list = header.identity.photon_list;
+    let mut sum: Option<Tally> = None;
+    for (dir, h) in &shards {
+        let t = tally_of(dir, h)?;
+        match &mut sum {
+            None => sum = Some(t),
+            Some(s) => s.add(&t, photon_list),
+        }
+    }
+    Ok(Merged {
+        header,
+        tally: sum.expect("checked: at least one shard"),
+    })
+}
+
+/// The merged run's header, after checking the shards' headers.
+#[allow(clippy::type_complexity)]
+fn checked_header(
+    shards: Vec<(PathBuf, StateHeader)>,
+    partial: bool,
+) -> Result<(StateHeader, Vec<(PathBuf, StateHeader)>), MergeError> {
     let fail = |folder: &Path, message: String| MergeError {
         folder: folder.to_path_buf(),
         message,
     };
-    let Some((first_dir, first, _)) = shards.first() else {
+    let Some((first_dir, first)) = shards.first() else {
         return Err(fail(
             Path::new("traxer merge"),
             "no shard folders to merge".into(),
@@ -55,7 +82,7 @@ pub fn merge(
         ));
     }
     let mut holder: Vec<Option<&Path>> = vec![None; n as usize + 1];
-    for (dir, h, _) in &shards {
+    for (dir, h) in &shards {
         if let Some(diff) = h.identity.difference(&first.identity) {
             return Err(fail(
                 dir,
@@ -106,18 +133,15 @@ pub fn merge(
         ));
     }
     let parts: Vec<u64> = (1..=n).filter(|&k| holder[k as usize].is_some()).collect();
-    let photon_list = first.identity.photon_list;
     let mut shards = shards;
-    shards.sort_by_key(|(_, h, _)| h.parts.first().copied());
-    let mut iter = shards.into_iter();
-    let (_, mut header, mut tally) = iter.next().expect("checked above: not empty");
+    shards.sort_by_key(|(_, h)| h.parts.first().copied());
+    let mut header = shards[0].1.clone();
     header.parts = parts;
     header.missing = missing;
-    for (_, h, t) in iter {
-        tally.add(&t, photon_list);
+    for (_, h) in shards.iter().skip(1) {
         header.photons += h.photons;
         header.traced += h.traced;
         header.seconds += h.seconds;
     }
-    Ok(Merged { header, tally })
+    Ok((header, shards))
 }

@@ -33,7 +33,7 @@ pub(super) struct ObjectBuilder<'a> {
     names: HashSet<String>,
     /// Output file name → the sensor that writes it.
     sensor_files: HashMap<String, String>,
-    /// Pixels × bands of the sensors so far.
+    /// Image values of the sensors so far (`SensorSpec::image_values`).
     sensor_pixels: u64,
     /// Several objects may take parts of one file: it is read once.
     mesh_files: HashMap<PathBuf, Vec<MeshPart>>,
@@ -136,12 +136,12 @@ impl<'a> ObjectBuilder<'a> {
             }
             self.sensor_files.insert(file, name.clone());
         }
-        self.sensor_pixels += spec.pixel_count() as u64 * spec.bands() as u64;
+        self.sensor_pixels += spec.image_values();
         if self.sensor_pixels > MAX_TOTAL_PIXELS {
             return Err(self.at.error(
                 span,
                 format!(
-                    "sensor `{name}`: the scene's sensors have {} pixels × energy bands in all, more than {MAX_TOTAL_PIXELS} (2 GB of images); use fewer or coarser sensors",
+                    "sensor `{name}`: the scene's sensors have {} image values in all (pixels × energy bands, plus 5 images per sensor with history_images and the pixel grids' pixels × bands), more than {MAX_TOTAL_PIXELS} (2 GB of images); use fewer or coarser sensors, or leave out history_images",
                     self.sensor_pixels
                 ),
             ));

@@ -9,6 +9,9 @@ pub const SUMMARY_FILE: &str = "summary.json";
 /// NTFS) take.
 pub const MAX_FILE_NAME_BYTES: usize = 255;
 
+use crate::files::TEMPORARY_NAME_EXTRA_BYTES;
+use crate::history::PathClass;
+
 /// Object names may hold anything; file names get letters, digits, '-', '_', '.'.
 pub fn file_stem(name: &str) -> String {
     name.chars()
@@ -60,7 +63,19 @@ pub fn conversion_file_names(name: &str) -> [String; 3] {
     ]
 }
 
-/// Why a sensor's name cannot name its files.
+/// The per-class image files of sensor `name` (`history_images`), in
+/// [`PathClass::ALL`] order.
+pub fn class_file_names(name: &str) -> Vec<String> {
+    let stem = file_stem(name);
+    PathClass::ALL
+        .iter()
+        .map(|c| format!("{stem}_{}.npy", c.name()))
+        .collect()
+}
+
+/// Why a sensor's name cannot name its files: every file it may write (the
+/// FITS file, grid, conversion and class images included) must still be a
+/// valid name with the temporary name's additions (`files::atomic_write`).
 pub fn check_file_names(name: &str) -> Result<(), String> {
     let stem = file_stem(name);
     if stem.is_empty() || stem.chars().all(|c| c == '.') {
@@ -69,14 +84,17 @@ pub fn check_file_names(name: &str) -> Result<(), String> {
         ));
     }
     let longest = sensor_file_names(name)
-        .iter()
-        .chain(conversion_file_names(name).iter())
-        .map(|f| f.len())
+        .into_iter()
+        .chain(conversion_file_names(name))
+        .chain(grid_file_names(name))
+        .chain(class_file_names(name))
+        .chain([fits_file_name(name)])
+        .map(|f| f.len() + TEMPORARY_NAME_EXTRA_BYTES)
         .max()
         .unwrap_or(0);
     if longest > MAX_FILE_NAME_BYTES {
         return Err(format!(
-            "sensor name of {} characters: its file names would be {longest} bytes long, more than the {MAX_FILE_NAME_BYTES} file systems take; shorten it",
+            "sensor name of {} characters: its files' temporary names would be {longest} bytes long, more than the {MAX_FILE_NAME_BYTES} file systems take; shorten it",
             name.chars().count()
         ));
     }

@@ -16,8 +16,8 @@ pub mod rebin;
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
-    check_file_names, conversion_file_names, file_stem, fits_file_name, grid_file_names,
-    sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    check_file_names, class_file_names, conversion_file_names, file_stem, fits_file_name,
+    grid_file_names, sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};
@@ -97,6 +97,24 @@ impl SensorSpec {
         self.pixels[0] as usize * self.pixels[1] as usize
     }
 
+    /// The image values a run holds for this sensor, toward the scene's cap
+    /// [`MAX_TOTAL_PIXELS`]: pixels × bands, one image per path class with
+    /// `history_images`, and its pixel grid's pixels × bands (made when written).
+    pub fn image_values(&self) -> u64 {
+        let pixels = self.pixel_count() as u64;
+        let bands = self.bands() as u64;
+        let classes = if self.history_images {
+            PathClass::ALL.len() as u64 * pixels
+        } else {
+            0
+        };
+        let grid = self
+            .pixel_grid
+            .as_ref()
+            .map_or(0, |g| g.pixels[0] as u64 * g.pixels[1] as u64 * bands);
+        pixels * bands + classes + grid
+    }
+
     /// Number of energy bands (1 without binning).
     pub fn bands(&self) -> usize {
         self.energy_bins.map_or(1, |b| b.2 as usize)
@@ -135,14 +153,6 @@ pub fn sum_bands(stack: &[f64], plane: usize) -> Vec<f64> {
         }
     }
     out
-}
-
-/// The per-class image files of sensor `name`, in [`PathClass::ALL`] order.
-pub fn class_file_names(name: &str) -> Vec<String> {
-    PathClass::ALL
-        .iter()
-        .map(|c| format!("{name}_{}.npy", c.name()))
-        .collect()
 }
 
 /// Accumulated image of one sensor.

@@ -141,8 +141,13 @@ fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
     }
 }
 
-/// Checks the sweep's numbers.
-fn check(s: &AreaSweep) -> Result<(), StudyError> {
+/// The most energy × angle points a sweep may have (a few numbers each in
+/// memory and in the record: about 100 MB of record at most).
+pub const MAX_SWEEP_POINTS: u64 = 1_000_000;
+
+/// Checks the sweep's numbers (`sweep` does too; front ends call it first, before
+/// loading the scene).
+pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     let bad = |m: String| Err(StudyError::Input(m));
     if s.energies.is_empty() || s.energies.iter().any(|e| !(0.03..=30.0).contains(e)) {
         return bad("--energies must lie within 0.03–30 keV (the Henke tables)".into());
@@ -153,6 +158,14 @@ fn check(s: &AreaSweep) -> Result<(), StudyError> {
             .any(|a| !a.is_finite() || a.abs() >= 5400.0)
     {
         return bad("--angles are off-axis angles in arcminutes, below 90°".into());
+    }
+    let points = s.energies.len() as u64 * s.angles_arcmin.len() as u64;
+    if points > MAX_SWEEP_POINTS {
+        return bad(format!(
+            "{} energies × {} angles = {points} points: at most {MAX_SWEEP_POINTS} (each point is kept in memory and in the sweep's record)",
+            s.energies.len(),
+            s.angles_arcmin.len()
+        ));
     }
     if s.photons < 2 {
         return bad("--photons must be at least 2 per angle".into());

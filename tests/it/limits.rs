@@ -104,3 +104,106 @@ fn sweeps_and_replays_too_large_to_hold_are_refused() {
     );
     assert!(err.contains("--raw-photons"), "{err}");
 }
+
+#[test]
+fn sensor_names_whose_temporary_or_class_file_names_are_too_long_are_refused() {
+    // 236 characters: `NAME_conversion_spectrum.csv` would be 264 bytes, but
+    // even the shortest file plus the temporary name's 12 bytes is too long
+    // once the longest (`NAME_front_rear.npy`, `NAME_conversion_…`) counts.
+    let name = "x".repeat(230);
+    let err = trace_fails(&sensors_scene(&[(&name, 4)]));
+    assert!(
+        err.contains("temporary names") && err.contains("255"),
+        "{err}"
+    );
+}
+
+#[test]
+fn class_images_are_named_like_the_sensors_other_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = sensors_scene(&[("det 1", 4)])
+        .replace("pixels = [4, 4]", "pixels = [4, 4]\nhistory_images = true");
+    let path = write(dir.path(), "s.toml", &text);
+    let out = dir.path().join("out");
+    crate::common::run_ok(
+        traxer()
+            .arg("trace")
+            .arg(&path)
+            .args(["-n", "100", "-q", "-o"])
+            .arg(&out),
+    );
+    assert!(out.join("det_1.npy").is_file());
+    assert!(out.join("det_1_direct.npy").is_file());
+    assert!(!out.join("det 1_direct.npy").exists());
+}
+
+#[test]
+fn class_images_and_pixel_grids_count_toward_the_image_cap() {
+    // Two sensors of 2^26 values fill the cap; with history_images the class
+    // images (5 × 2^26 more) do not fit.
+    let two = sensors_scene(&[("s1", 8192), ("s2", 8192)]);
+    let err = trace_fails(&two.replacen(
+        "pixels = [8192, 8192]",
+        "pixels = [8192, 8192]\nhistory_images = true",
+        1,
+    ));
+    assert!(
+        err.contains("history_images") && err.contains("134217728"),
+        "{err}"
+    );
+    let err = trace_fails(&two.replacen(
+        "pixels = [8192, 8192]",
+        "pixels = [8192, 8192]\npixel_grid = { pixels = [4096, 4096], pitch = 0.001 }",
+        1,
+    ));
+    assert!(
+        err.contains("pixel grids") && err.contains("134217728"),
+        "{err}"
+    );
+}
+
+#[test]
+fn emission_grids_and_area_sweeps_too_large_are_refused_before_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let model = crate::common::repo().join("../shared/solar/SolarModel_B16-AGSS09met.dat");
+    let err = run_fails(
+        traxer()
+            .args(["solar-flux", "-q", "--model"])
+            .arg(&model)
+            .args([
+                "--radii",
+                "0.0001:1:0.0001",
+                "--energies",
+                "0.1:15:0.0001",
+                "-o",
+            ])
+            .arg(&out),
+        2,
+    );
+    assert!(err.contains("10000 radii × 149001 energies"), "{err}");
+    assert!(!out.exists());
+    let scene = crate::common::repo().join("scenes/llnl_effective_area.toml");
+    let err = run_fails(
+        traxer()
+            .arg("effective-area")
+            .arg(&scene)
+            .args(["--energies", "1:10:0.0001", "--angles", "0:100:0.01", "-o"])
+            .arg(&out),
+        2,
+    );
+    assert!(err.contains("90001 energies × 10001 angles"), "{err}");
+    assert!(!out.exists());
+    for au in ["0", "1e300", "0.01", "nan"] {
+        let err = run_fails(
+            traxer()
+                .args(["solar-flux", "-q", "--distance-au", au, "-o"])
+                .arg(&out),
+            2,
+        );
+        assert!(
+            err.contains("--distance-au") && err.contains("0.983"),
+            "{au}: {err}"
+        );
+    }
+}

@@ -715,3 +715,59 @@ fn a_run_whose_mesh_was_replaced_is_not_resumed() {
         "the refused resume removed the checkpoint"
     );
 }
+
+/// Peak memory (kB) of `traxer merge -o OUT DIRS...`, measured by a Python
+/// wrapper so that no other test's processes count.
+fn merge_peak_kb(out: &Path, dirs: &[PathBuf]) -> u64 {
+    let script = "import resource, subprocess, sys\n\
+                  r = subprocess.run(sys.argv[1:])\n\
+                  assert r.returncode == 0, r.returncode\n\
+                  print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)";
+    let exe = env!("CARGO_BIN_EXE_traxer");
+    let mut c = std::process::Command::new("python3");
+    c.args(["-c", script, exe, "merge", "-q", "-o"]).arg(out);
+    c.args(dirs);
+    let o = run_ok(&mut c);
+    String::from_utf8_lossy(&o.stdout).trim().parse().unwrap()
+}
+
+#[test]
+fn merge_memory_does_not_grow_with_the_number_of_shards() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = big_sensor_scene(dir.path());
+    let shards: Vec<PathBuf> = (1..=8)
+        .map(|k| {
+            let d = dir.path().join(format!("s{k}"));
+            run_ok(&mut trace(
+                &scene,
+                &d,
+                &["-n", "8000", "--shard", &format!("{k}/8")],
+            ));
+            d
+        })
+        .collect();
+    // Two shards of another cut of the same scene, for the baseline.
+    let pair: Vec<PathBuf> = (1..=2)
+        .map(|k| {
+            let d = dir.path().join(format!("p{k}"));
+            run_ok(&mut trace(
+                &scene,
+                &d,
+                &["-n", "8000", "--shard", &format!("{k}/2")],
+            ));
+            d
+        })
+        .collect();
+    let two = merge_peak_kb(&dir.path().join("m2"), &pair);
+    let eight = merge_peak_kb(&dir.path().join("m8"), &shards);
+    // Each tally of the 1500 × 1500 sensor is tens of MB: holding all eight at
+    // once would take about four times the memory of two.
+    assert!(
+        (eight as f64) < 1.5 * two as f64,
+        "peak memory of a merge: {eight} kB for 8 shards, {two} kB for 2"
+    );
+    assert_eq!(
+        tally_bytes(&dir.path().join("m2/run_state.bin")),
+        tally_bytes(&dir.path().join("m8/run_state.bin"))
+    );
+}

@@ -44,7 +44,7 @@ fn the_builtin_table_reproduces_the_full_computation() {
     // Every row of the model (0.0005 R_sun steps) and 0.01 keV steps to 20 keV.
     let radii: Vec<f64> = model.shells.iter().map(|s| s.radius).collect();
     let energies: Vec<f64> = (0..2000).map(|k| 0.035 + 0.01 * k as f64).collect();
-    let full = emission_table(&model, &radii, &energies);
+    let full = emission_table(&model, &radii, &energies).unwrap();
     let shipped = builtin_table();
     let (f, s) = (band_flux(&full, 0.0, 30.0), band_flux(shipped, 0.0, 30.0));
     assert!(
@@ -613,4 +613,77 @@ fn an_abc_sun_traces_in_axions_per_second_that_scale_as_g_ae_squared() {
         err.contains("g_ae") && err.contains("primakoff+abc"),
         "{err}"
     );
+}
+
+#[test]
+fn degenerate_solar_models_and_overflowing_couplings_are_refused_not_panicked() {
+    let Some(model) = model_path() else {
+        return;
+    };
+    let text = std::fs::read_to_string(&model).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    // Replace column `col` (0-based) of every data row by `value`, or every
+    // mass fraction (columns 6 onward) when `col` is None.
+    let edited = |col: Option<usize>, value: &str| -> String {
+        text.lines()
+            .map(|l| {
+                if l.trim_start().starts_with('#') || l.trim().is_empty() {
+                    return l.to_string();
+                }
+                let f: Vec<&str> = l.split_whitespace().collect();
+                f.iter()
+                    .enumerate()
+                    .map(|(k, x)| match col {
+                        Some(c) if c == k => value,
+                        None if k >= 6 => value,
+                        _ => x,
+                    })
+                    .collect::<Vec<_>>()
+                    .join(" ")
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    for (what, body, needle) in [
+        (
+            "no matter",
+            edited(None, "0.0"),
+            "the mass fractions add up to 0",
+        ),
+        ("hot", edited(Some(2), "1e30"), "temperature 1e30 K"),
+        ("no density", edited(Some(3), "nan"), "density NaN"),
+    ] {
+        let file = write(dir.path(), "model.dat", &body);
+        let err = run_fails(
+            traxer()
+                .args(["solar-flux", "-q", "--model"])
+                .arg(&file)
+                .arg("-o")
+                .arg(&out),
+            2,
+        );
+        assert!(
+            err.contains("model.dat:") && err.contains(needle) && !err.contains("panicked"),
+            "{what}: {err}"
+        );
+        assert!(!out.exists());
+    }
+    let err = run_fails(
+        traxer()
+            .args(["solar-flux", "-q", "--g-agamma", "1e200", "-o"])
+            .arg(&out),
+        2,
+    );
+    assert!(
+        err.contains("overflows") && !err.contains("panicked"),
+        "{err}"
+    );
+    let scene = write(
+        dir.path(),
+        "s.toml",
+        "[[sources]]\ntype = \"sun\"\ng_agamma = 1e200\ntarget = { center = [0, 0, 0], radius = 1.0 }\n",
+    );
+    let err = run_fails(traxer().arg("trace").arg(&scene).arg("-o").arg(&out), 2);
+    assert!(err.contains("overflows") && err.contains("s.toml"), "{err}");
 }

@@ -223,8 +223,18 @@ pub fn compose(
     if tables.is_empty() {
         return Err("an emission needs Primakoff, ABC or both".into());
     }
+    let table = EmissionTable::sum(&tables)?;
+    if !table.rates.iter().all(|w| w.is_finite())
+        || !table.luminosity(0.0, f64::INFINITY).is_finite()
+    {
+        return Err(format!(
+            "{}: the emission overflows the numbers a computer holds (couplings this large are far beyond what the Sun allows)",
+            coupling.join(", ")
+        )
+        .into());
+    }
     Ok(AxionEmission {
-        table: EmissionTable::sum(&tables)?,
+        table,
         parts,
         description: what.join(" + "),
         coupling: coupling.join(", "),
@@ -264,7 +274,10 @@ pub fn model_emission(
     g_ae: Option<f64>,
 ) -> Result<AxionEmission, SolarDataError> {
     EmissionTable::check_grid(radii, energies)?;
-    let primakoff = g_agamma.map(|_| super::primakoff::emission_table(model, radii, energies));
+    let primakoff = match g_agamma {
+        Some(_) => Some(super::primakoff::emission_table(model, radii, energies)?),
+        None => None,
+    };
     let abc = match g_ae {
         Some(_) => {
             let op = op.ok_or("the ABC emission needs the Opacity Project tables")?;

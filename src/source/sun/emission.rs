@@ -79,6 +79,10 @@ pub fn energy_cell_edges(energies: &[f64]) -> Vec<f64> {
 impl EmissionTable {
     /// A table from its grid and rates, checked: radii in (0, 1] and energies in
     /// the Henke range, both strictly increasing; rates finite and ≥ 0.
+    /// The most (radius, energy) points a table may have: 2^24 rates are 134 MB,
+    /// and the ABC emission costs about a millisecond per point.
+    pub const MAX_POINTS: u64 = 1 << 24;
+
     pub fn new(
         radii: Vec<f64>,
         energies: Vec<f64>,
@@ -102,11 +106,22 @@ impl EmissionTable {
     }
 
     /// Checks a grid: at least one radius and energy, radii in (0, 1] and energies
-    /// in the Henke range, both strictly increasing.
+    /// in the Henke range, both strictly increasing, at most
+    /// [`EmissionTable::MAX_POINTS`] points.
     pub fn check_grid(radii: &[f64], energies: &[f64]) -> Result<(), SolarDataError> {
         let increasing = |v: &[f64]| v.windows(2).all(|w| w[0] < w[1]);
         if radii.is_empty() || energies.is_empty() {
             return Err("an emission table needs at least one radius and one energy".into());
+        }
+        let points = radii.len() as u64 * energies.len() as u64;
+        if points > Self::MAX_POINTS {
+            return Err(format!(
+                "{} radii × {} energies = {points} points: at most {} (2^24; the built-in tables have under 100 000)",
+                radii.len(),
+                energies.len(),
+                Self::MAX_POINTS
+            )
+            .into());
         }
         if !increasing(radii) || !radii.iter().all(|r| *r > 0.0 && *r <= 1.0) {
             return Err("radii must increase and lie in (0, 1] (fractions of R_sun)".into());

@@ -44,6 +44,20 @@ pub const BUILTIN: &str = "primakoff";
 
 /// The solar radius in mm.
 const R_SUN_MM: f64 = R_SUN_CM * 10.0;
+/// Distances from the Sun (AU) a source or spectrum may be placed at: Mercury's
+/// perihelion to beyond Neptune; the Earth is at 0.983–1.017.
+pub const DISTANCE_AU_RANGE: (f64, f64) = (0.3, 50.0);
+
+/// Whether `au` is a distance from the Sun traxer accepts; else what is wrong
+/// (`what` names the parameter).
+pub fn check_distance_au(what: &str, au: f64) -> Result<(), String> {
+    let (lo, hi) = DISTANCE_AU_RANGE;
+    if au.is_finite() && (lo..=hi).contains(&au) {
+        Ok(())
+    } else {
+        Err(format!("{what} {au}: expected a distance from the Sun in astronomical units, {lo} to {hi} (the Earth is at 0.983 to 1.017)"))
+    }
+}
 
 /// `type = "sun"` in a scene file's `[[sources]]`.
 #[derive(Debug, Deserialize, Clone)]
@@ -172,9 +186,7 @@ impl SunDesc {
         if !p.target.is_valid() {
             return Err("sun: target needs finite center, 0 ≤ inner_radius < radius and azimuth = [from, to] with from < to ≤ from + 360".into());
         }
-        if !(p.distance_au.is_finite() && p.distance_au > 0.1) {
-            return Err(format!("sun: distance_au = {}: expected the Sun–Earth distance in astronomical units (about 0.98 to 1.02)", p.distance_au).into());
-        }
+        check_distance_au("sun: distance_au =", p.distance_au).map_err(InvalidSource)?;
         let axis = DVec3::from(p.direction);
         if !axis.is_finite() || axis.length() == 0.0 {
             return Err(

@@ -59,6 +59,48 @@ pub struct Shell {
     pub mass_fractions: Vec<f64>,
 }
 
+/// Temperatures (K) a star's interior can have: the Sun's photosphere is 5.8e3 K,
+/// its centre 1.5e7 K; beyond these the numbers are a unit or column mistake.
+const TEMPERATURE_RANGE_K: (f64, f64) = (1e3, 1e9);
+/// Densities (g/cm³) likewise: 1.7e-7 at the Sun's surface, 150 at its centre.
+const DENSITY_RANGE_G_CM3: (f64, f64) = (1e-12, 1e4);
+/// How far the mass fractions of a shell may add up from 1 (the B16 models add
+/// up to 1 within 1e-5).
+const MASS_FRACTION_SUM_TOLERANCE: f64 = 0.02;
+
+/// Whether a shell describes a star-like plasma: temperature and density in
+/// range, mass fractions in [0, 1] adding up to 1 (a model of all zeros, or
+/// with shifted columns, emits nothing or nonsense).
+fn check_plasma(shell: &Shell) -> Result<(), String> {
+    let within = |x: f64, (lo, hi): (f64, f64)| x.is_finite() && x >= lo && x <= hi;
+    if !within(shell.temperature_k, TEMPERATURE_RANGE_K) {
+        return Err(format!(
+            "temperature {:e} K: expected {:e} to {:e} K (column 3, in kelvin)",
+            shell.temperature_k, TEMPERATURE_RANGE_K.0, TEMPERATURE_RANGE_K.1
+        ));
+    }
+    if !within(shell.density_g_cm3, DENSITY_RANGE_G_CM3) {
+        return Err(format!(
+            "density {:e} g/cm³: expected {:e} to {:e} g/cm³ (column 4)",
+            shell.density_g_cm3, DENSITY_RANGE_G_CM3.0, DENSITY_RANGE_G_CM3.1
+        ));
+    }
+    if shell
+        .mass_fractions
+        .iter()
+        .any(|x| !(0.0..=1.0).contains(x))
+    {
+        return Err("mass fractions must lie in [0, 1]".into());
+    }
+    let sum: f64 = shell.mass_fractions.iter().sum();
+    if (sum - 1.0).abs() > MASS_FRACTION_SUM_TOLERANCE {
+        return Err(format!(
+            "the mass fractions add up to {sum}: expected 1 (within {MASS_FRACTION_SUM_TOLERANCE})"
+        ));
+    }
+    Ok(())
+}
+
 /// A solar model: shells by increasing radius.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SolarModel {
@@ -112,17 +154,7 @@ impl SolarModel {
                     shell.radius
                 )));
             }
-            let positive = |x: f64| x > 0.0 && x.is_finite();
-            if !positive(shell.temperature_k) || !positive(shell.density_g_cm3) {
-                return Err(at("temperature and density must be positive".into()));
-            }
-            if shell
-                .mass_fractions
-                .iter()
-                .any(|x| !(0.0..=1.0).contains(x))
-            {
-                return Err(at("mass fractions must lie in [0, 1]".into()));
-            }
+            check_plasma(&shell).map_err(at)?;
             shells.push(shell);
         }
         if shells.len() < 2 {
@@ -188,8 +220,9 @@ mod tests {
                 "1.5e7".into(),
                 "150".into(),
             ];
-            v.extend(["1e17".into(), "0.1".into()]);
-            v.extend(std::iter::repeat_n("0.01".to_string(), 29));
+            // Mass fractions adding up to 1.
+            v.extend(["1e17".into(), "0.1".into(), "0.72".into()]);
+            v.extend(std::iter::repeat_n("0.01".to_string(), 28));
             v.join(" ")
         };
         let text = format!("# header\n{}\n{}\n", row(0.2), row(0.1));

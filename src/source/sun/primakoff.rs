@@ -33,6 +33,7 @@
 
 use super::emission::EmissionTable;
 use super::model::{species, Shell, SolarModel, Species};
+use super::SolarDataError;
 
 /// Fine-structure constant (CODATA 2018).
 pub const ALPHA: f64 = 1.0 / 137.035_999_084;
@@ -99,7 +100,11 @@ impl Plasma {
 /// The Primakoff emission table of `model` at the given radii (fractions of R_sun,
 /// the model interpolated linearly between its rows) and energies (keV), for
 /// g_aγ = 1e-10 GeV⁻¹.
-pub fn emission_table(model: &SolarModel, radii: &[f64], energies: &[f64]) -> EmissionTable {
+pub fn emission_table(
+    model: &SolarModel,
+    radii: &[f64],
+    energies: &[f64],
+) -> Result<EmissionTable, SolarDataError> {
     let species = species();
     let mut rates = Vec::with_capacity(radii.len() * energies.len());
     for &r in radii {
@@ -111,7 +116,7 @@ pub fn emission_table(model: &SolarModel, radii: &[f64], energies: &[f64]) -> Em
         );
     }
     EmissionTable::new(radii.to_vec(), energies.to_vec(), rates)
-        .expect("radii and energies from the caller are sorted and in range")
+        .map_err(|e| format!("the Primakoff emission of this model: {e}").into())
 }
 
 #[cfg(test)]
