@@ -65,6 +65,14 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
             define: first.overrides.clone(),
         },
     };
+    if !scene_args.scene.is_file() {
+        return Err(InputError(format!(
+            "{}: the shards' scene {} is no longer there; if it moved, give its new place with --scene FILE (its SHA-256 is checked)",
+            folders[0].display(),
+            scene_args.scene.display()
+        ))
+        .into());
+    }
     let (device, scene) = load_xray_scene(&scene_args).with_context(|| {
         format!(
             "cannot load the scene of the shards in {}",

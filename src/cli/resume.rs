@@ -28,6 +28,8 @@ pub struct Settings {
     pub every: Option<Duration>,
     /// Also write each sensor's image as FITS.
     pub fits: bool,
+    /// Where the scene file is now, if it moved since the run stopped.
+    pub moved_scene: Option<PathBuf>,
 }
 
 /// Every file a trace may leave in its results folder: the results, the run
@@ -166,11 +168,23 @@ pub fn resume(dir: &Path, settings: &Settings) -> anyhow::Result<()> {
         .into());
     }
     let scene_args = super::args::SceneArgs {
-        scene: header.scene_path.clone(),
+        scene: settings
+            .moved_scene
+            .clone()
+            .unwrap_or_else(|| header.scene_path.clone()),
         vars: super::args::DefineArgs {
             define: header.overrides.clone(),
         },
     };
+    if !scene_args.scene.is_file() {
+        return Err(InputError(format!(
+            "{}: the run's scene {} is no longer there; if it moved, give its new place: `traxer trace NEW_PATH --resume {}` (its SHA-256 is checked)",
+            path.display(),
+            scene_args.scene.display(),
+            dir.display()
+        ))
+        .into());
+    }
     let (device, scene) = load_xray_scene(&scene_args)
         .with_context(|| format!("cannot load the scene of the checkpoint {}", path.display()))?;
     let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);

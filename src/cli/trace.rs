@@ -46,8 +46,9 @@ pub struct TraceArgs {
     #[arg(value_name = "SECONDS", long)]
     pub checkpoint_every: Option<f64>,
     /// Continue the stopped run whose results folder is DIR, from its checkpoint
-    /// (scene, variables, seed, photons and shard come from it).
-    #[arg(value_name = "DIR", long, conflicts_with_all = ["scene", "define", "photons", "seed", "shard", "photon_list", "out"])]
+    /// (scene, variables, seed, photons and shard come from it; give SCENE only
+    /// if the scene file has moved since: its SHA-256 is checked).
+    #[arg(value_name = "DIR", long, conflicts_with_all = ["define", "photons", "seed", "shard", "photon_list", "out"])]
     pub resume: Option<PathBuf>,
     /// Also write each sensor's flux image as NAME.fits: a float64 primary image
     /// (a cube [band, y, x] with energy bins) whose header holds the WCS in mm on
@@ -65,6 +66,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
             quiet: a.output.quiet.quiet,
             every,
             fits: a.fits,
+            moved_scene: a.scene.clone(),
         };
         return resume::resume(dir, &settings);
     }
@@ -106,6 +108,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         quiet: a.output.quiet.quiet,
         every,
         fits: a.fits,
+        moved_scene: None,
     };
     let tally = Tally::new(&scene);
     resume::trace_into(&device, &scene, &cfg, part, tally, folder, &settings)

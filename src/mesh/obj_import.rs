@@ -14,7 +14,13 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         ignore_points: true,
         ignore_lines: true,
     };
-    let text = std::fs::read(path).map_err(|_| MeshError::invalid(path, "cannot read the file"))?;
+    let text = std::fs::read(path)
+        .map_err(|e| MeshError::invalid(path, format!("cannot read the file: {e}")))?;
+    let encoding_note = check_text(path, &text)?;
+    let text = match encoding_note {
+        None => text,
+        Some(_) => String::from_utf8_lossy(&text).into_owned().into_bytes(),
+    };
     // tobj reads a line element of three or more vertices as a polygon face:
     // line elements are taken out here, and counted.
     let (faces_only, lines) = without_line_elements(&text);
@@ -41,6 +47,7 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
         normals_from_file: true,
         ..Default::default()
     };
+    report.notes.extend(encoding_note);
     if lines > 0 {
         report.skipped.push(Skipped {
             what: format!("{lines} line element(s) (`l`)"),
@@ -70,6 +77,34 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
     Ok((parts, report))
 }
 
+/// An OBJ file is text: a binary file (a .glb, an STL, a CAD format renamed)
+/// is named as such rather than reported as unreadable. Text that is not UTF-8
+/// (Latin-1 comments or names from older exporters) is read with those bytes
+/// replaced; the returned note says where.
+fn check_text(path: &Path, bytes: &[u8]) -> Result<Option<String>, MeshError> {
+    let line_of = |at: usize| bytes[..at].iter().filter(|&&b| b == b'\n').count() + 1;
+    // NUL and control characters other than tab, line feed, carriage return
+    // and form feed do not occur in text.
+    let control = |b: u8| b < 0x20 && !matches!(b, b'\t' | b'\n' | b'\r' | 0x0c);
+    if let Some(at) = bytes.iter().position(|&b| control(b)) {
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "is not a text OBJ file: line {} holds binary data (byte {at} is 0x{:02x}); an OBJ file is text of `v` and `f` lines, and a binary glTF must be named .glb",
+                line_of(at),
+                bytes[at]
+            ),
+        ));
+    }
+    Ok(std::str::from_utf8(bytes).err().map(|e| {
+        format!(
+            "line {} is not UTF-8 text (byte 0x{:02x}): such bytes were read as the replacement character � (names may show it)",
+            line_of(e.valid_up_to()),
+            bytes[e.valid_up_to()]
+        )
+    }))
+}
+
 /// One OBJ object as a checked mesh, and whether the file gave its normals.
 fn model_mesh(path: &Path, model: &tobj::Model) -> Result<(TriangleMesh, bool), MeshError> {
     let m = &model.mesh;
@@ -78,7 +113,8 @@ fn model_mesh(path: &Path, model: &tobj::Model) -> Result<(TriangleMesh, bool), 
         .chunks_exact(3)
         .map(|p| DVec3::new(p[0], p[1], p[2]))
         .collect();
-    let triangles = faces_to_triangles(&m.indices, &m.face_arities, &positions);
+    let triangles = faces_to_triangles(&m.indices, &m.face_arities, &positions)
+        .map_err(|why| MeshError::invalid(path, format!("object '{}': {why}", model.name)))?;
     let mut part = TriangleMesh {
         positions,
         normals: None,
@@ -137,17 +173,22 @@ fn without_line_elements(text: &[u8]) -> (Vec<u8>, usize) {
 }
 
 /// Triangles of the faces given as `indices` with `arities` corners each (no
-/// arities: all triangles); polygons by ear clipping.
-fn faces_to_triangles(indices: &[u32], arities: &[u32], positions: &[DVec3]) -> Vec<[u32; 3]> {
+/// arities: all triangles); polygons with their true area (`polygon`), or the
+/// face that cannot be triangulated and why.
+fn faces_to_triangles(
+    indices: &[u32],
+    arities: &[u32],
+    positions: &[DVec3],
+) -> Result<Vec<[u32; 3]>, String> {
     if arities.is_empty() {
-        return indices
+        return Ok(indices
             .chunks_exact(3)
             .map(|c| [c[0], c[1], c[2]])
-            .collect();
+            .collect());
     }
     let mut out = Vec::with_capacity(indices.len());
     let mut start = 0;
-    for &a in arities {
+    for (number, &a) in arities.iter().enumerate() {
         let face = &indices[start..start + a as usize];
         start += a as usize;
         if face.len() < 3 {
@@ -158,11 +199,20 @@ fn faces_to_triangles(indices: &[u32], arities: &[u32], positions: &[DVec3]) -> 
             .iter()
             .map(|&k| positions.get(k as usize).copied().unwrap_or(DVec3::ZERO))
             .collect();
-        for t in super::polygon::triangulate(&corners) {
-            out.push(t.map(|i| face[i]));
-        }
+        let triangles = super::polygon::triangulate(&corners).map_err(|why| {
+            let c = corners[0];
+            format!(
+                "face {} ({} corners, the first at ({}, {}, {})): {why}",
+                number + 1,
+                face.len(),
+                c.x,
+                c.y,
+                c.z
+            )
+        })?;
+        out.extend(triangles.into_iter().map(|t| t.map(|i| face[i])));
     }
-    out
+    Ok(out)
 }
 
 /// The first line (1-based, with its text cut to 80 characters) of the kind an

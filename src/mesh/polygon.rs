@@ -1,32 +1,36 @@
-//! Triangulating the polygon faces of a mesh file by ear clipping, so that a
-//! concave face keeps exactly its area (a fan from the first corner would cover
-//! area outside a concave polygon). Faces are planar in practice; each is
-//! projected onto the plane of its Newell normal.
+//! Triangulating the polygon faces of a mesh file (OBJ faces of four or more
+//! corners) with their true area: a concave face, or a face with a hole drawn as
+//! one polygon with a bridge edge (as CAD exporters write rings, with corners
+//! repeated), must not be covered by a fan from its first corner. Each face is
+//! projected onto the plane of its Newell normal and cut into triangles by the
+//! `earcutr` crate (a port of Mapbox's earcut, which handles repeated corners and
+//! bridged holes); the triangles' area is then checked against the polygon's own
+//! (shoelace) area, and a face that cannot be covered exactly — one that crosses
+//! itself — is refused with the reason, never filled silently.
 
 use glam::{DVec2, DVec3};
 
+/// Relative difference allowed between the triangles' area and the polygon's:
+/// rounding only (a wrongly covered face differs by a whole piece of its area).
+const AREA_TOLERANCE: f64 = 1e-9;
+
 /// Triangles (indices into `corners`, wound like the polygon) covering the
-/// polygon `corners` (3 or more, in order).
-pub fn triangulate(corners: &[DVec3]) -> Vec<[usize; 3]> {
+/// polygon `corners` (3 or more, in order), or why it cannot be covered. A face
+/// whose corners all lie on a line has no area and no triangles.
+pub fn triangulate(corners: &[DVec3]) -> Result<Vec<[usize; 3]>, String> {
     let n = corners.len();
     if n < 3 {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     if n == 3 {
-        return vec![[0, 1, 2]];
+        return Ok(vec![[0, 1, 2]]);
     }
-    // Newell's normal: robust for any simple polygon, zero for a degenerate one.
-    let mut normal = DVec3::ZERO;
-    for i in 0..n {
-        let (a, b) = (corners[i], corners[(i + 1) % n]);
-        normal += DVec3::new(
-            (a.y - b.y) * (a.z + b.z),
-            (a.z - b.z) * (a.x + b.x),
-            (a.x - b.x) * (a.y + b.y),
-        );
-    }
-    let Some(normal) = normal.try_normalize() else {
-        return fan(n);
+    let Some(normal) = newell_normal(corners).try_normalize() else {
+        return if collinear(corners) {
+            Ok(Vec::new())
+        } else {
+            Err("its corners enclose no area with one orientation: the face crosses itself (a figure eight); split it into simple polygons".into())
+        };
     };
     // A right-handed (u, v, normal) frame: the polygon runs counter-clockwise in it.
     let u = normal.any_orthonormal_vector();
@@ -35,40 +39,149 @@ pub fn triangulate(corners: &[DVec3]) -> Vec<[usize; 3]> {
         .iter()
         .map(|p| DVec2::new(p.dot(u), p.dot(v)))
         .collect();
-    let mut left: Vec<usize> = (0..n).collect();
-    let mut out = Vec::with_capacity(n - 2);
-    while left.len() > 3 {
-        let m = left.len();
-        let ear = (0..m).find(|&k| {
-            let (p, i, q) = (left[(k + m - 1) % m], left[k], left[(k + 1) % m]);
-            let (a, b, c) = (flat[p], flat[i], flat[q]);
-            // Convex corner, and no other corner inside (or on) the triangle.
-            (b - a).perp_dot(c - b) > 0.0
-                && left
-                    .iter()
-                    .filter(|&&j| j != p && j != i && j != q)
-                    .all(|&j| !inside(flat[j], a, b, c))
-        });
-        let Some(k) = ear else {
-            // Self-intersecting or numerically flat: what is left becomes a fan.
-            out.extend(fan(left.len()).into_iter().map(|t| t.map(|x| left[x])));
-            return out;
-        };
-        out.push([left[(k + m - 1) % m], left[k], left[(k + 1) % m]]);
-        left.remove(k);
+    let coords: Vec<f64> = flat.iter().flat_map(|p| [p.x, p.y]).collect();
+    let indices =
+        earcutr::earcut(&coords, &[], 2).map_err(|e| format!("cannot be triangulated ({e:?})"))?;
+    let triangles: Vec<[usize; 3]> = indices
+        .chunks_exact(3)
+        .map(|t| {
+            // Wound counter-clockwise in the frame, like the polygon.
+            let [a, b, c] = [t[0], t[1], t[2]];
+            if (flat[b] - flat[a]).perp_dot(flat[c] - flat[a]) < 0.0 {
+                [a, c, b]
+            } else {
+                [a, b, c]
+            }
+        })
+        .collect();
+    let covered: f64 = triangles
+        .iter()
+        .map(|&[a, b, c]| 0.5 * (flat[b] - flat[a]).perp_dot(flat[c] - flat[a]).abs())
+        .sum();
+    let area = 0.5 * shoelace(&flat).abs();
+    let scale = flat
+        .iter()
+        .map(|p| (*p - flat[0]).length_squared())
+        .fold(0.0, f64::max);
+    if (covered - area).abs() > AREA_TOLERANCE * scale.max(area) {
+        return Err(format!(
+            "its triangles would cover {covered:.6e} where the face encloses {area:.6e} (in the file's units squared): the face crosses itself; split it into simple polygons"
+        ));
     }
-    out.push([left[0], left[1], left[2]]);
-    out
+    Ok(triangles)
 }
 
-/// The fan from corner 0.
-fn fan(n: usize) -> Vec<[usize; 3]> {
-    (1..n - 1).map(|i| [0, i, i + 1]).collect()
+/// Newell's normal (twice the vector area): robust for any simple polygon, zero
+/// for a degenerate or self-cancelling one.
+fn newell_normal(corners: &[DVec3]) -> DVec3 {
+    let n = corners.len();
+    (0..n)
+        .map(|i| {
+            let (a, b) = (corners[i], corners[(i + 1) % n]);
+            DVec3::new(
+                (a.y - b.y) * (a.z + b.z),
+                (a.z - b.z) * (a.x + b.x),
+                (a.x - b.x) * (a.y + b.y),
+            )
+        })
+        .sum()
 }
 
-/// Whether `p` lies inside or on the counter-clockwise triangle (a, b, c).
-fn inside(p: DVec2, a: DVec2, b: DVec2, c: DVec2) -> bool {
-    (b - a).perp_dot(p - a) >= 0.0
-        && (c - b).perp_dot(p - b) >= 0.0
-        && (a - c).perp_dot(p - c) >= 0.0
+/// Whether all corners lie on one line (or one point).
+fn collinear(corners: &[DVec3]) -> bool {
+    let o = corners[0];
+    let Some(far) = corners.iter().max_by(|a, b| {
+        (**a - o)
+            .length_squared()
+            .total_cmp(&(**b - o).length_squared())
+    }) else {
+        return true;
+    };
+    let d = *far - o;
+    let len2 = d.length_squared();
+    len2 == 0.0
+        || corners
+            .iter()
+            .all(|p| (*p - o).cross(d).length_squared() <= 1e-24 * len2 * len2)
+}
+
+/// Twice the signed area of a 2D polygon.
+fn shoelace(p: &[DVec2]) -> f64 {
+    (0..p.len())
+        .map(|i| p[i].perp_dot(p[(i + 1) % p.len()]))
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area(corners: &[DVec3], tris: &[[usize; 3]]) -> f64 {
+        tris.iter()
+            .map(|&[a, b, c]| {
+                0.5 * (corners[b] - corners[a])
+                    .cross(corners[c] - corners[a])
+                    .length()
+            })
+            .sum()
+    }
+
+    #[test]
+    fn a_concave_face_keeps_its_area_and_winding() {
+        // An L of area 3, counter-clockwise seen from +z.
+        let l: Vec<DVec3> = [(0., 0.), (2., 0.), (2., 1.), (1., 1.), (1., 2.), (0., 2.)]
+            .iter()
+            .map(|&(x, y)| DVec3::new(x, y, 0.0))
+            .collect();
+        let t = triangulate(&l).unwrap();
+        assert_eq!(t.len(), 4);
+        assert!((area(&l, &t) - 3.0).abs() < 1e-12);
+        for &[a, b, c] in &t {
+            assert!((l[b] - l[a]).cross(l[c] - l[a]).z > 0.0);
+        }
+    }
+
+    #[test]
+    fn a_ring_drawn_as_one_face_with_a_bridge_keeps_its_hole() {
+        // Outer square 4 × 4, inner square 2 × 2 (clockwise), joined by a bridge
+        // from (0, 0) to (1, 1): corners repeated, area 16 − 4 = 12.
+        let ring: Vec<DVec3> = [
+            (0., 0.),
+            (4., 0.),
+            (4., 4.),
+            (0., 4.),
+            (0., 0.),
+            (1., 1.),
+            (1., 3.),
+            (3., 3.),
+            (3., 1.),
+            (1., 1.),
+        ]
+        .iter()
+        .map(|&(x, y)| DVec3::new(x, y, 5.0))
+        .collect();
+        let t = triangulate(&ring).unwrap();
+        assert!((area(&ring, &t) - 12.0).abs() < 1e-9, "{}", area(&ring, &t));
+        // A fan from corner 0 would have covered the hole.
+        let centre = DVec3::new(2.0, 2.0, 5.0);
+        assert!(!t.iter().any(|&[a, b, c]| {
+            let (p, q, r) = (ring[a], ring[b], ring[c]);
+            let s = |u: DVec3, v: DVec3| (v - u).cross(centre - u).z;
+            let (x, y, z) = (s(p, q), s(q, r), s(r, p));
+            (x > 0.0 && y > 0.0 && z > 0.0) || (x < 0.0 && y < 0.0 && z < 0.0)
+        }));
+    }
+
+    #[test]
+    fn faces_that_cross_themselves_are_refused_and_lines_have_no_area() {
+        let bow_tie: Vec<DVec3> = [(0., 0.), (1., 1.), (1., 0.), (0., 1.)]
+            .iter()
+            .map(|&(x, y)| DVec3::new(x, y, 0.0))
+            .collect();
+        assert!(triangulate(&bow_tie)
+            .unwrap_err()
+            .contains("crosses itself"));
+        let line: Vec<DVec3> = (0..5).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
+        assert!(triangulate(&line).unwrap().is_empty());
+    }
 }

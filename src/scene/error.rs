@@ -46,8 +46,25 @@ impl SceneError {
         // Inside tables read through `type = ...` (materials, sources, shapes) serde
         // reports the whole table: find the offending value in it.
         let (offset, message, key) = match locate_bad_value(text, span.clone(), message) {
-            Some((offset, key)) => (offset, format!("`{key}`: {message}"), Some(key)),
-            None => (span.start, message.to_string(), key_at(text, span)),
+            Some((offset, key)) => {
+                let said = plain_value_message(message, &key, text, offset);
+                (offset, format!("`{key}`: {said}"), Some(key))
+            }
+            None => {
+                // An unclosed multi-line string is reported where the file
+                // ends: point at the line that opened it.
+                let opened = [r#"""""#, "'''"]
+                    .iter()
+                    .filter(|_| message.contains("invalid multiline"))
+                    .filter_map(|q| text[..span.start.min(text.len())].rfind(q))
+                    .max();
+                let offset = opened.unwrap_or(span.start);
+                (
+                    offset,
+                    plain_syntax_message(message),
+                    key_at(text, offset..offset),
+                )
+            }
         };
         let line = line_of(text, offset);
         let quoted = excerpt(text, offset);
@@ -113,6 +130,61 @@ impl SceneText<'_> {
     }
 }
 
+/// serde's words for a value of the wrong kind, in a physicist's: a transform
+/// step or energy with two keys, a date where a number belongs.
+fn plain_value_message(message: &str, key: &str, text: &str, offset: usize) -> String {
+    if message.starts_with("wanted exactly 1 element")
+        || message.contains("expected map with a single key")
+    {
+        return if key.contains("transform") {
+            "a transform step has exactly one key (translate, rotate or scale): write each as its own step, e.g. transform = [ { translate = [0, 0, 10] }, { rotate = { axis = [0, 0, 1], angle = 30 } } ] (applied in order)".into()
+        } else if key.ends_with("energy") {
+            "energy has exactly one key: line = KEV, or band = [MIN, MAX]".into()
+        } else {
+            format!("exactly one key is allowed here ({message})")
+        };
+    }
+    if let Some(expected) = message
+        .strip_prefix("invalid type: map, expected ")
+        .filter(|_| is_datetime_at(text, offset))
+    {
+        return format!(
+            "`{}` is a date or time to TOML, where {expected} belongs: write a number (or quote it as a string)",
+            token_at(text, offset)
+        );
+    }
+    message.to_string()
+}
+
+/// The value written at `offset` of `text` (up to a space, comma or bracket).
+fn token_at(text: &str, offset: usize) -> String {
+    text[offset.min(text.len())..]
+        .chars()
+        .take_while(|c| !c.is_whitespace() && !",]}".contains(*c))
+        .collect()
+}
+
+/// Whether a TOML date or time starts at `offset` of `text`.
+fn is_datetime_at(text: &str, offset: usize) -> bool {
+    token_at(text, offset)
+        .parse::<toml_edit::Datetime>()
+        .is_ok()
+}
+
+/// toml's syntax errors, with what to do about the common ones.
+fn plain_syntax_message(message: &str) -> String {
+    let hint = if message.contains("invalid multiline basic string") {
+        r#": a string opened with """ on this line is never closed; close it with """ (or write a one-line "..." string)"#
+    } else if message.contains("invalid multiline literal string") {
+        ": a string opened with ''' on this line is never closed; close it with '''"
+    } else if message.contains("invalid basic string") {
+        r#": a string opened with " on this line is not closed on the same line; close it with " (strings over several lines use """)"#
+    } else {
+        ""
+    };
+    format!("{message}{hint}")
+}
+
 /// For serde's "invalid type: string \"ten\", expected u32" (or "invalid value:
 /// ...", or "unknown field `side`") reported over a whole table, the byte offset
 /// and dotted key of the one value inside `span` that the message describes.
@@ -164,6 +236,16 @@ fn locate_bad_value(
             ));
         }
     });
+    // A date read as a table (serde's "map") wins over the tables around it.
+    if described == Some("map") {
+        let dates: Vec<&(usize, String)> = found
+            .iter()
+            .filter(|(o, _)| is_datetime_at(text, *o))
+            .collect();
+        if let [one] = dates.as_slice() {
+            return Some((*one).clone());
+        }
+    }
     match found.as_slice() {
         [one] => Some(one.clone()),
         // Several elements of one array (`pixels = [10.0, 10.0]`): the array.
@@ -251,7 +333,7 @@ fn describes(described: &str, value: &toml_edit::Value) -> bool {
         V::Boolean(b) => quoted("boolean ", '`', '`').is_some_and(|x| x == b.value().to_string()),
         V::Array(_) => described == "sequence",
         V::InlineTable(_) => described == "map",
-        V::Datetime(_) => false,
+        V::Datetime(_) => described == "map",
     }
 }
 

@@ -118,6 +118,16 @@ impl<'a> ObjectBuilder<'a> {
     fn check_sensor(&mut self, spec: &SensorSpec, span: Range<usize>) -> Result<(), SceneError> {
         let name = &spec.name;
         check_file_names(name).map_err(|m| self.at.error(span.clone(), m))?;
+        if let Some(grid) = spec
+            .pixel_grid
+            .as_ref()
+            .filter(|g| !g.overlaps_sensor(spec.size))
+        {
+            self.warnings.push(format!(
+                "sensor `{name}`: its pixel_grid (centre [{}, {}] mm, {} × {} pixels of {} mm, turned {}°) lies entirely outside the {} × {} mm sensor: its grid image will be empty; check pixel_grid.center",
+                grid.center_mm[0], grid.center_mm[1], grid.pixels[0], grid.pixels[1], grid.pitch_mm, grid.rotation_deg, spec.size[0], spec.size[1]
+            ));
+        }
         for file in spec.file_names() {
             let other = if file == SUMMARY_FILE {
                 Some("the run's summary".to_string())

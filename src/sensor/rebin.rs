@@ -91,6 +91,45 @@ impl PixelGrid {
         ]
     }
 
+    /// Whether the grid covers any of a sensor of `size` mm (centred on its
+    /// origin): the separating-axis test of the two rectangles.
+    pub fn overlaps_sensor(&self, size: [f64; 2]) -> bool {
+        let half = [
+            self.pixels[0] as f64 * self.pitch_mm / 2.0,
+            self.pixels[1] as f64 * self.pitch_mm / 2.0,
+        ];
+        let (s, c) = self.rotation_deg.to_radians().sin_cos();
+        let grid: Vec<[f64; 2]> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(a, b)| {
+                let (u, v) = (a * half[0], b * half[1]);
+                [
+                    self.center_mm[0] + c * u - s * v,
+                    self.center_mm[1] + s * u + c * v,
+                ]
+            })
+            .collect();
+        let sensor: Vec<[f64; 2]> = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)]
+            .iter()
+            .map(|&(a, b)| [a * size[0] / 2.0, b * size[1] / 2.0])
+            .collect();
+        let extent = |corners: &[[f64; 2]], axis: [f64; 2]| {
+            corners
+                .iter()
+                .map(|p| p[0] * axis[0] + p[1] * axis[1])
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x), hi.max(x))
+                })
+        };
+        [[1.0, 0.0], [0.0, 1.0], [c, s], [-s, c]]
+            .iter()
+            .all(|&axis| {
+                let (a0, a1) = extent(&grid, axis);
+                let (b0, b1) = extent(&sensor, axis);
+                a0 < b1 && b0 < a1
+            })
+    }
+
     /// Sensor coordinates (mm) → grid coordinates in pixel units, (0, 0) at the
     /// grid's corner.
     fn grid_coordinates(&self, p: [f64; 2]) -> [f64; 2] {
@@ -192,5 +231,28 @@ fn clipped_area(p: &[[f64; 2]], x: f64, y: f64) -> f64 {
         0.0
     } else {
         polygon_area(&poly).abs()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_grid_beside_its_sensor_is_told_apart_from_one_on_it() {
+        let grid = |center: [f64; 2], rotation_deg: f64| PixelGrid {
+            pixels: [256, 256],
+            pitch_mm: 0.055,
+            rotation_deg,
+            center_mm: center,
+        };
+        // The 14.08 mm GridPix on a 14 mm sensor, centred or shifted to touch.
+        assert!(grid([0.0, 0.0], 30.0).overlaps_sensor([14.0, 14.0]));
+        assert!(grid([13.9, 0.0], 0.0).overlaps_sensor([14.0, 14.0]));
+        assert!(!grid([14.1, 0.0], 0.0).overlaps_sensor([14.0, 14.0]));
+        // Turned by 45°, its corner reaches 9.96 mm from its centre along x
+        // and y: its bounding box overlaps the sensor's, the grid does not.
+        assert!(!grid([16.5, 16.5], 45.0).overlaps_sensor([14.0, 14.0]));
+        assert!(grid([16.5, 16.5], 0.0).overlaps_sensor([20.0, 20.0]));
     }
 }

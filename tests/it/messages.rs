@@ -176,3 +176,101 @@ fn mesh_files_say_what_is_wrong_and_where() {
     let err = run_fails(traxer().arg("inspect").arg(&cut), 2);
     assert!(err.contains("truncated"), "{err}");
 }
+
+/// A small scene with one sensor object whose lines after `[[objects]]` are
+/// `object`.
+fn sensor_scene_with(object: &str) -> String {
+    format!(
+        "[[sources]]\ntype = \"parallel\"\naperture = {{ center = [0, 0, 10], radius = 1.0 }}\nenergy = {{ line = 1.49 }}\n\n[materials.det]\ntype = \"sensor\"\nsize = [1.0, 1.0]\npixels = [4, 4]\n\n[[objects]]\n{object}\n"
+    )
+}
+
+#[test]
+fn scene_mistakes_name_line_and_key_and_say_what_is_allowed() {
+    let rect = "material = \"det\"\nshape = { type = \"rectangle\", size = [1.0, 1.0] }";
+    let cases = [
+        (
+            "unterminated multi-line string",
+            "name = \"\"\"sensor\nmaterial = \"det\"".to_string(),
+            vec!["s.toml:12:", "never closed", "name = \"\"\"sensor"],
+        ),
+        (
+            "date where a number belongs",
+            "name = \"s\"\nmaterial = \"det\"\nshape = { type = \"rectangle\", size = [1.0, 1979-05-27] }".into(),
+            vec!["s.toml:14:", "objects[0].shape.size[1]", "`1979-05-27` is a date", "write a number"],
+        ),
+        (
+            "a transform step with two keys",
+            format!("name = \"s\"\n{rect}\ntransform = [ {{ translate = [0, 0, 1], scale = 2.0 }} ]"),
+            vec!["s.toml:15:", "objects[0].transform[0]", "exactly one key (translate, rotate or scale)"],
+        ),
+        (
+            "a huge translate",
+            format!("name = \"s\"\n{rect}\ntransform = [ {{ translate = [0, 0, 1e300] }} ]"),
+            vec!["s.toml:15:", "translate[2] = 1e300 mm", "±1e9 mm"],
+        ),
+    ];
+    for (what, object, needles) in cases {
+        let err = trace_error(&sensor_scene_with(&object));
+        for n in &needles {
+            assert!(err.contains(n), "{what}: lacks {n:?}:\n{err}");
+        }
+    }
+    // A binary file given as OBJ.
+    let dir = tempfile::tempdir().unwrap();
+    let junk: Vec<u8> = (0..4000u32)
+        .map(|i| (i.wrapping_mul(2654435761u32) >> 24) as u8)
+        .collect();
+    std::fs::write(dir.path().join("part.obj"), junk).unwrap();
+    let err = trace_error_in(
+        dir.path(),
+        &sensor_scene_with(
+            "name = \"s\"\nmaterial = \"det\"\nshape = { type = \"mesh\", file = \"part.obj\" }",
+        ),
+    );
+    assert!(
+        err.contains("s.toml:14:")
+            && err.contains("part.obj: is not a text OBJ file")
+            && err.contains(".glb"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_pixel_grid_beside_its_sensor_warns() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = sensor_scene_with(
+        "name = \"s\"\nmaterial = \"det\"\nshape = { type = \"rectangle\", size = [1.0, 1.0] }",
+    )
+    .replace(
+        "pixels = [4, 4]",
+        "pixels = [4, 4]\npixel_grid = { pixels = [16, 16], pitch = 0.055, center = [5.0, 0.0] }",
+    );
+    let path = write(dir.path(), "s.toml", &text);
+    let out = crate::common::run_ok(
+        traxer()
+            .arg("trace")
+            .arg(&path)
+            .args(["-n", "100", "-q", "-o"])
+            .arg(dir.path().join("o")),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("pixel_grid") && err.contains("lies entirely outside"),
+        "{err}"
+    );
+    // On the sensor: no warning.
+    let on = write(
+        dir.path(),
+        "on.toml",
+        &text.replace("center = [5.0, 0.0]", "center = [0.3, 0.0]"),
+    );
+    let out = crate::common::run_ok(
+        traxer()
+            .arg("trace")
+            .arg(&on)
+            .args(["-n", "100", "-q", "-o"])
+            .arg(dir.path().join("o2")),
+    );
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("pixel_grid"));
+}

@@ -145,3 +145,45 @@ fn a_mesh_with_no_area_at_all_is_refused() {
     let err = run_fails(traxer().arg("inspect").arg(&p), 2);
     assert!(err.contains("zero area"), "{err}");
 }
+
+#[test]
+fn a_ring_drawn_as_one_face_keeps_its_hole_and_a_crossing_face_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    // A CAD exporter's ring: the outer square (10 × 10) and the hole (4 × 4,
+    // the other way round) joined by a bridge edge, its ends repeated.
+    let ring = [
+        (0.0, 0.0),
+        (10.0, 0.0),
+        (10.0, 10.0),
+        (0.0, 10.0),
+        (0.0, 0.0),
+        (3.0, 3.0),
+        (3.0, 7.0),
+        (7.0, 7.0),
+        (7.0, 3.0),
+        (3.0, 3.0),
+    ];
+    let p = write(
+        dir.path(),
+        "ring.obj",
+        &one_face(&ring, |x, y| DVec3::new(x, y, 0.0)),
+    );
+    let (m, _) = traxer::mesh::load(&p).unwrap();
+    assert!((m.area() - 84.0).abs() < 1e-9, "area {}", m.area());
+    // A face that crosses itself (a bow tie with unequal lobes): refused, named.
+    let bow = [(0.0, 0.0), (4.0, 4.0), (4.0, 0.0), (0.0, 2.0)];
+    let p = write(
+        dir.path(),
+        "bow.obj",
+        &one_face(&bow, |x, y| DVec3::new(x, y, 0.0)),
+    );
+    let err = traxer::mesh::load(&p).unwrap_err().to_string();
+    assert!(
+        err.contains("bow.obj")
+            && err.contains("object 'poly': face 1 (4 corners")
+            && err.contains("crosses itself"),
+        "{err}"
+    );
+    let err = run_fails(traxer().arg("inspect").arg(&p), 2);
+    assert!(err.contains("crosses itself"), "{err}");
+}

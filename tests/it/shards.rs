@@ -656,6 +656,15 @@ fn shards_traced_with_two_emission_tables_or_an_edited_run_state_are_not_merged(
         "{err}"
     );
     assert!(!d("merged").exists());
+    // The scene moved: --scene names its new place.
+    let moved = d("moved.toml");
+    std::fs::rename(&scene, &moved).unwrap();
+    let err = run_fails(&mut merge(&["s1", "s2"]), 2);
+    assert!(
+        err.contains("is no longer there") && err.contains("--scene"),
+        "{err}"
+    );
+    std::fs::rename(&moved, &scene).unwrap();
     // A run state whose shard list was edited (shard 1 posing as shard 2).
     run_ok(&mut trace(
         &scene,
@@ -714,6 +723,24 @@ fn a_run_whose_mesh_was_replaced_is_not_resumed() {
         checkpoint.is_file(),
         "the refused resume removed the checkpoint"
     );
+    // The mesh as it was, but the scene moved: the message says how to go on,
+    // and the run continues from the scene's new place.
+    write(dir.path(), "sensor.obj", &square(20.0));
+    let moved = dir.path().join("moved.toml");
+    std::fs::rename(&scene, &moved).unwrap();
+    let err = run_fails(traxer().args(["trace", "-q", "--resume"]).arg(&out), 2);
+    assert!(
+        err.contains("is no longer there") && err.contains("traxer trace NEW_PATH --resume"),
+        "{err}"
+    );
+    run_ok(
+        traxer()
+            .args(["trace", "-q"])
+            .arg(&moved)
+            .arg("--resume")
+            .arg(&out),
+    );
+    assert!(!checkpoint.exists() && out.join("run_state.bin").is_file());
 }
 
 /// Peak memory (kB) of `traxer merge -o OUT DIRS...`, measured by a Python
