@@ -42,7 +42,7 @@ pub mod progress;
 pub mod random;
 pub mod raycast;
 pub mod render;
-pub mod runstate;
+pub mod run;
 pub mod scene;
 pub mod sensor;
 pub mod source;
@@ -59,8 +59,9 @@ pub fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
         || e.is::<output::NpyError>()
         || e.is::<files::OutputLocationError>()
         || e.is::<source::sun::SolarDataError>()
-        || e.is::<runstate::RunStateError>()
-        || e.is::<runstate::MergeError>()
+        || e.is::<run::RunStateError>()
+        || e.is::<run::MergeError>()
+        || e.is::<run::InputError>()
         || e.is::<xray::CoatingSpecError>()
         || e.downcast_ref::<studies::StudyError>()
             .is_some_and(studies::StudyError::is_bad_input)

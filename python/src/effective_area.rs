@@ -11,6 +11,7 @@ use std::sync::Arc;
 use traxer::files::OutputFolder;
 use traxer::history::PathClass;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
+use traxer::run::Invocation;
 use traxer::studies::effective_area::{sweep, AreaResult, AreaSweep};
 use traxer::trace::RunConfig;
 
@@ -34,10 +35,7 @@ pub fn run(
         threads: s.threads,
         ..RunConfig::new(s.photons, s.seed)
     };
-    let mut provenance = Provenance::new(Some(loaded.device.info().version))
-        .scene(scene)
-        .run(&cfg, result.threads);
-    provenance.command_line = vec![
+    let invocation = Invocation::new([
         "python".into(),
         format!(
             "traxer.Scene({:?}, defines={:?}).effective_area({:?}, angles_arcmin={:?}, photons={}, seed={}, sensor={:?}, radius_mm={:?})",
@@ -50,7 +48,10 @@ pub fn run(
             s.sensor,
             s.radius_mm
         ),
-    ];
+    ]);
+    let provenance = Provenance::new(&invocation, Some(loaded.device.info().version))
+        .scene(scene)
+        .run(&cfg, result.threads);
     EffectiveArea::new(py, result, s, provenance)
 }
 

@@ -34,7 +34,7 @@ use pyo3::prelude::*;
 fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("embree_version", scene::embree_version()?)?;
-    m.add("git_hash", traxer::output::git_hash())?;
+    m.add("git_hash", traxer::run::git_hash())?;
     errors::register(m)?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<result::TraceResult>()?;

@@ -12,10 +12,9 @@ use std::sync::Arc;
 use traxer::analysis::{analyse, ImageGeometry};
 use traxer::files::OutputFolder;
 use traxer::output::{
-    flux_unit, image_flux, photon_list_npy, results_file_names, sources_json, statistics_json,
-    write_results, Provenance,
+    flux_unit, image_flux, photon_list_npy, sources_json, statistics_json, Provenance,
 };
-use traxer::runstate::StateHeader;
+use traxer::run::{results_file_names, write_results, StateHeader};
 use traxer::sensor::{sum_bands, SensorSpec};
 use traxer::trace::Tally;
 

@@ -11,7 +11,7 @@ use std::sync::Arc;
 use std::time::Instant;
 use traxer::embree::Device;
 use traxer::output::Provenance;
-use traxer::runstate::{RunPart, Shard};
+use traxer::run::{Invocation, RunPart, Shard};
 use traxer::trace::{run_part, Flow, RunConfig, Tally};
 
 /// At most this many photons in a photon list (about 100 bytes each), as in the CLI.
@@ -178,18 +178,18 @@ impl Scene {
         let (tally, used) = traced.map_err(lib)?;
         part.seconds = start.elapsed().as_secs_f64();
         let header = part.header(&tally);
-        let mut provenance = Provenance::new(Some(self.loaded.device.info().version))
-            .scene(scene)
-            .run(&cfg, used)
-            .parts(&header, &[]);
-        provenance.command_line = vec![
-            "python".into(),
+        let invocation = Invocation::new([
+            "python".to_string(),
             format!(
                 "traxer.Scene({:?}, defines={:?}).trace({photons}, seed={seed}, threads={threads}, photon_list={photon_list})",
                 scene.path.display().to_string(),
                 scene.overrides
             ),
-        ];
+        ]);
+        let provenance = Provenance::new(&invocation, Some(self.loaded.device.info().version))
+            .scene(scene)
+            .run(&cfg, used)
+            .parts(&header, &[]);
         TraceResult::new(py, self.loaded.clone(), header, tally, used, provenance)
     }
 

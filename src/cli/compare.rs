@@ -70,7 +70,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let load = |path: &std::path::Path, repr| {
         let scene = Scene::load_as(&device, path, &a.scene.vars.define, repr)?;
         warnings.show(&scene);
-        main_scene.get_or_insert_with(|| Provenance::new(None).scene(&scene));
+        main_scene.get_or_insert_with(|| Provenance::new(&super::invocation(), None).scene(&scene));
         Ok(scene)
     };
     let bar = progress::bar(cfg.photons * runs.len() as u64, "photons", quiet);
@@ -102,7 +102,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let threads = rows.first().map_or(0, |r| r.measured.threads);
     let provenance = Provenance {
         embree_version: Some(device.info().version),
-        ..main_scene.unwrap_or_else(|| Provenance::new(None))
+        ..main_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
     }
     .run(&cfg, threads);
     let out = &a.output.out;

@@ -3,11 +3,11 @@
 //! (`traxer::studies::effective_area`).
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
-use super::record::{base_identity, Record};
 use super::{load_xray_scene, progress};
 use anyhow::Context;
 use traxer::files::OutputFolder;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
+use traxer::run::record::{base_identity, Record};
 use traxer::studies::effective_area::{sweep, AngleResult, AreaSweep};
 use traxer::trace::RunConfig;
 
@@ -97,7 +97,9 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
     let bar = progress::bar(total, "photons", quiet);
     let mut position = 0;
     let result = sweep(&scene, &s, &replay, &|n| bar.inc(n), |angle| {
-        record.add(position, angle);
+        if let Some(w) = record.add(position, angle) {
+            tell!("warning: {w}");
+        }
         position += 1;
     });
     bar.finish_and_clear();
@@ -106,7 +108,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         threads: a.sampling.threads,
         ..RunConfig::new(a.photons, a.sampling.seed)
     };
-    let provenance = Provenance::new(Some(device.info().version))
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .run(&cfg, result.threads);
     let out = &a.output.out;

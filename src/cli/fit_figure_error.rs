@@ -3,11 +3,11 @@
 //! progress, a CSV history and the result as a preset file.
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::record::{base_identity, Record};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
 use traxer::files::OutputFolder;
 use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
+use traxer::run::record::{base_identity, Record};
 use traxer::studies::fit::{
     fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, PARAMETERS,
 };
@@ -193,7 +193,9 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         &replay,
         &|n| bar.inc(n),
         |e, best| {
-            record.add(e.index - 1, e);
+            if let Some(w) = record.add(e.index - 1, e) {
+                tell!("warning: {w}");
+            }
             if !quiet && e.index > replay.len() {
                 bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
             }
@@ -207,7 +209,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     });
     bar.finish_and_clear();
     let spread = spread?;
-    let provenance = Provenance::new(Some(device.info().version))
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .run(&run, result.threads);
     let report = FitReport {

@@ -3,12 +3,12 @@
 //! (`traxer::studies::focus`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::record::{check_inputs, file_identity, Record};
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
 use traxer::files::OutputFolder;
 use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
+use traxer::run::record::{check_inputs, file_identity, Record};
 use traxer::scene::Scene;
 use traxer::studies::focus::{scan, FocusStep, FocusSweep};
 use traxer::studies::StudyError;
@@ -69,7 +69,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         &a.output.out,
         &[&FOCUS_FILES[..], &[record_name.as_str()]].concat(),
     )?;
-    let mut id = file_identity(&a.scene)?;
+    let mut id = file_identity(&a.scene.scene, &a.scene.vars.define)?;
     id.extend([
         ("var".into(), a.var.clone().into()),
         ("values".into(), serde_json::json!(values)),
@@ -98,7 +98,8 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             .borrow_mut()
             .get_or_insert_with(|| scene.inputs.clone());
         warnings.show(&scene);
-        first_scene.get_or_insert_with(|| Provenance::new(None).scene(&scene));
+        first_scene
+            .get_or_insert_with(|| Provenance::new(&super::invocation(), None).scene(&scene));
         Ok(scene)
     };
     let bar = progress::bar(cfg.photons * values.len() as u64, "photons", quiet);
@@ -113,7 +114,9 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             if let Some(i) = inputs.borrow().as_ref() {
                 record.set_inputs(i);
             }
-            record.add(position, step);
+            if let Some(w) = record.add(position, step) {
+                tell!("warning: {w}");
+            }
             position += 1;
             if !quiet {
                 let q = step.quality.as_ref();
@@ -146,7 +149,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     let mut provenance = Provenance {
         embree_version: Some(device.info().version),
         overrides: a.scene.vars.define.clone(),
-        ..first_scene.unwrap_or_else(|| Provenance::new(None))
+        ..first_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
     }
     .run(&cfg, scan.threads);
     provenance.variables.remove(&a.var);

@@ -48,7 +48,7 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
     if a.json {
         let v = serde_json::json!({
             "traxer_version": env!("CARGO_PKG_VERSION"),
-            "git_hash": traxer::output::git_hash(),
+            "git_hash": traxer::run::git_hash(),
             "embree": e,
             "embree_isa": isa,
             "cpu_features": cpu,
@@ -59,7 +59,7 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
         say!(
             "traxer {} ({})",
             env!("CARGO_PKG_VERSION"),
-            traxer::output::git_hash()
+            traxer::run::git_hash()
         );
         say!(
             "Embree {} (API {}), tasking: {}",

@@ -9,7 +9,7 @@ use anyhow::Context;
 use std::path::PathBuf;
 use traxer::files::OutputFolder;
 use traxer::output::Provenance;
-use traxer::runstate::{merge, RunIdentity};
+use traxer::run::{merge, RunIdentity};
 
 /// Add up the shards of a run into the results of the whole run.
 ///
@@ -104,11 +104,11 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
     let folder = OutputFolder::prepare(out, &file_names(&scene, id.photon_list > 0, a.fits))?;
     refuse_unfinished_run(out)?;
     let h = &merged.header;
-    let provenance = Provenance::new(Some(device.info().version))
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .parts(h, &folders);
     let (files, result) =
-        traxer::output::write_results(folder, &scene, h, merged.tally, 0, &provenance, a.fits)?;
+        traxer::run::write_results(folder, &scene, h, merged.tally, 0, &provenance, a.fits)?;
     if !a.output.quiet.quiet {
         if !h.missing.is_empty() {
             tell!(

@@ -31,7 +31,6 @@ pub mod info;
 pub mod inspect;
 pub mod merge;
 pub mod progress;
-pub mod record;
 pub mod reflectivity;
 pub mod render;
 pub mod resume;
@@ -50,16 +49,15 @@ use args::SceneArgs;
 use traxer::embree::Device;
 use traxer::scene::Scene;
 
-/// A usage problem the user can fix (exit code 2).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct InputError(pub String);
+/// A usage problem the user can fix (exit code 2), and a run stopped on a
+/// signal after writing its checkpoint (exit code 130; the message says how to
+/// continue): the library's, so that its front ends agree.
+pub use traxer::run::{InputError, Stopped};
 
-/// A run stopped on a signal after writing its checkpoint (exit code 130; the
-/// message says how to continue).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-pub struct Stopped(pub String);
+/// This command line, for the provenance of what it writes.
+pub fn invocation() -> traxer::run::Invocation {
+    traxer::run::Invocation::new(std::env::args())
+}
 
 /// Whether an error is the user's input (exit code 2) rather than a failed run.
 pub fn is_input_error(e: &anyhow::Error) -> bool {

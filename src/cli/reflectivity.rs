@@ -121,8 +121,12 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         "angle_deg": a.angle,
         "csv": a.csv.as_ref().map(|p| p.display().to_string()),
     });
-    write_sidecar(&a.plot, &Provenance::new(None), details)
-        .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;
+    write_sidecar(
+        &a.plot,
+        &Provenance::new(&super::invocation(), None),
+        details,
+    )
+    .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;
     tell!("wrote {}", a.plot.display());
     Ok(())
 }

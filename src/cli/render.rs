@@ -217,7 +217,7 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     }
     write_rgb_png(&a.out, &png).with_context(|| format!("cannot write {}", a.out.display()))?;
     let threads = pool.current_num_threads();
-    let provenance = Provenance::new(Some(device.info().version))
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .seeded(a.sampling.seed, threads);
     let details = json!({

@@ -3,7 +3,7 @@
 //! batches of photons, every `--checkpoint-every` seconds and on a stopping
 //! signal), and a resumed run continues from it. Finished runs, resumed or not,
 //! write their results and `run_state.bin` through
-//! [`traxer::output::write_results`], which `traxer merge` uses too.
+//! [`traxer::run::write_results`], which `traxer merge` uses too.
 
 use super::signals::{checkpoint_on_signals, stop_requested};
 use super::{load_xray_scene, progress, InputError, Stopped};
@@ -13,7 +13,7 @@ use std::time::{Duration, Instant};
 use traxer::embree::Device;
 use traxer::files::OutputFolder;
 use traxer::output::Provenance;
-use traxer::runstate::{
+use traxer::run::{
     read_header, read_state, write_state, RunIdentity, RunPart, Shard, StateHeader,
     CHECKPOINT_FILE, RUN_STATE_FILE,
 };
@@ -35,7 +35,7 @@ pub struct Settings {
 /// Every file a trace may leave in its results folder: the results, the run
 /// state, and the checkpoint while it runs.
 pub fn file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
-    traxer::output::results_file_names(scene, photon_list, fits)
+    traxer::run::results_file_names(scene, photon_list, fits)
 }
 
 /// A new run into `out` while it holds another run's checkpoint would throw the
@@ -116,11 +116,11 @@ pub fn trace_into(
     }
     part.seconds = earlier + start.elapsed().as_secs_f64();
     let header = part.header(&tally);
-    let provenance = Provenance::new(Some(device.info().version))
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(scene)
         .run(cfg, threads)
         .parts(&header, &[]);
-    let (files, result) = traxer::output::write_results(
+    let (files, result) = traxer::run::write_results(
         folder,
         scene,
         &header,

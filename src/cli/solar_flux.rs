@@ -144,7 +144,7 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         &e.table,
         &e.parts,
         &info,
-        &Provenance::new(None),
+        &Provenance::new(&super::invocation(), None),
     )?;
     folder.commit()?;
     let d_cm = a.distance_au * AU_CM;

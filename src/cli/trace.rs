@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::time::Duration;
 use traxer::analysis::{analyse, ImageGeometry};
 use traxer::files::OutputFolder;
-use traxer::runstate::{RunPart, Shard};
+use traxer::run::{RunPart, Shard};
 use traxer::trace::{RunResult, Tally};
 
 /// Trace photons through a scene and write every sensor's image.

@@ -324,7 +324,7 @@ fn save(
     let folder = OutputFolder::prepare(dir, &names)?;
     let traced = tally.traced;
     let cfg = RunConfig::new(traced.max(1), seed);
-    let provenance = Provenance::new(Some(device.info().version))
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(scene)
         .run(&cfg, 1);
     let result = tally.into_result(0, 0.0, 1);

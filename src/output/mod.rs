@@ -14,7 +14,6 @@ mod conversion;
 mod csv_table;
 mod eef_plot;
 mod effective_area;
-mod finished_run;
 mod fit;
 mod fits;
 mod focus;
@@ -33,7 +32,6 @@ pub use compare::{compare_markdown, write_compare, COMPARE_FILES};
 pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
 pub use effective_area::{write_effective_area, EFFECTIVE_AREA_FILES};
-pub use finished_run::{results_file_names, write_results};
 pub use fit::{write_fit, FitReport, FIT_FILES};
 pub use fits::{write_sensor_fits, FluxUnit, SensorFits};
 pub use focus::{plotted_diameter, write_focus, FOCUS_FILES};
@@ -44,7 +42,7 @@ pub use montage::{write_montage, Tile};
 pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyImage};
 pub use plot::{line_plot, Series};
 pub use png::{write_png, write_rgb_png};
-pub use provenance::{git_hash, sidecar_path, write_sidecar, Provenance};
+pub use provenance::{sidecar_path, write_sidecar, Provenance};
 pub use run_files::{
     flux_unit, image_flux, run_file_names, sources_json, statistics_json, write_json, write_run,
 };

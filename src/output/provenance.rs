@@ -1,12 +1,9 @@
 //! Provenance recorded with every output: which program, which scene (and its
-//! hash and variables), which random numbers, which command. One constructor,
-//! [`Provenance::new`], and two additions ([`Provenance::scene`],
-//! [`Provenance::run`]) give every command the same record; [`write_sidecar`]
+//! hash and variables), which random numbers, which command. This is the record
+//! as written; it is built in one place, `run::provenance` (from the front end's
+//! invocation, the scene, the run settings and its parts). [`write_sidecar`]
 //! puts it next to outputs that cannot hold it themselves (PNGs, CSVs).
 
-use crate::runstate::StateHeader;
-use crate::scene::Scene;
-use crate::trace::RunConfig;
 use serde_json::{json, Value};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -41,102 +38,6 @@ pub struct Provenance {
     pub command_line: Vec<String>,
     /// Seconds since the Unix epoch when the record was made (the run finished).
     pub finished_unix_s: u64,
-}
-
-/// The commit the binary was built from.
-pub fn git_hash() -> &'static str {
-    env!("TRAXER_GIT_HASH")
-}
-
-impl Provenance {
-    /// This program, this command line, now; with the Embree version when Embree
-    /// was used.
-    pub fn new(embree_version: Option<String>) -> Provenance {
-        Provenance {
-            traxer_version: env!("CARGO_PKG_VERSION").into(),
-            git_hash: git_hash().into(),
-            embree_version,
-            scene_path: None,
-            scene_sha256: None,
-            overrides: Vec::new(),
-            variables: BTreeMap::new(),
-            seed: None,
-            photons: None,
-            threads: None,
-            first_photon: None,
-            shards: None,
-            trace_seconds: None,
-            command_line: std::env::args().collect(),
-            finished_unix_s: std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map(|d| d.as_secs())
-                .unwrap_or(0),
-        }
-    }
-
-    /// With the scene that was traced or rendered.
-    pub fn scene(self, scene: &Scene) -> Provenance {
-        Provenance {
-            scene_path: Some(scene.path.display().to_string()),
-            scene_sha256: Some(scene.text_sha256.clone()),
-            overrides: scene.overrides.clone(),
-            variables: scene.vars.clone(),
-            ..self
-        }
-    }
-
-    /// With the run settings (`threads`: the number actually used).
-    pub fn run(self, cfg: &RunConfig, threads: usize) -> Provenance {
-        Provenance {
-            seed: Some(cfg.seed),
-            photons: Some(cfg.photons),
-            threads: Some(threads),
-            first_photon: Some(cfg.first_photon),
-            ..self
-        }
-    }
-
-    /// With the run's parts, as recorded in its run state (a shard, a resumed run
-    /// or a merge of `merged_from`); `photons` is then the photons these results
-    /// hold.
-    pub fn parts(self, header: &StateHeader, merged_from: &[PathBuf]) -> Provenance {
-        let id = &header.identity;
-        let shards = (id.shards > 1).then(|| {
-            json!({
-                "total_photons": id.total_photons,
-                "cut_into": id.shards,
-                "parts": header.parts,
-                "missing": header.missing,
-                "partial": !header.missing.is_empty(),
-                "merged_from": merged_from.iter().map(|p| p.display().to_string()).collect::<Vec<_>>(),
-            })
-        });
-        Provenance {
-            seed: Some(id.seed),
-            photons: Some(header.photons),
-            shards,
-            trace_seconds: Some(header.seconds),
-            first_photon: (header.parts.len() == 1).then(|| {
-                crate::runstate::Shard {
-                    index: header.parts[0],
-                    count: id.shards,
-                    total: id.total_photons,
-                }
-                .range()
-                .start
-            }),
-            ..self
-        }
-    }
-
-    /// With a seed and threads but no photon count (renders).
-    pub fn seeded(self, seed: u64, threads: usize) -> Provenance {
-        Provenance {
-            seed: Some(seed),
-            threads: Some(threads),
-            ..self
-        }
-    }
 }
 
 /// Where the sidecar of `output` goes: the same name with `.json`

@@ -3,7 +3,7 @@
 //!
 //! Data flow: the builders note every file they read ([`InputFiles::note`]);
 //! `build` hashes them once the scene stands ([`InputFiles::hashed`]) into
-//! `Scene::inputs`, which a run's identity (`runstate::RunIdentity`) and the
+//! `Scene::inputs`, which a run's identity (`run::RunIdentity`) and the
 //! studies' records carry: merging shards, resuming a run or a study whose
 //! inputs changed in between is refused, naming the file. Shipped data (coatings,
 //! telescope, built-in emissions) is compiled in and covered by the build's

@@ -25,8 +25,9 @@ use std::time::Instant;
 /// Photons per chunk: large enough to amortise scheduling, small enough to balance
 /// two cores and keep progress reports coming.
 pub const CHUNK: u64 = 4096;
-/// Chunks traced between two ordered merges (bounds the memory held in records;
-/// checkpoints and stops happen between batches).
+/// Chunks per batch: between batches the photon list is joined in photon order,
+/// checkpoints are written and stops happen (the images are exact sums, added by
+/// each worker as its chunk ends, in any order).
 const CHUNKS_PER_BATCH: u64 = 256;
 /// Photons per batch.
 pub const BATCH_PHOTONS: u64 = CHUNK * CHUNKS_PER_BATCH;

@@ -41,7 +41,7 @@ fn a_file_path_with_a_comma_stays_one_csv_field() {
         row("analytic", 1.0, 1.0),
         row("scenes/run 3, \"meshed\".toml", 1.1, 2.0),
     ];
-    let provenance = traxer::output::Provenance::new(None);
+    let provenance = traxer::output::Provenance::new(&traxer::run::Invocation::new(["test"]), None);
     traxer::output::write_compare(dir.path(), &rows, &provenance).unwrap();
     let text = std::fs::read_to_string(dir.path().join("compare.csv")).unwrap();
     let mut r = csv::Reader::from_reader(text.as_bytes());
@@ -81,7 +81,7 @@ fn renders_plots_and_studies_carry_the_same_provenance() {
     let p = &side["provenance"];
     assert_eq!(p["scene_sha256"], sha256_of(&scene));
     assert_eq!(p["seed"], 5);
-    assert_eq!(p["git_hash"], traxer::output::git_hash());
+    assert_eq!(p["git_hash"], traxer::run::git_hash());
     assert!(p["embree_version"]
         .as_str()
         .unwrap()

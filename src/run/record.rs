@@ -13,11 +13,11 @@
 //! changed, or that was edited or damaged, is refused rather than replayed.
 
 use super::InputError;
+use crate::files::atomic_write;
+use crate::scene::{input_difference, InputHashes, Scene};
 use serde::{de::DeserializeOwned, Serialize};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
-use traxer::files::atomic_write;
-use traxer::scene::{input_difference, InputHashes, Scene};
 
 /// The identity every record starts from: the build, the scene file and its
 /// variables; studies add their settings.
@@ -35,15 +35,16 @@ pub fn base_identity(scene: &Scene) -> serde_json::Map<String, Value> {
 /// The identity of a study that loads its scene file several times (with
 /// different variables): the build, the file's SHA-256 and the `-D` overrides.
 pub fn file_identity(
-    scene: &super::args::SceneArgs,
+    scene: &Path,
+    overrides: &[String],
 ) -> Result<serde_json::Map<String, Value>, InputError> {
-    let bytes = std::fs::read(&scene.scene)
-        .map_err(|e| InputError(format!("{}: cannot read it: {e}", scene.scene.display())))?;
+    let bytes = std::fs::read(scene)
+        .map_err(|e| InputError(format!("{}: cannot read it: {e}", scene.display())))?;
     let v = json!({
         "traxer_version": env!("CARGO_PKG_VERSION"),
         "git_hash": env!("TRAXER_GIT_HASH"),
-        "scene_sha256": traxer::files::sha256_hex(&bytes),
-        "overrides": scene.vars.define,
+        "scene_sha256": crate::files::sha256_hex(&bytes),
+        "overrides": overrides,
     });
     Ok(v.as_object().expect("an object").clone())
 }
@@ -163,10 +164,12 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
     }
 
     /// The point at `position` (0-based) is done: recorded and the file
-    /// rewritten, unless it was recorded before.
-    pub fn add(&mut self, position: usize, item: &T) {
+    /// rewritten, unless it was recorded before. The first failure to write is
+    /// returned as a warning to show (the study goes on, but cannot be resumed).
+    #[must_use = "a failed write is returned as a warning to show"]
+    pub fn add(&mut self, position: usize, item: &T) -> Option<String> {
         if position < self.items.len() {
-            return;
+            return None;
         }
         self.items.push(item.clone());
         let mut doc = json!({
@@ -179,13 +182,14 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
         }
         doc["sha256"] = checksum(&doc).into();
         let text = serde_json::to_string(&doc).expect("plain values");
-        if let Err(err) = atomic_write(&self.path, text.as_bytes()) {
-            if !self.failed {
-                tell!(
-                    "warning: cannot record the progress ({err}); it cannot be resumed if stopped"
-                );
+        match atomic_write(&self.path, text.as_bytes()) {
+            Err(err) if !self.failed => {
                 self.failed = true;
+                Some(format!(
+                    "cannot record the progress ({err}); it cannot be resumed if stopped"
+                ))
             }
+            _ => None,
         }
     }
 }
@@ -194,7 +198,7 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
 /// the keys of its maps in one order and numbers exactly (`float_roundtrip`),
 /// so the text read back and written again is the text written.
 fn checksum(doc: &Value) -> String {
-    traxer::files::sha256_hex(serde_json::to_string(doc).expect("plain values").as_bytes())
+    crate::files::sha256_hex(serde_json::to_string(doc).expect("plain values").as_bytes())
 }
 
 /// Whether `scene` read the same files as recorded (`then`, if any); else which

@@ -1,33 +1,54 @@
-//! Runs that outgrow one machine or one sitting: shards, checkpoints and merges.
+//! The life of a run, for every front end (the CLI, the Python module, the live
+//! window): provenance built from the front end's [`Invocation`]; the results
+//! folder prepared, staged and put in place ([`finished`]); the identity of a run
+//! ([`RunIdentity`]: build, scene and every file it reads, variables, seed,
+//! counts); its run-state file ([`state_file`]: a finished run's `run_state.bin`,
+//! a stopped run's `checkpoint.bin`); shards ([`Shard`]) and their [`merge`]; and
+//! the point-by-point records of studies ([`record`]).
 //!
 //! Data flow: `trace` accumulates a [`Tally`] (exact sums); this module saves it
-//! with what identifies the run ([`RunIdentity`]) in a *run-state file*: a
-//! finished run or shard leaves `run_state.bin` beside its images, a run in
-//! progress keeps `checkpoint.bin` in its results folder. `traxer merge` reads
-//! the run-state files of shards, checks that they are disjoint parts of one run
-//! ([`merge`]) and adds their tallies; `traxer trace --resume` reads a
-//! checkpoint and continues the photon loop from it. Both then hand the tally to
-//! `output` as a normal run. Because sums are exact and photon i's random stream
-//! depends only on (seed, i), any split, order or interruption gives the
-//! bit-identical tally of one uninterrupted run.
+//! with what identifies the run in a run-state file. `traxer merge` reads the
+//! run-state files of shards, checks that they are disjoint parts of one run and
+//! adds their tallies; `traxer trace --resume` reads a checkpoint and continues
+//! the photon loop from it. Both then hand the tally to `output` as a normal run.
+//! Because sums are exact and photon i's random stream depends only on (seed,
+//! i), any split, order or interruption gives the bit-identical tally of one
+//! uninterrupted run. `output` writes files and knows nothing of runs.
 //!
 //! The file: a first line `traxer run state 2` followed by the SHA-256 of the
 //! second line, the header as JSON (readable with `head -2`), then the tally in
 //! `postcard`'s compact binary encoding, whose SHA-256 the header records: every
 //! byte of the file is covered by a checksum.
 
-mod file;
+pub mod finished;
 pub mod merge;
+pub mod provenance;
+pub mod record;
 mod shard;
+pub mod state_file;
 
-pub use file::{read_header, read_state, state_bytes, write_state, RunStateError};
+pub use finished::{results_file_names, write_results};
 pub use merge::{merge, MergeError, Merged};
+pub use provenance::{git_hash, Invocation};
 pub use shard::Shard;
+pub use state_file::{read_header, read_state, state_bytes, write_state, RunStateError};
 
 use crate::scene::{input_difference, InputHashes, Scene};
 use crate::trace::{RunConfig, Tally};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+
+/// A problem with what the user asked of a run (a folder, a record, a
+/// checkpoint): exit code 2 in the CLI, `InputError` in Python.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct InputError(pub String);
+
+/// A run stopped on request (a signal, a Python KeyboardInterrupt) after writing
+/// its checkpoint; the message says how to continue (exit code 130).
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct Stopped(pub String);
 
 /// Name of a finished run's (or shard's, or merge's) run-state file.
 pub const RUN_STATE_FILE: &str = "run_state.bin";

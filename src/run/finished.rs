@@ -3,9 +3,9 @@
 //! `traxer trace` (also resumed), `traxer merge` and the Python module's
 //! `TraceResult.save`.
 
-use super::{write_run, Provenance};
+use super::{write_state, StateHeader, CHECKPOINT_FILE, RUN_STATE_FILE};
 use crate::files::OutputFolder;
-use crate::runstate::{write_state, StateHeader, RUN_STATE_FILE};
+use crate::output::{write_run, Provenance};
 use crate::scene::Scene;
 use crate::trace::{RunResult, Tally};
 
@@ -13,9 +13,9 @@ use crate::trace::{RunResult, Tally};
 /// state, and the checkpoint a run keeps while it runs (listed so that a stale
 /// one is replaced, never mixed in).
 pub fn results_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
-    let mut names = super::run_file_names(scene, photon_list, fits);
+    let mut names = crate::output::run_file_names(scene, photon_list, fits);
     names.push(RUN_STATE_FILE.into());
-    names.push(crate::runstate::CHECKPOINT_FILE.into());
+    names.push(CHECKPOINT_FILE.into());
     names
 }
 
