@@ -15,6 +15,7 @@ use traxer::output::{line_plot, write_montage, write_run, Provenance, Series, Ti
 use traxer::trace::RunConfig;
 
 fn main() -> anyhow::Result<()> {
+    let invocation = traxer::run::Invocation::new(std::env::args());
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let photons: u64 = match std::env::args().nth(1) {
         Some(s) => s.parse()?,
@@ -34,7 +35,7 @@ fn main() -> anyhow::Result<()> {
             let result = traxer::trace::run(&scene, &cfg)?;
             let dir = out.join(format!("{line}_{variant}"));
             std::fs::create_dir_all(&dir)?;
-            let provenance = Provenance::new(Some(device.info().version))
+            let provenance = Provenance::new(&invocation, Some(device.info().version))
                 .scene(&scene)
                 .run(&cfg, result.threads);
             write_run(&dir, &scene, &result, &provenance, false)?;
