@@ -62,6 +62,8 @@ pub fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
         || e.is::<run::RunStateError>()
         || e.is::<run::MergeError>()
         || e.is::<run::InputError>()
+        || e.downcast_ref::<run::RunError>()
+            .is_some_and(run::RunError::is_bad_input)
         || e.is::<xray::CoatingSpecError>()
         || e.downcast_ref::<studies::StudyError>()
             .is_some_and(studies::StudyError::is_bad_input)

@@ -65,7 +65,7 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(e) if e.is::<cli::Stopped>() => {
+        Err(e) if cli::is_stopped(&e) => {
             cli::tell_line(format_args!("{e}"));
             ExitCode::from(130)
         }

@@ -2,14 +2,9 @@
 //! --shard K/N`) into the results of the whole run, bit-identical to tracing it
 //! in one piece.
 
-use super::args::{DefineArgs, OutputArgs, SceneArgs};
-use super::resume::{file_names, fits_scene, read_shard, read_shard_tally, refuse_unfinished_run};
-use super::{load_xray_scene, InputError};
-use anyhow::Context;
+use super::args::OutputArgs;
 use std::path::PathBuf;
-use traxer::files::OutputFolder;
-use traxer::output::Provenance;
-use traxer::run::{merge, RunIdentity};
+use traxer::run::{MergeJob, MergedRun};
 
 /// Add up the shards of a run into the results of the whole run.
 ///
@@ -42,74 +37,17 @@ pub struct MergeArgs {
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
-    let out = &a.output.out;
-    let same = |p: &PathBuf| std::fs::canonicalize(p).ok() == std::fs::canonicalize(out).ok();
-    if let Some(dir) = a.shards.iter().find(|d| out.exists() && same(d)) {
-        return Err(InputError(format!(
-            "--out {}: is the shard folder {}; write the merge elsewhere",
-            out.display(),
-            dir.display()
-        ))
-        .into());
-    }
-    let shards = a
-        .shards
-        .iter()
-        .map(|d| read_shard(d))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    let folders: Vec<PathBuf> = a.shards.clone();
-    let first = shards[0].1.clone();
-    let scene_args = SceneArgs {
-        scene: a.scene.clone().unwrap_or(first.scene_path.clone()),
-        vars: DefineArgs {
-            define: first.overrides.clone(),
-        },
+    let job = MergeJob {
+        shards: &a.shards,
+        out: &a.output.out,
+        partial: a.partial,
+        moved_scene: a.scene.as_deref(),
+        fits: a.fits,
     };
-    if !scene_args.scene.is_file() {
-        return Err(InputError(format!(
-            "{}: the shards' scene {} is no longer there; if it moved, give its new place with --scene FILE (its SHA-256 is checked)",
-            folders[0].display(),
-            scene_args.scene.display()
-        ))
-        .into());
-    }
-    let (device, scene) = load_xray_scene(&scene_args).with_context(|| {
-        format!(
-            "cannot load the scene of the shards in {}",
-            folders[0].display()
-        )
-    })?;
-    let id = &first.identity;
-    let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
-    if let Some(diff) = id.difference(&again) {
-        return Err(InputError(format!(
-            "{}: the shards are of {diff} (scene {}): the scene file or a file it reads changed since they ran, or --scene names another scene",
-            folders[0].display(),
-            scene_args.scene.display()
-        ))
-        .into());
-    }
-    // One shard's tally at a time: memory does not grow with the shards.
-    let merged = merge(shards, a.partial, |dir, header| {
-        let tally = read_shard_tally(dir, header)?;
-        if !fits_scene(&tally, &scene) {
-            return Err(InputError(format!(
-                "{}: its sums do not fit the scene's sensors: not a shard of this run",
-                dir.display()
-            ))
-            .into());
-        }
-        anyhow::Ok(tally)
-    })?;
-    let folder = OutputFolder::prepare(out, &file_names(&scene, id.photon_list > 0, a.fits))?;
-    refuse_unfinished_run(out)?;
-    let h = &merged.header;
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(&scene)
-        .parts(h, &folders);
-    let (files, result) =
-        traxer::run::write_results(folder, &scene, h, merged.tally, 0, &provenance, a.fits)?;
+    let MergedRun { scene, finished } = job.run(&super::invocation())?;
+    super::Warnings::default().show(&scene);
     if !a.output.quiet.quiet {
+        let (h, id) = (&finished.header, &finished.header.identity);
         if !h.missing.is_empty() {
             tell!(
                 "warning: a partial merge: {} of {} shards, {} of {} photons",
@@ -119,12 +57,12 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
                 id.total_photons
             );
         }
-        super::trace::report(&scene, &result);
+        super::report::report(&scene, &finished.result);
         say!(
             "merged {} shards; wrote {} files to {}",
             h.parts.len(),
-            files,
-            out.display()
+            finished.files,
+            finished.out.display()
         );
     }
     Ok(())

@@ -33,6 +33,7 @@ pub mod merge;
 pub mod progress;
 pub mod reflectivity;
 pub mod render;
+pub mod report;
 pub mod resume;
 pub mod signals;
 pub mod solar_flux;
@@ -57,6 +58,17 @@ pub use traxer::run::{InputError, Stopped};
 /// This command line, for the provenance of what it writes.
 pub fn invocation() -> traxer::run::Invocation {
     traxer::run::Invocation::new(std::env::args())
+}
+
+/// Whether a run stopped on a signal after writing its checkpoint (exit 130).
+pub fn is_stopped(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.is::<Stopped>()
+            || matches!(
+                c.downcast_ref::<traxer::run::RunError>(),
+                Some(traxer::run::RunError::Stopped(_))
+            )
+    })
 }
 
 /// Whether an error is the user's input (exit code 2) rather than a failed run.

@@ -4,10 +4,7 @@ use super::args::{DefineArgs, OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, resume, InputError};
 use std::path::PathBuf;
 use std::time::Duration;
-use traxer::analysis::{analyse, ImageGeometry};
-use traxer::files::OutputFolder;
-use traxer::run::{RunPart, Shard};
-use traxer::trace::{RunResult, Tally};
+use traxer::run::{RunSettings, Shard, TraceJob};
 
 /// Trace photons through a scene and write every sensor's image.
 ///
@@ -59,16 +56,14 @@ pub struct TraceArgs {
 }
 
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
-    let every = checkpoint_interval(a.checkpoint_every)?;
+    let settings = RunSettings {
+        threads: a.run.sampling.threads,
+        checkpoint_every: checkpoint_interval(a.checkpoint_every)?,
+        fits: a.fits,
+    };
+    let quiet = a.output.quiet.quiet;
     if let Some(dir) = &a.resume {
-        let settings = resume::Settings {
-            threads: a.run.sampling.threads,
-            quiet: a.output.quiet.quiet,
-            every,
-            fits: a.fits,
-            moved_scene: a.scene.clone(),
-        };
-        return resume::resume(dir, &settings);
+        return resume::resume(dir, a.scene.as_deref(), &settings, quiet);
     }
     let mut cfg = a.run.config()?;
     let shard = match &a.shard {
@@ -77,16 +72,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     };
     cfg.first_photon = shard.range().start;
     cfg.photons = shard.photons();
-    // About 100 bytes each in memory: a list is for looking at photons, not all.
-    const MAX_LIST: usize = 20_000_000;
-    if a.photon_list > MAX_LIST {
-        return Err(InputError(format!(
-            "--photon-list {}: at most {MAX_LIST} photons are listed",
-            a.photon_list
-        ))
-        .into());
-    }
-    cfg.photon_list = a.photon_list;
+    cfg.photon_list = traxer::run::check_photon_list(a.photon_list)?;
     let scene_args = SceneArgs {
         scene: a
             .scene
@@ -95,23 +81,19 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         vars: a.vars.clone(),
     };
     let (device, scene) = load_xray_scene(&scene_args)?;
-    let out = &a.output.out;
-    let folder =
-        OutputFolder::prepare(out, &resume::file_names(&scene, a.photon_list > 0, a.fits))?;
-    resume::refuse_unfinished_run(out)?;
     if scene.sensors.is_empty() {
         tell!("warning: the scene has no sensor; only statistics will be written");
     }
-    let part = RunPart::new(&scene, &cfg, shard);
-    let settings = resume::Settings {
-        threads: cfg.threads,
-        quiet: a.output.quiet.quiet,
-        every,
-        fits: a.fits,
-        moved_scene: None,
+    let job = TraceJob {
+        scene: &scene,
+        embree_version: device.info().version,
+        cfg,
+        shard,
     };
-    let tally = Tally::new(&scene);
-    resume::trace_into(&device, &scene, &cfg, part, tally, folder, &settings)
+    let control = resume::CliControl::new(job.cfg.photons, quiet);
+    let finished = job.run(&a.output.out, &settings, &super::invocation(), &control);
+    resume::finish(&scene, finished?, &control, quiet);
+    Ok(())
 }
 
 /// `--checkpoint-every` checked: a finite number of seconds ≥ 0.
@@ -122,54 +104,5 @@ fn checkpoint_interval(s: Option<f64>) -> Result<Option<Duration>, InputError> {
         Some(v) => Err(InputError(format!(
             "--checkpoint-every {v}: expected seconds between checkpoints, 0 or more"
         ))),
-    }
-}
-
-/// The run's statistics and each sensor's image quality on stdout.
-pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
-    let s = &result.stats;
-    say!(
-        "traced {} photons in {:.2} s with {} threads ({:.0} photons/s)",
-        s.photons_emitted,
-        result.seconds,
-        result.threads,
-        s.photons_emitted as f64 / result.seconds
-    );
-    say!(
-        "  reached a sensor {} ({:.2} %), absorbed {}, mirror backs {}, below surface (figure error) {}, escaped {}, outside sensor area {}, max interactions {}",
-        s.reached_sensor,
-        100.0 * s.reached_sensor as f64 / s.photons_emitted as f64,
-        s.absorbed, s.absorbed_mirror_back, s.scattered_below_surface, s.escaped, s.sensor_outside_area, s.max_interactions_reached
-    );
-    for (spec, img) in scene.sensors.iter().zip(&result.images) {
-        match scene.rate_per_unit_weight(s.photons_emitted) {
-            Some(k) => say!(
-                "  sensor {}: {} photons, {:.4e} axions/s",
-                spec.name,
-                img.total_counts(),
-                img.total_flux() * k
-            ),
-            None => say!(
-                "  sensor {}: {} photons, flux {:.6e}",
-                spec.name,
-                img.total_counts(),
-                img.total_flux()
-            ),
-        }
-        let g = ImageGeometry::of_sensor(spec);
-        if let Some((q, _)) = analyse(&img.flux_summed(spec), &g, spec.focal_length) {
-            let arc = |a: Option<f64>| a.map(|v| format!(" ({v:.1}″)")).unwrap_or_default();
-            say!(
-                "    centroid ({:.4}, {:.4}) mm; HPD {:.4} mm{}, 80 % {:.4} mm{}, 90 % {:.4} mm{}",
-                q.centroid_mm[0],
-                q.centroid_mm[1],
-                q.hpd_mm,
-                arc(q.hpd_arcsec),
-                q.d80_mm,
-                arc(q.d80_arcsec),
-                q.d90_mm,
-                arc(q.d90_arcsec)
-            );
-        }
     }
 }

@@ -21,14 +21,20 @@
 //! byte of the file is covered by a checksum.
 
 pub mod finished;
+pub mod job;
 pub mod merge;
+mod merge_job;
 pub mod provenance;
 pub mod record;
 mod shard;
 pub mod state_file;
 
 pub use finished::{results_file_names, write_results};
+pub use job::{
+    open_stopped, Finished, Found, Resumable, RunControl, RunError, RunSettings, TraceJob,
+};
 pub use merge::{merge, MergeError, Merged};
+pub use merge_job::{MergeJob, MergedRun};
 pub use provenance::{git_hash, Invocation};
 pub use shard::Shard;
 pub use state_file::{read_header, read_state, state_bytes, write_state, RunStateError};
@@ -37,6 +43,20 @@ use crate::scene::{input_difference, InputHashes, Scene};
 use crate::trace::{RunConfig, Tally};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
+
+/// About 100 bytes each in memory: a photon list is for looking at photons, not
+/// all of them.
+pub const MAX_PHOTON_LIST: usize = 20_000_000;
+
+/// The number of photons to list (`--photon-list`, `photon_list=`), checked.
+pub fn check_photon_list(n: usize) -> Result<usize, InputError> {
+    if n > MAX_PHOTON_LIST {
+        return Err(InputError(format!(
+            "photon list of {n}: at most {MAX_PHOTON_LIST} photons are listed"
+        )));
+    }
+    Ok(n)
+}
 
 /// A problem with what the user asked of a run (a folder, a record, a
 /// checkpoint): exit code 2 in the CLI, `InputError` in Python.

@@ -1,0 +1,154 @@
+//! `traxer merge` as a job: the shard folders' run states read (headers first),
+//! their scene loaded again and checked to be theirs (scene file, input files,
+//! variables, build), the tallies added one at a time ([`super::merge`]), and the
+//! results of the whole run written as a finished run's.
+
+use super::job::{fits_scene, prepare_folder, refuse_unfinished_run};
+use super::{
+    merge, read_header, read_state, Finished, InputError, Invocation, RunError, RunIdentity,
+    StateHeader, CHECKPOINT_FILE, RUN_STATE_FILE,
+};
+use crate::embree::Device;
+use crate::output::Provenance;
+use crate::scene::Scene;
+use crate::trace::Tally;
+use std::path::{Path, PathBuf};
+
+/// What to merge and where.
+pub struct MergeJob<'a> {
+    /// The shards' results folders.
+    pub shards: &'a [PathBuf],
+    pub out: &'a Path,
+    /// Merge although shards are missing.
+    pub partial: bool,
+    /// The scene file, if it moved since the shards ran.
+    pub moved_scene: Option<&'a Path>,
+    pub fits: bool,
+}
+
+/// A finished merge, with the scene it was checked against.
+pub struct MergedRun {
+    pub scene: Scene,
+    pub finished: Finished,
+}
+
+impl MergeJob<'_> {
+    pub fn run(&self, invocation: &Invocation) -> Result<MergedRun, RunError> {
+        let out = self.out;
+        let same = |p: &PathBuf| std::fs::canonicalize(p).ok() == std::fs::canonicalize(out).ok();
+        if let Some(dir) = self.shards.iter().find(|d| out.exists() && same(d)) {
+            return Err(InputError(format!(
+                "--out {}: is the shard folder {}; write the merge elsewhere",
+                out.display(),
+                dir.display()
+            ))
+            .into());
+        }
+        let shards = self
+            .shards
+            .iter()
+            .map(|d| read_shard(d))
+            .collect::<Result<Vec<_>, _>>()?;
+        let first_dir = &self.shards[0];
+        let first = shards[0].1.clone();
+        let (device, scene) = self.scene_of(first_dir, &first)?;
+        let merged = merge(shards, self.partial, |dir, header| {
+            let tally = read_shard_tally(dir, header)?;
+            if !fits_scene(&tally, &scene) {
+                return Err(RunError::from(InputError(format!(
+                    "{}: its sums do not fit the scene's sensors: not a shard of this run",
+                    dir.display()
+                ))));
+            }
+            Ok(tally)
+        })?;
+        let photon_list = first.identity.photon_list > 0;
+        let folder = prepare_folder(out, &scene, photon_list, self.fits)?;
+        refuse_unfinished_run(out)?;
+        let header = merged.header;
+        let provenance = Provenance::new(invocation, Some(device.info().version))
+            .scene(&scene)
+            .parts(&header, self.shards);
+        let (files, result) = super::write_results(
+            folder,
+            &scene,
+            &header,
+            merged.tally,
+            0,
+            &provenance,
+            self.fits,
+        )?;
+        let finished = Finished {
+            out: out.to_path_buf(),
+            files,
+            result,
+            header,
+        };
+        Ok(MergedRun { scene, finished })
+    }
+
+    /// The shards' scene, loaded again (from where it is now if it moved) and
+    /// checked to be the one they traced.
+    fn scene_of(&self, first_dir: &Path, first: &StateHeader) -> Result<(Device, Scene), RunError> {
+        let path = self
+            .moved_scene
+            .map_or_else(|| first.scene_path.clone(), Path::to_path_buf);
+        if !path.is_file() {
+            return Err(InputError(format!(
+                "{}: the shards' scene {} is no longer there; if it moved, give its new place with --scene FILE (its SHA-256 is checked)",
+                first_dir.display(),
+                path.display()
+            ))
+            .into());
+        }
+        let device = Device::new()?;
+        let scene = Scene::load(&device, &path, &first.overrides)?;
+        let id = &first.identity;
+        let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
+        if let Some(diff) = id.difference(&again) {
+            return Err(InputError(format!(
+                "{}: the shards are of {diff} (scene {}): the scene file or a file it reads changed since they ran, or --scene names another scene",
+                first_dir.display(),
+                path.display()
+            ))
+            .into());
+        }
+        Ok((device, scene))
+    }
+}
+
+/// A shard's folder and the header of its run state.
+fn read_shard(dir: &Path) -> Result<(PathBuf, StateHeader), RunError> {
+    let path = dir.join(RUN_STATE_FILE);
+    if !path.is_file() {
+        let hint = if dir.join(CHECKPOINT_FILE).is_file() {
+            format!(
+                "its run was stopped: finish it with `traxer trace --resume {}`",
+                dir.display()
+            )
+        } else {
+            "traxer trace writes it with every run".into()
+        };
+        return Err(InputError(format!(
+            "{}: holds no {RUN_STATE_FILE} ({hint})",
+            dir.display()
+        ))
+        .into());
+    }
+    Ok((dir.to_path_buf(), read_header(&path)?))
+}
+
+/// The tally of the shard in `dir` whose header `header` was read before: the
+/// file must still hold that header (whole and checksummed).
+fn read_shard_tally(dir: &Path, header: &StateHeader) -> Result<Tally, RunError> {
+    let path = dir.join(RUN_STATE_FILE);
+    let (now, tally) = read_state(&path)?;
+    if &now != header {
+        return Err(InputError(format!(
+            "{}: changed while the merge read it",
+            path.display()
+        ))
+        .into());
+    }
+    Ok(tally)
+}
