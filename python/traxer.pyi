@@ -80,6 +80,8 @@ class Scene:
         threads: int = 0,
         photon_list: int = 0,
         progress: bool = False,
+        out: Optional[_Path] = None,
+        checkpoint_every: Optional[float] = None,
     ) -> TraceResult:
         """Traces ``photons`` photons, as ``traxer trace SCENE --photons N --seed S``.
 
@@ -89,6 +91,11 @@ class Scene:
         ``progress``: draw a progress bar on stderr. The GIL is released while
         tracing; Ctrl-C stops the run after the current batch (about a million
         photons) with KeyboardInterrupt.
+
+        ``out``: also write the results folder of ``traxer trace --out`` (the same
+        files, bit for bit), all at once when the run ends. ``checkpoint_every``
+        (seconds, needs ``out``): keep a checkpoint there; a run stopped by Ctrl-C
+        or killed is continued by ``traxer.resume(out)``.
         """
     def effective_area(
         self,
@@ -251,6 +258,20 @@ class SolarEmission:
         """Axion flux in cm⁻² s⁻¹ at ``distance_au``."""
     def save_csv(self, path: _Path) -> None:
         """Writes the table as an emission CSV for a Sun source (atomically)."""
+
+def resume(
+    folder: _Path,
+    threads: int = 0,
+    checkpoint_every: float = 60.0,
+    progress: bool = False,
+    scene: Optional[_Path] = None,
+) -> TraceResult:
+    """Continues the stopped run in ``folder`` (``Scene.trace(..., out=folder,
+    checkpoint_every=S)`` or ``traxer trace --checkpoint-every S``) to its end,
+    writing the files of an uninterrupted run, and returns its result; a finished
+    run's folder returns its result at once. ``scene``: where the scene file is
+    now, if it moved (its SHA-256 is checked). The resumed run keeps a checkpoint
+    every ``checkpoint_every`` seconds; Ctrl-C stops it again after a batch."""
 
 def reflectivity(
     coating: str,

@@ -8,7 +8,6 @@ use crate::scene::Loaded;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
-use traxer::files::OutputFolder;
 use traxer::history::PathClass;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
 use traxer::run::Invocation;
@@ -157,7 +156,7 @@ impl EffectiveArea {
     /// effective_area.png, vignetting.png and off_axis.png, all at once.
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
         py.detach(|| -> anyhow::Result<()> {
-            let out = OutputFolder::prepare(&folder, &EFFECTIVE_AREA_FILES)?;
+            let out = traxer::run::results_folder(&folder, &EFFECTIVE_AREA_FILES)?;
             write_effective_area(out.path(), &self.result, self.radius_mm, &self.provenance)?;
             out.commit()?;
             Ok(())

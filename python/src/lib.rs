@@ -16,6 +16,7 @@ mod convert;
 mod effective_area;
 mod errors;
 mod result;
+mod run;
 mod scene;
 mod solar;
 
@@ -41,6 +42,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<result::SensorImage>()?;
     m.add_class::<effective_area::EffectiveArea>()?;
     m.add_class::<solar::SolarEmission>()?;
+    m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::eef, m)?)?;
     Ok(())

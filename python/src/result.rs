@@ -3,18 +3,17 @@
 //! make both), and `TraceResult.save`, which writes the CLI's output set.
 
 use crate::convert::{array, json, to_json};
-use crate::errors::{lib, to_py};
+use crate::errors::lib;
 use crate::scene::Loaded;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::analysis::{analyse, ImageGeometry};
-use traxer::files::OutputFolder;
 use traxer::output::{
     flux_unit, image_flux, photon_list_npy, sources_json, statistics_json, Provenance,
 };
-use traxer::run::{results_file_names, write_results, StateHeader};
+use traxer::run::{save_results, StateHeader};
 use traxer::sensor::{sum_bands, SensorSpec};
 use traxer::trace::Tally;
 
@@ -292,20 +291,17 @@ impl TraceResult {
     #[pyo3(signature = (folder, fits = false))]
     fn save(&self, py: Python<'_>, folder: PathBuf, fits: bool) -> PyResult<usize> {
         let scene = &self.loaded.scene;
-        let list = self.header.identity.photon_list > 0;
-        py.detach(|| -> anyhow::Result<usize> {
-            let out = OutputFolder::prepare(&folder, &results_file_names(scene, list, fits))?;
-            let (files, _) = write_results(
-                out,
+        py.detach(|| {
+            save_results(
+                &folder,
                 scene,
                 &self.header,
                 self.tally.clone(),
                 self.threads,
                 &self.provenance,
                 fits,
-            )?;
-            Ok(files)
+            )
         })
-        .map_err(to_py)
+        .map_err(lib)
     }
 }

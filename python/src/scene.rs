@@ -5,13 +5,14 @@
 use crate::convert::{defines, progress_bar, threads, to_json};
 use crate::errors::{input, lib, to_py};
 use crate::result::TraceResult;
+use crate::run::{finished_result, PyControl};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use std::time::Instant;
 use traxer::embree::Device;
 use traxer::output::Provenance;
-use traxer::run::{Invocation, RunPart, Shard};
+use traxer::run::{Invocation, RunPart, RunSettings, Shard, TraceJob};
 use traxer::trace::{run_part, Flow, RunConfig, Tally};
 
 /// At most this many photons in a photon list (about 100 bytes each), as in the CLI.
@@ -130,7 +131,14 @@ impl Scene {
     /// (`TraceResult.photons`). `progress`: draw a progress bar on stderr. The
     /// GIL is released while tracing; Ctrl-C (KeyboardInterrupt) stops the run
     /// after the current batch of about a million photons.
-    #[pyo3(signature = (photons, seed = 1, threads = 0, photon_list = 0, progress = false))]
+    ///
+    /// `out`: also write the results folder as `traxer trace --out` does (the
+    /// same files, bit for bit), all at once when the run ends. With
+    /// `checkpoint_every` (seconds; needs `out`) the run keeps a checkpoint there,
+    /// and a run stopped by Ctrl-C or killed is continued by `traxer.resume(out)`
+    /// (or `traxer trace --resume out`) to the result of an uninterrupted run.
+    #[pyo3(signature = (photons, seed = 1, threads = 0, photon_list = 0, progress = false, out = None, checkpoint_every = None))]
+    #[allow(clippy::too_many_arguments)]
     fn trace(
         &self,
         py: Python<'_>,
@@ -139,6 +147,8 @@ impl Scene {
         threads: usize,
         photon_list: usize,
         progress: bool,
+        out: Option<PathBuf>,
+        checkpoint_every: Option<f64>,
     ) -> PyResult<TraceResult> {
         if photons == 0 {
             return Err(input("photons must be at least 1"));
@@ -155,6 +165,22 @@ impl Scene {
             photon_list,
             ..RunConfig::new(photons, seed)
         };
+        let invocation = Invocation::new([
+            "python".to_string(),
+            format!(
+                "traxer.Scene({:?}, defines={:?}).trace({photons}, seed={seed}, threads={threads}, photon_list={photon_list}, out={out:?}, checkpoint_every={checkpoint_every:?})",
+                scene.path.display().to_string(),
+                scene.overrides
+            ),
+        ]);
+        let every = crate::run::checkpoint_interval(checkpoint_every)?;
+        match out {
+            Some(out) => return self.trace_to_folder(py, cfg, &out, every, progress, &invocation),
+            None if every.is_some() => return Err(input(
+                "checkpoint_every needs out=FOLDER: the checkpoint is kept in the results folder",
+            )),
+            None => {}
+        }
         let mut part = RunPart::new(scene, &cfg, Shard::whole(photons));
         let bar = progress_bar(photons, progress);
         let start = Instant::now();
@@ -178,14 +204,6 @@ impl Scene {
         let (tally, used) = traced.map_err(lib)?;
         part.seconds = start.elapsed().as_secs_f64();
         let header = part.header(&tally);
-        let invocation = Invocation::new([
-            "python".to_string(),
-            format!(
-                "traxer.Scene({:?}, defines={:?}).trace({photons}, seed={seed}, threads={threads}, photon_list={photon_list})",
-                scene.path.display().to_string(),
-                scene.overrides
-            ),
-        ]);
         let provenance = Provenance::new(&invocation, Some(self.loaded.device.info().version))
             .scene(scene)
             .run(&cfg, used)
@@ -225,5 +243,36 @@ impl Scene {
             radius_mm,
         };
         crate::effective_area::run(py, self.loaded.clone(), sweep, progress)
+    }
+}
+
+impl Scene {
+    /// `trace` into the results folder `out` (`traxer::run::TraceJob`).
+    fn trace_to_folder(
+        &self,
+        py: Python<'_>,
+        cfg: RunConfig,
+        out: &std::path::Path,
+        every: Option<std::time::Duration>,
+        progress: bool,
+        invocation: &Invocation,
+    ) -> PyResult<TraceResult> {
+        let job = TraceJob {
+            scene: &self.loaded.scene,
+            embree_version: self.loaded.device.info().version,
+            shard: Shard::whole(cfg.photons),
+            cfg,
+        };
+        let settings = RunSettings {
+            threads: job.cfg.threads,
+            checkpoint_every: every,
+            fits: false,
+        };
+        let control = PyControl::new(job.cfg.photons, progress);
+        let finished = py.detach(|| job.run(out, &settings, invocation, &control));
+        control.bar.finish_and_clear();
+        let finished = finished.map_err(|e| control.error(e))?;
+        let threads = finished.result.threads;
+        finished_result(py, self.loaded.clone(), out, invocation, threads)
     }
 }

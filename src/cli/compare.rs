@@ -9,7 +9,6 @@ use super::{progress, Warnings};
 use anyhow::Context;
 use std::path::PathBuf;
 use traxer::embree::Device;
-use traxer::files::OutputFolder;
 use traxer::geometry::Resolution;
 use traxer::output::{compare_markdown, write_compare, Provenance, COMPARE_FILES};
 use traxer::scene::Scene;
@@ -61,7 +60,7 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    let folder = OutputFolder::prepare(&a.output.out, &COMPARE_FILES)?;
+    let folder = traxer::run::results_folder(&a.output.out, &COMPARE_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);

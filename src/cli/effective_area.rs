@@ -5,7 +5,6 @@
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress};
 use anyhow::Context;
-use traxer::files::OutputFolder;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
 use traxer::run::record::{base_identity, Record};
 use traxer::studies::effective_area::{sweep, AngleResult, AreaSweep};
@@ -72,7 +71,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
     traxer::studies::effective_area::check(&s)?;
     let (device, scene) = load_xray_scene(&a.scene)?;
     let record_name = Record::<AngleResult>::file_name("effective_area");
-    let folder = OutputFolder::prepare(
+    let folder = traxer::run::results_folder(
         &a.output.out,
         &[&EFFECTIVE_AREA_FILES[..], &[record_name.as_str()]].concat(),
     )?;

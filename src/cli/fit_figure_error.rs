@@ -5,7 +5,6 @@
 use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
-use traxer::files::OutputFolder;
 use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
 use traxer::run::record::{base_identity, Record};
 use traxer::studies::fit::{
@@ -152,7 +151,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let run = a.run.config()?;
     let record_name = Record::<Evaluation>::file_name("fit");
     let names = [&FIT_FILES[..], &[record_name.as_str()]].concat();
-    let folder = OutputFolder::prepare(&a.output.out, &names)?;
+    let folder = traxer::run::results_folder(&a.output.out, &names)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {

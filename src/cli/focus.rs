@@ -6,7 +6,6 @@ use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
-use traxer::files::OutputFolder;
 use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
 use traxer::run::record::{check_inputs, file_identity, Record};
 use traxer::scene::Scene;
@@ -65,7 +64,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     let values = sweep.values()?;
     let cfg = a.run.config()?;
     let record_name = Record::<FocusStep>::file_name("focus");
-    let folder = OutputFolder::prepare(
+    let folder = traxer::run::results_folder(
         &a.output.out,
         &[&FOCUS_FILES[..], &[record_name.as_str()]].concat(),
     )?;

@@ -7,7 +7,7 @@ use super::args::{parse_values, OutputArgs};
 use super::InputError;
 use serde_json::json;
 use std::path::{Path, PathBuf};
-use traxer::files::{sha256_hex, OutputFolder};
+use traxer::files::sha256_hex;
 use traxer::output::{write_solar_flux, Provenance, SolarFluxInfo, SOLAR_FLUX_FILES};
 use traxer::source::sun::abc::G_AE_REFERENCE;
 use traxer::source::sun::builtin::{
@@ -98,7 +98,7 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         ))
         .into());
     };
-    let folder = OutputFolder::prepare(&a.output.out, &SOLAR_FLUX_FILES)?;
+    let folder = traxer::run::results_folder(&a.output.out, &SOLAR_FLUX_FILES)?;
     let g_agamma = primakoff.then_some(a.g_agamma);
     let g_ae = abc.then_some(a.g_ae);
     let e = if let Some(path) = &a.model {

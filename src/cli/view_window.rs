@@ -18,7 +18,6 @@ use std::sync::Mutex;
 use std::time::{Duration, Instant};
 use traxer::analysis::{analyse, ImageGeometry};
 use traxer::embree::Device;
-use traxer::files::OutputFolder;
 use traxer::live::{feed, Published};
 use traxer::output::colormap::Scale;
 use traxer::output::{run_file_names, write_rgb_png, write_run, Provenance};
@@ -321,7 +320,7 @@ fn save(
 ) -> anyhow::Result<()> {
     let mut names = run_file_names(scene, false, false);
     names.push("frame.png".into());
-    let folder = OutputFolder::prepare(dir, &names)?;
+    let folder = traxer::run::results_folder(dir, &names)?;
     let traced = tally.traced;
     let cfg = RunConfig::new(traced.max(1), seed);
     let provenance = Provenance::new(&super::invocation(), Some(device.info().version))

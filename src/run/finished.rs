@@ -8,6 +8,33 @@ use crate::files::OutputFolder;
 use crate::output::{write_run, Provenance};
 use crate::scene::Scene;
 use crate::trace::{RunResult, Tally};
+use std::path::Path;
+
+/// The results folder `out` of any command, prepared for the files `names`
+/// (checked writable, locked against a second writer, staged: the files appear
+/// together when it is committed). Every front end prepares its folders here.
+pub fn results_folder<S: AsRef<str>>(
+    out: &Path,
+    names: &[S],
+) -> Result<OutputFolder, crate::files::OutputLocationError> {
+    OutputFolder::prepare(out, names)
+}
+
+/// Saves a finished run (its tally, in memory) into the results folder `out`,
+/// as `traxer trace` would have: `run_state.bin` and every result file.
+pub fn save_results(
+    out: &Path,
+    scene: &Scene,
+    header: &StateHeader,
+    tally: Tally,
+    threads: usize,
+    provenance: &Provenance,
+    fits: bool,
+) -> Result<usize, super::RunError> {
+    let names = results_file_names(scene, header.identity.photon_list > 0, fits);
+    let folder = results_folder(out, &names)?;
+    Ok(write_results(folder, scene, header, tally, threads, provenance, fits)?.0)
+}
 
 /// Every file a finished run leaves in its results folder: the results, the run
 /// state, and the checkpoint a run keeps while it runs (listed so that a stale

@@ -125,7 +125,7 @@ pub fn prepare_folder(
     photon_list: bool,
     fits: bool,
 ) -> Result<OutputFolder, RunError> {
-    Ok(OutputFolder::prepare(
+    Ok(super::results_folder(
         out,
         &super::results_file_names(scene, photon_list, fits),
     )?)
@@ -181,7 +181,8 @@ impl Sitting<'_> {
         let traced = trace::run_part(self.scene, cfg, tally, &progress, &mut |t| {
             let stop = control.stop_requested();
             let due = every.is_some_and(|every| last.elapsed() >= every);
-            if t.traced < cfg.photons && (stop || due) {
+            // Without checkpoints a stop leaves nothing behind.
+            if t.traced < cfg.photons && every.is_some() && (stop || due) {
                 part.seconds = earlier + start.elapsed().as_secs_f64();
                 if let Err(e) = write_state(&checkpoint, part.header(t), t) {
                     failed = Some(e);
@@ -202,6 +203,13 @@ impl Sitting<'_> {
         if let Some(e) = failed {
             let message = format!("cannot write the checkpoint {}: {e}", checkpoint.display());
             return Err(std::io::Error::new(e.kind(), message).into());
+        }
+        if tally.traced < cfg.photons && every.is_none() {
+            return Err(Stopped(format!(
+                "stopped after {} of {} photons; nothing was written (keep checkpoints to continue a stopped run)",
+                tally.traced, cfg.photons
+            ))
+            .into());
         }
         if tally.traced < cfg.photons {
             return Err(Stopped(format!(

@@ -29,7 +29,7 @@ pub mod record;
 mod shard;
 pub mod state_file;
 
-pub use finished::{results_file_names, write_results};
+pub use finished::{results_file_names, results_folder, save_results, write_results};
 pub use job::{
     open_stopped, Finished, Found, Resumable, RunControl, RunError, RunSettings, TraceJob,
 };

@@ -410,6 +410,52 @@ def test_ctrl_c_stops_a_trace():
     assert time.monotonic() - start < 30
 
 
+def test_trace_into_a_folder_writes_the_cli_files(tmp_path):
+    """Scene.trace(out=...) writes the folder `traxer trace --out` writes, bit
+    for bit, and returns the same result."""
+    n, seed = 200_000, 5
+    cli("trace", WOLTER, "-n", n, "--seed", seed, "--out", tmp_path / "cli", "-q")
+    r = traxer.Scene(WOLTER).trace(n, seed=seed, out=tmp_path / "py")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == names
+    for name in names:
+        if name.endswith((".npy", ".png", ".csv")) or name == "run_state.bin":
+            a = (tmp_path / "cli" / name).read_bytes()
+            b = (tmp_path / "py" / name).read_bytes()
+            if name == "run_state.bin":  # the header holds paths and times
+                a, b = a.split(b"\n", 2)[2], b.split(b"\n", 2)[2]
+            assert a == b, name
+    cli_flux = np.load(tmp_path / "cli" / "sensor.npy")
+    assert np.array_equal(r.sensors["sensor"].flux, cli_flux)
+    with pytest.raises(traxer.InputError, match="checkpoint_every needs out"):
+        traxer.Scene(WOLTER).trace(1000, checkpoint_every=1.0)
+
+
+def test_a_python_run_stopped_by_ctrl_c_resumes_to_the_uninterrupted_result(tmp_path):
+    """With checkpoint_every, Ctrl-C leaves a checkpoint; traxer.resume (or the
+    CLI's --resume) finishes the run with the files of one uninterrupted run."""
+    n, seed = 30_000_000, 11
+    s = traxer.Scene(WOLTER)
+    out = tmp_path / "stopped"
+    timer = threading.Timer(0.3, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        s.trace(n, seed=seed, out=out, checkpoint_every=0)
+    timer.cancel()
+    assert (out / "checkpoint.bin").is_file()
+    r = traxer.resume(out)
+    assert not (out / "checkpoint.bin").exists()
+    assert r.photons_traced == n
+    cli("trace", WOLTER, "-n", n, "--seed", seed, "--out", tmp_path / "whole", "-q")
+    for name in ("sensor.npy", "sensor_counts.npy", "sensor_projections.csv"):
+        assert (out / name).read_bytes() == (tmp_path / "whole" / name).read_bytes(), name
+    # A finished folder returns its result at once.
+    again = traxer.resume(out)
+    assert np.array_equal(again.sensors["sensor"].flux, r.sensors["sensor"].flux)
+    with pytest.raises(traxer.InputError, match="not the results folder of a stopped run"):
+        traxer.resume(tmp_path)
+
+
 def test_the_example_runs(tmp_path):
     """python/examples/axion_image.py, with fewer photons: it ends well and
     writes the files of `traxer trace`."""

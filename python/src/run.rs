@@ -1,0 +1,156 @@
+//! Python's side of a run's life (`traxer::run`): `Scene.trace(..., out=DIR,
+//! checkpoint_every=S)` traces into a results folder as `traxer trace` does,
+//! keeping a checkpoint there, and `traxer.resume(DIR)` continues a stopped run
+//! (from Python or the CLI) to the same files. Ctrl-C (KeyboardInterrupt) stops
+//! a checkpointing run after its current batch, with the checkpoint written.
+
+use crate::convert::{progress_bar, threads};
+use crate::errors::{lib, to_py};
+use crate::result::TraceResult;
+use crate::scene::Loaded;
+use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+use traxer::embree::Device;
+use traxer::output::Provenance;
+use traxer::run::{
+    open_stopped, read_state, Found, Invocation, Resumable, RunControl, RunError, RunSettings,
+    RUN_STATE_FILE,
+};
+
+/// A progress bar, and Python's signals checked between batches.
+pub struct PyControl {
+    pub bar: indicatif::ProgressBar,
+    interrupted: Mutex<Option<PyErr>>,
+}
+
+impl PyControl {
+    pub fn new(photons: u64, progress: bool) -> PyControl {
+        PyControl {
+            bar: progress_bar(photons, progress),
+            interrupted: Mutex::new(None),
+        }
+    }
+
+    /// The run's error as Python sees it: a KeyboardInterrupt (with a note on the
+    /// checkpoint) if Ctrl-C stopped it.
+    pub fn error(&self, e: RunError) -> PyErr {
+        let interrupt = self.interrupted.lock().ok().and_then(|mut i| i.take());
+        match (interrupt, &e) {
+            (Some(interrupt), RunError::Stopped(s)) => {
+                Python::attach(|py| {
+                    // Python 3.11+: the note says how to continue.
+                    let _ = interrupt.value(py).call_method1("add_note", (s.0.clone(),));
+                });
+                interrupt
+            }
+            _ => lib(e),
+        }
+    }
+}
+
+impl RunControl for PyControl {
+    fn advance(&self, photons: u64) {
+        self.bar.inc(photons);
+    }
+
+    fn stop_requested(&self) -> bool {
+        match Python::attach(|py| py.check_signals()) {
+            Ok(()) => false,
+            Err(e) => {
+                if let Ok(mut i) = self.interrupted.lock() {
+                    i.get_or_insert(e);
+                }
+                true
+            }
+        }
+    }
+}
+
+/// `checkpoint_every` (seconds) checked.
+pub fn checkpoint_interval(seconds: Option<f64>) -> PyResult<Option<Duration>> {
+    match seconds {
+        None => Ok(None),
+        Some(s) if (0.0..1e9).contains(&s) => Ok(Some(Duration::from_secs_f64(s))),
+        Some(s) => Err(crate::errors::input(format!(
+            "checkpoint_every={s}: expected seconds between checkpoints, 0 or more"
+        ))),
+    }
+}
+
+/// The finished run in `out` as a `TraceResult` (its exact sums read back from
+/// `run_state.bin`, so that the result equals the files bit for bit).
+pub fn finished_result(
+    py: Python<'_>,
+    loaded: Arc<Loaded>,
+    out: &Path,
+    invocation: &Invocation,
+    threads: usize,
+) -> PyResult<TraceResult> {
+    let (header, tally) = read_state(&out.join(RUN_STATE_FILE)).map_err(lib)?;
+    let provenance = Provenance::new(invocation, Some(loaded.device.info().version))
+        .scene(&loaded.scene)
+        .seeded(header.identity.seed, threads)
+        .parts(&header, &[]);
+    TraceResult::new(py, loaded, header, tally, threads, provenance)
+}
+
+/// Continues the stopped run in `folder` (a `Scene.trace(..., out=folder,
+/// checkpoint_every=S)` or `traxer trace --checkpoint-every S` that was stopped)
+/// to its end, writing the same files as an uninterrupted run, and returns its
+/// result. A finished run's folder returns its result at once. `scene`: where
+/// the scene file is now, if it moved (its SHA-256 is checked). Ctrl-C stops it
+/// again after the current batch, with the checkpoint written.
+#[pyfunction]
+#[pyo3(signature = (folder, threads = 0, checkpoint_every = 60.0, progress = false, scene = None))]
+pub fn resume(
+    py: Python<'_>,
+    folder: PathBuf,
+    threads: usize,
+    checkpoint_every: f64,
+    progress: bool,
+    scene: Option<PathBuf>,
+) -> PyResult<TraceResult> {
+    // A resumed run stays resumable: it keeps its checkpoint.
+    let settings = RunSettings {
+        threads: self::threads(threads)?,
+        checkpoint_every: checkpoint_interval(Some(checkpoint_every))?,
+        fits: false,
+    };
+    let invocation = Invocation::new([
+        "python".to_string(),
+        format!(
+            "traxer.resume({:?}, threads={threads}, checkpoint_every={checkpoint_every})",
+            folder.display().to_string()
+        ),
+    ]);
+    let found = py
+        .detach(|| open_stopped(&folder, scene.as_deref()))
+        .map_err(lib)?;
+    let mut run: Box<Resumable> = match found {
+        Found::Stopped(run) => run,
+        Found::Finished(_) => {
+            let (header, _) = read_state(&folder.join(RUN_STATE_FILE)).map_err(lib)?;
+            let loaded = py
+                .detach(|| -> anyhow::Result<Loaded> {
+                    let device = Device::new()?;
+                    let path = scene.clone().unwrap_or(header.scene_path.clone());
+                    let scene = traxer::scene::Scene::load(&device, &path, &header.overrides)?;
+                    Ok(Loaded { scene, device })
+                })
+                .map_err(to_py)?;
+            return finished_result(py, Arc::new(loaded), &folder, &invocation, 0);
+        }
+    };
+    let (traced, photons) = run.progress();
+    let control = PyControl::new(photons, progress);
+    control.bar.inc(traced);
+    let finished = py.detach(|| run.run(&settings, &invocation, &control));
+    control.bar.finish_and_clear();
+    let finished = finished.map_err(|e| control.error(e))?;
+    let threads = finished.result.threads;
+    let Resumable { scene, device, .. } = *run;
+    let loaded = Arc::new(Loaded { scene, device });
+    finished_result(py, loaded, &folder, &invocation, threads)
+}
