@@ -43,22 +43,7 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let pitch = match a.pixel_pitch.as_slice() {
-        [p] => [*p, *p],
-        [px, py] => [*px, *py],
-        [] => pitch_from_sidecar(&a.image).ok_or_else(|| {
-            InputError(format!(
-                "{}: give --pixel-pitch (no traxer sidecar JSON next to it)",
-                a.image.display()
-            ))
-        })?,
-        _ => return Err(InputError("--pixel-pitch takes one or two values (mm)".into()).into()),
-    };
-    if !pitch.iter().all(|p| p.is_finite() && *p > 0.0)
-        || a.focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0))
-    {
-        return Err(InputError("pixel pitch and focal length must be positive (mm)".into()).into());
-    }
+    let pitch = pixel_pitch(&a)?;
     let g = ImageGeometry {
         nx,
         ny,
@@ -95,24 +80,57 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
     if a.json {
         say!("{}", serde_json::to_string_pretty(&q)?);
     } else {
-        say!(
-            "centroid: ({:.4}, {:.4}) mm",
-            q.centroid_mm[0],
-            q.centroid_mm[1]
-        );
-        for (name, d, s) in [
-            ("HPD (50 %)", q.hpd_mm, q.hpd_arcsec),
-            ("80 %", q.d80_mm, q.d80_arcsec),
-            ("90 %", q.d90_mm, q.d90_arcsec),
-        ] {
-            match s {
-                Some(s) => say!("{name:>11}: {d:.4} mm = {s:.1} arcsec"),
-                None => say!("{name:>11}: {d:.4} mm"),
-            }
-        }
+        print_quality(&q);
         tell!("wrote {}", plot.display());
     }
     Ok(())
+}
+
+/// The pixel pitch (mm): given, or from the sidecar next to the image; checked
+/// with the focal length.
+fn pixel_pitch(a: &EefArgs) -> Result<[f64; 2], InputError> {
+    let pitch = match a.pixel_pitch.as_slice() {
+        [p] => [*p, *p],
+        [px, py] => [*px, *py],
+        [] => pitch_from_sidecar(&a.image).ok_or_else(|| {
+            InputError(format!(
+                "{}: give --pixel-pitch (no traxer sidecar JSON next to it)",
+                a.image.display()
+            ))
+        })?,
+        _ => {
+            return Err(InputError(
+                "--pixel-pitch takes one or two values (mm)".into(),
+            ))
+        }
+    };
+    if !pitch.iter().all(|p| p.is_finite() && *p > 0.0)
+        || a.focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0))
+    {
+        return Err(InputError(
+            "pixel pitch and focal length must be positive (mm)".into(),
+        ));
+    }
+    Ok(pitch)
+}
+
+/// Centroid and diameters on stdout.
+fn print_quality(q: &traxer::analysis::ImageQuality) {
+    say!(
+        "centroid: ({:.4}, {:.4}) mm",
+        q.centroid_mm[0],
+        q.centroid_mm[1]
+    );
+    for (name, d, s) in [
+        ("HPD (50 %)", q.hpd_mm, q.hpd_arcsec),
+        ("80 %", q.d80_mm, q.d80_arcsec),
+        ("90 %", q.d90_mm, q.d90_arcsec),
+    ] {
+        match s {
+            Some(s) => say!("{name:>11}: {d:.4} mm = {s:.1} arcsec"),
+            None => say!("{name:>11}: {d:.4} mm"),
+        }
+    }
 }
 
 /// Pixel pitch from traxer's sidecar NAME.json next to NAME.npy.

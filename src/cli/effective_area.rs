@@ -7,7 +7,7 @@ use super::{load_xray_scene, progress};
 use anyhow::Context;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
 use traxer::run::record::{base_identity, Record};
-use traxer::studies::effective_area::{sweep, AngleResult, AreaSweep};
+use traxer::studies::effective_area::{sweep, AngleResult, AreaResult, AreaSweep};
 use traxer::trace::RunConfig;
 
 /// Effective area A_eff(E, θ) in cm² and off-axis image quality.
@@ -115,42 +115,48 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     if !quiet {
-        say!(
-            "{} energies × {} angles, {} photons per angle, in {:.2} s with {} threads",
-            s.energies.len(),
-            s.angles_arcmin.len(),
-            a.photons,
-            result.seconds,
-            result.threads
-        );
-        for ang in &result.angles {
-            let (lo, hi) = (ang.points.first().unwrap(), ang.points.last().unwrap());
-            let peak = ang
-                .points
-                .iter()
-                .max_by(|x, y| x.area_cm2.total_cmp(&y.area_cm2))
-                .unwrap();
-            let hpd = ang
-                .quality
-                .as_ref()
-                .map_or(String::new(), |q| match q.hpd_arcsec {
-                    Some(v) => format!(", HPD {v:.1}″"),
-                    None => format!(", HPD {:.4} mm", q.hpd_mm),
-                });
-            say!(
-                "  {}′: {:.3} ± {:.3} cm² at {} keV, {:.3} at {} keV (peak), {:.3} at {} keV; geometric {:.3} cm²{hpd}",
-                ang.off_axis_arcmin,
-                lo.area_cm2, lo.error_cm2, lo.energy_kev,
-                peak.area_cm2, peak.energy_kev,
-                hi.area_cm2, hi.energy_kev,
-                ang.geometric_area_cm2,
-            );
-        }
-        say!(
-            "wrote {} files to {}",
-            EFFECTIVE_AREA_FILES.len(),
-            out.display()
-        );
+        print_sweep(&s, &result, out);
     }
     Ok(())
+}
+
+/// The sweep's summary on stdout: per angle the area at the first, peak and last
+/// energy, the geometric area and the HPD.
+fn print_sweep(s: &AreaSweep, result: &AreaResult, out: &std::path::Path) {
+    say!(
+        "{} energies × {} angles, {} photons per angle, in {:.2} s with {} threads",
+        s.energies.len(),
+        s.angles_arcmin.len(),
+        s.photons,
+        result.seconds,
+        result.threads
+    );
+    for ang in &result.angles {
+        let (lo, hi) = (ang.points.first().unwrap(), ang.points.last().unwrap());
+        let peak = ang
+            .points
+            .iter()
+            .max_by(|x, y| x.area_cm2.total_cmp(&y.area_cm2))
+            .unwrap();
+        let hpd = ang
+            .quality
+            .as_ref()
+            .map_or(String::new(), |q| match q.hpd_arcsec {
+                Some(v) => format!(", HPD {v:.1}″"),
+                None => format!(", HPD {:.4} mm", q.hpd_mm),
+            });
+        say!(
+            "  {}′: {:.3} ± {:.3} cm² at {} keV, {:.3} at {} keV (peak), {:.3} at {} keV; geometric {:.3} cm²{hpd}",
+            ang.off_axis_arcmin,
+            lo.area_cm2, lo.error_cm2, lo.energy_kev,
+            peak.area_cm2, peak.energy_kev,
+            hi.area_cm2, hi.energy_kev,
+            ang.geometric_area_cm2,
+        );
+    }
+    say!(
+        "wrote {} files to {}",
+        EFFECTIVE_AREA_FILES.len(),
+        out.display()
+    );
 }

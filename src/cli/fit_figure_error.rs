@@ -136,40 +136,12 @@ fn parse_bounds(specs: &[String]) -> Result<Bounds, InputError> {
 }
 
 pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
-    let target = Diameters {
-        hpd: a.target_hpd,
-        d80: a.target_c80,
-        d90: a.target_c90,
-    };
-    if ![target.hpd, target.d80, target.d90]
-        .iter()
-        .all(|v| v.is_finite() && *v > 0.0)
-    {
-        return Err(InputError("the targets must be positive diameters (arcsec)".into()).into());
-    }
-    let bounds = parse_bounds(&a.bounds)?;
     let run = a.run.config()?;
     let record_name = Record::<Evaluation>::file_name("fit");
     let names = [&FIT_FILES[..], &[record_name.as_str()]].concat();
     let folder = traxer::run::results_folder(&a.output.out, &names)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
-    let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
-    if scene.sensors[sensor].focal_length.is_none() {
-        return Err(InputError(format!(
-            "sensor `{}` has no focal_length: the diameters in arcseconds need one",
-            scene.sensors[sensor].name
-        ))
-        .into());
-    }
-    let settings = FitSettings {
-        bounds,
-        target,
-        run: run.clone(),
-        sensor,
-        global_evaluations: a.global_evals,
-        local_evaluations: a.local_evals,
-        local_algorithm: a.local_algorithm.into(),
-    };
+    let settings = fit_settings(&a, &scene, &run)?;
     let mut record: Record<Evaluation> =
         Record::open(&a.output.out, "fit", identity(&scene, &settings), a.resume)?;
     let replay = record.recorded().to_vec();
@@ -225,6 +197,43 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     print_result(&report, out);
     Ok(())
+}
+
+/// The fit's settings from the command line, checked against the scene.
+fn fit_settings(
+    a: &FitFigureErrorArgs,
+    scene: &traxer::scene::Scene,
+    run: &traxer::trace::RunConfig,
+) -> anyhow::Result<FitSettings> {
+    let target = Diameters {
+        hpd: a.target_hpd,
+        d80: a.target_c80,
+        d90: a.target_c90,
+    };
+    if ![target.hpd, target.d80, target.d90]
+        .iter()
+        .all(|v| v.is_finite() && *v > 0.0)
+    {
+        return Err(InputError("the targets must be positive diameters (arcsec)".into()).into());
+    }
+    let bounds = parse_bounds(&a.bounds)?;
+    let sensor = pick_sensor(scene, a.sensor.as_deref())?;
+    if scene.sensors[sensor].focal_length.is_none() {
+        return Err(InputError(format!(
+            "sensor `{}` has no focal_length: the diameters in arcseconds need one",
+            scene.sensors[sensor].name
+        ))
+        .into());
+    }
+    Ok(FitSettings {
+        bounds,
+        target,
+        run: run.clone(),
+        sensor,
+        global_evaluations: a.global_evals,
+        local_evaluations: a.local_evals,
+        local_algorithm: a.local_algorithm.into(),
+    })
 }
 
 /// One line per evaluation: its parameters and diameters, and the best so far.

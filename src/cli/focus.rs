@@ -6,10 +6,11 @@ use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{progress, Warnings};
 use anyhow::Context;
 use traxer::embree::Device;
+use traxer::files::OutputFolder;
 use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
 use traxer::run::record::{check_inputs, file_identity, Record};
 use traxer::scene::Scene;
-use traxer::studies::focus::{scan, FocusStep, FocusSweep};
+use traxer::studies::focus::{scan, FocusScan, FocusStep, FocusSweep};
 use traxer::studies::StudyError;
 
 /// Find the best focus: trace the scene at several sensor positions and fit the
@@ -63,25 +64,8 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     };
     let values = sweep.values()?;
     let cfg = a.run.config()?;
-    let record_name = Record::<FocusStep>::file_name("focus");
-    let folder = traxer::run::results_folder(
-        &a.output.out,
-        &[&FOCUS_FILES[..], &[record_name.as_str()]].concat(),
-    )?;
-    let mut id = file_identity(&a.scene.scene, &a.scene.vars.define)?;
-    id.extend([
-        ("var".into(), a.var.clone().into()),
-        ("values".into(), serde_json::json!(values)),
-        ("sensor".into(), serde_json::json!(a.sensor)),
-        ("photons".into(), cfg.photons.into()),
-        ("seed".into(), cfg.seed.into()),
-    ]);
-    let mut record: Record<FocusStep> = Record::open(&a.output.out, "focus", id.into(), a.resume)?;
+    let (folder, mut record) = open_record(&a, &values, &cfg)?;
     let replay = record.recorded().to_vec();
-    super::signals::set_stop_message(format!(
-        "stopped; the positions so far are in {}: run the same command with --resume to continue",
-        a.output.out.join(&record_name).display()
-    ));
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let mut warnings = Warnings::default();
@@ -118,19 +102,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             }
             position += 1;
             if !quiet {
-                let q = step.quality.as_ref();
-                bar.suspend(|| {
-                say!(
-                    "{} = {:>10.3}: HPD {:>8.4} mm, 80 % {:>8.4} mm, 90 % {:>8.4} mm ({} photons on {})",
-                    a.var,
-                    step.value,
-                    q.map_or(f64::NAN, |q| q.hpd_mm),
-                    q.map_or(f64::NAN, |q| q.d80_mm),
-                    q.map_or(f64::NAN, |q| q.d90_mm),
-                    step.on_sensor,
-                    sensor
-                )
-            });
+                bar.suspend(|| print_step(&a.var, step, sensor));
             }
         },
     );
@@ -156,6 +128,54 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     write_focus(folder.path(), &scan, &a.var, (a.from, a.to), &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    print_fits(&a, &scan)
+}
+
+/// The results folder and the scan's record (resumed with --resume).
+fn open_record(
+    a: &FocusArgs,
+    values: &[f64],
+    cfg: &traxer::trace::RunConfig,
+) -> anyhow::Result<(OutputFolder, Record<FocusStep>)> {
+    let record_name = Record::<FocusStep>::file_name("focus");
+    let folder = traxer::run::results_folder(
+        &a.output.out,
+        &[&FOCUS_FILES[..], &[record_name.as_str()]].concat(),
+    )?;
+    let mut id = file_identity(&a.scene.scene, &a.scene.vars.define)?;
+    id.extend([
+        ("var".into(), a.var.clone().into()),
+        ("values".into(), serde_json::json!(values)),
+        ("sensor".into(), serde_json::json!(a.sensor)),
+        ("photons".into(), cfg.photons.into()),
+        ("seed".into(), cfg.seed.into()),
+    ]);
+    let record = Record::open(&a.output.out, "focus", id.into(), a.resume)?;
+    super::signals::set_stop_message(format!(
+        "stopped; the positions so far are in {}: run the same command with --resume to continue",
+        a.output.out.join(&record_name).display()
+    ));
+    Ok((folder, record))
+}
+
+/// One position's line on stdout.
+fn print_step(var: &str, step: &FocusStep, sensor: &str) {
+    let q = step.quality.as_ref();
+    say!(
+        "{} = {:>10.3}: HPD {:>8.4} mm, 80 % {:>8.4} mm, 90 % {:>8.4} mm ({} photons on {})",
+        var,
+        step.value,
+        q.map_or(f64::NAN, |q| q.hpd_mm),
+        q.map_or(f64::NAN, |q| q.d80_mm),
+        q.map_or(f64::NAN, |q| q.d90_mm),
+        step.on_sensor,
+        sensor
+    );
+}
+
+/// The best focus and the other fits on stdout; an error if the HPD fit failed.
+fn print_fits(a: &FocusArgs, scan: &FocusScan) -> anyhow::Result<()> {
+    let out = &a.output.out;
     let fits = &scan.fits;
     match &fits[0].1 {
         Ok(f) => {
@@ -169,7 +189,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
                     .map(|fl| format!(" ({:.1}″)", plotted_diameter(f.d0, Some(fl))))
                     .unwrap_or_default()
             );
-            if !quiet {
+            if !a.output.quiet.quiet {
                 for (label, fit) in fits.iter().skip(1) {
                     match fit {
                         Ok(f) => say!("  {label} fit: best at {:.3} ± {:.3}", f.z0, f.z0_std_error),

@@ -55,34 +55,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         )
         .into());
     }
-    let mut rows = Vec::new();
-    let mut series = Vec::new();
-    let (curves, axis) = if versus_angle {
-        (&energies, &angles)
-    } else {
-        (&angles, &energies)
-    };
-    for &c in curves {
-        let mut points = Vec::new();
-        for &x in axis {
-            let (e, th) = if versus_angle { (c, x) } else { (x, c) };
-            let r = coating
-                .reflectance(e, th.to_radians())
-                .map_err(|err| InputError(err.to_string()))?;
-            rows.push(
-                [e, th, r.unpolarised(), r.s, r.p]
-                    .map(|v| v.to_string())
-                    .to_vec(),
-            );
-            points.push((x, r.unpolarised()));
-        }
-        let label = if versus_angle {
-            format!("{c} keV")
-        } else {
-            format!("{c}°")
-        };
-        series.push(Series::line(label, points));
-    }
+    let (rows, series) = curves(&coating, &energies, &angles, versus_angle)?;
     let csv = csv_text(&["energy_keV", "angle_deg", "R", "R_s", "R_p"], rows);
     // A closed pipe (`| head`) is not an error worth a message.
     use std::io::Write;
@@ -129,4 +102,43 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
     .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;
     tell!("wrote {}", a.plot.display());
     Ok(())
+}
+
+/// The table's rows (energy, angle, R, R_s, R_p) and one plotted curve per
+/// energy (against the angle) or per angle (against the energy).
+fn curves(
+    coating: &traxer::xray::Coating,
+    energies: &[f64],
+    angles: &[f64],
+    versus_angle: bool,
+) -> Result<(Vec<Vec<String>>, Vec<Series>), InputError> {
+    let mut rows = Vec::new();
+    let mut series = Vec::new();
+    let (curves, axis) = if versus_angle {
+        (energies, angles)
+    } else {
+        (angles, energies)
+    };
+    for &c in curves {
+        let mut points = Vec::new();
+        for &x in axis {
+            let (e, th) = if versus_angle { (c, x) } else { (x, c) };
+            let r = coating
+                .reflectance(e, th.to_radians())
+                .map_err(|err| InputError(err.to_string()))?;
+            rows.push(
+                [e, th, r.unpolarised(), r.s, r.p]
+                    .map(|v| v.to_string())
+                    .to_vec(),
+            );
+            points.push((x, r.unpolarised()));
+        }
+        let label = if versus_angle {
+            format!("{c} keV")
+        } else {
+            format!("{c}°")
+        };
+        series.push(Series::line(label, points));
+    }
+    Ok((rows, series))
 }

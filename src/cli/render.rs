@@ -171,18 +171,7 @@ fn textures(a: &RenderArgs, scene: &Scene, path: &Path) -> Result<Vec<SensorText
 }
 
 pub fn run(a: RenderArgs) -> anyhow::Result<()> {
-    if a.width == 0 || a.height == 0 || a.width * a.height > 1 << 26 {
-        return Err(InputError(
-            "--width and --height must be positive (at most 2^26 pixels)".into(),
-        )
-        .into());
-    }
-    if a.spp == 0 || a.max_depth == 0 {
-        return Err(InputError("--spp and --max-depth must be at least 1".into()).into());
-    }
-    if !(a.brightness.is_finite() && a.brightness >= 0.0) {
-        return Err(InputError("--brightness must be a number ≥ 0".into()).into());
-    }
+    check_settings(&a)?;
     check_output_file(&a.out)?;
     check_output_file(&sidecar_path(&a.out))?;
     let (device, scene) = load_scene(&a.scene)?;
@@ -220,21 +209,7 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .seeded(a.sampling.seed, threads);
-    let details = json!({
-        "camera": {
-            "look_from": cam.look_from.to_array(),
-            "look_at": cam.look_at.to_array(),
-            "up": cam.up.to_array(),
-            "vfov": cam.vfov,
-        },
-        "width": a.width,
-        "height": a.height,
-        "samples_per_pixel": a.spp,
-        "max_depth": a.max_depth,
-        "sensor_image": a.sensor_image.as_ref().map(|p| p.display().to_string()),
-        "seconds": seconds,
-    });
-    write_sidecar(&a.out, &provenance, details)
+    write_sidecar(&a.out, &provenance, details(&a, &cam, seconds))
         .with_context(|| format!("cannot write the sidecar of {}", a.out.display()))?;
     if !a.quiet.quiet {
         let rays = (a.width * a.height) as f64 * a.spp as f64;
@@ -250,4 +225,40 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The image size, samples, depth and brightness checked.
+fn check_settings(a: &RenderArgs) -> Result<(), InputError> {
+    if a.width == 0 || a.height == 0 || a.width * a.height > 1 << 26 {
+        return Err(InputError(
+            "--width and --height must be positive (at most 2^26 pixels)".into(),
+        ));
+    }
+    if a.spp == 0 || a.max_depth == 0 {
+        return Err(InputError(
+            "--spp and --max-depth must be at least 1".into(),
+        ));
+    }
+    if !(a.brightness.is_finite() && a.brightness >= 0.0) {
+        return Err(InputError("--brightness must be a number ≥ 0".into()));
+    }
+    Ok(())
+}
+
+/// The render's settings for its sidecar.
+fn details(a: &RenderArgs, cam: &traxer::render::Camera, seconds: f64) -> serde_json::Value {
+    json!({
+        "camera": {
+            "look_from": cam.look_from.to_array(),
+            "look_at": cam.look_at.to_array(),
+            "up": cam.up.to_array(),
+            "vfov": cam.vfov,
+        },
+        "width": a.width,
+        "height": a.height,
+        "samples_per_pixel": a.spp,
+        "max_depth": a.max_depth,
+        "sensor_image": a.sensor_image.as_ref().map(|p| p.display().to_string()),
+        "seconds": seconds,
+    })
 }

@@ -101,8 +101,53 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     let folder = traxer::run::results_folder(&a.output.out, &SOLAR_FLUX_FILES)?;
     let g_agamma = primakoff.then_some(a.g_agamma);
     let g_ae = abc.then_some(a.g_ae);
-    let e = if let Some(path) = &a.model {
-        from_model(&a, path, g_agamma, g_ae)?
+    let e = emission(&a, g_agamma, g_ae)?;
+    let info = SolarFluxInfo {
+        description: &e.description,
+        coupling: &e.coupling,
+        distance_au: a.distance_au,
+        table_csv: &e.csv,
+        origin: e.origin.clone(),
+    };
+    write_solar_flux(
+        folder.path(),
+        &e.table,
+        &e.parts,
+        &info,
+        &Provenance::new(&super::invocation(), None),
+    )?;
+    folder.commit()?;
+    print_totals(&e, a.distance_au);
+    say!("wrote {}", a.output.out.display());
+    Ok(())
+}
+
+/// The total flux and each process's on stdout.
+fn print_totals(e: &Emission, distance_au: f64) {
+    let d_cm = distance_au * AU_CM;
+    let area = 4.0 * std::f64::consts::PI * d_cm * d_cm;
+    let total = e.table.luminosity(0.0, f64::INFINITY) / area;
+    say!(
+        "{}: {total:.4e} axions cm⁻² s⁻¹ at {} AU ({})",
+        e.description,
+        distance_au,
+        e.coupling
+    );
+    let edges = e.table.energy_edges();
+    for p in &e.parts {
+        let flux = p.flux_1au(&edges) / (distance_au * distance_au);
+        say!("  {:<18} {flux:.4e} cm⁻² s⁻¹", p.name);
+    }
+}
+
+/// The emission asked for: from a solar model, an emission table, or built in.
+fn emission(
+    a: &SolarFluxArgs,
+    g_agamma: Option<f64>,
+    g_ae: Option<f64>,
+) -> anyhow::Result<Emission> {
+    Ok(if let Some(path) = &a.model {
+        from_model(a, path, g_agamma, g_ae)?
     } else if let Some(path) = &a.table {
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
@@ -131,38 +176,7 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
             origin: json!({"builtin": a.emission}),
             csv,
         }
-    };
-    let info = SolarFluxInfo {
-        description: &e.description,
-        coupling: &e.coupling,
-        distance_au: a.distance_au,
-        table_csv: &e.csv,
-        origin: e.origin.clone(),
-    };
-    write_solar_flux(
-        folder.path(),
-        &e.table,
-        &e.parts,
-        &info,
-        &Provenance::new(&super::invocation(), None),
-    )?;
-    folder.commit()?;
-    let d_cm = a.distance_au * AU_CM;
-    let area = 4.0 * std::f64::consts::PI * d_cm * d_cm;
-    let total = e.table.luminosity(0.0, f64::INFINITY) / area;
-    say!(
-        "{}: {total:.4e} axions cm⁻² s⁻¹ at {} AU ({})",
-        e.description,
-        a.distance_au,
-        e.coupling
-    );
-    let edges = e.table.energy_edges();
-    for p in &e.parts {
-        let flux = p.flux_1au(&edges) / (a.distance_au * a.distance_au);
-        say!("  {:<18} {flux:.4e} cm⁻² s⁻¹", p.name);
-    }
-    say!("wrote {}", a.output.out.display());
-    Ok(())
+    })
 }
 
 /// The emission computed from a solar model file (and the OP tables for ABC).

@@ -102,33 +102,7 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
     if a.segments == Some(0) || a.rings == Some(0) {
         return Err(InputError("--segments and --rings must be at least 1".into()).into());
     }
-    let mut shapes: Vec<NamedShape> = match (&a.scene, &a.shape) {
-        (Some(scene), _) => analytic_shapes(scene, &a.vars.define)?,
-        (None, Some(text)) => vec![NamedShape {
-            name: "shape".into(),
-            shape: inline_shape(text)?,
-            transform: Default::default(),
-            resolution: None,
-        }],
-        (None, None) => unreachable!("clap requires one of them"),
-    };
-    if !a.object.is_empty() {
-        for name in &a.object {
-            if !shapes.iter().any(|s| &s.name == name) {
-                let known: Vec<&str> = shapes.iter().map(|s| s.name.as_str()).collect();
-                return Err(InputError(format!(
-                    "--object {name}: no analytic object of that name (have: {known:?})"
-                ))
-                .into());
-            }
-        }
-        shapes.retain(|s| a.object.contains(&s.name));
-    }
-    if shapes.is_empty() {
-        return Err(
-            InputError("nothing to tessellate: the scene has no analytic objects".into()).into(),
-        );
-    }
+    let shapes = selected_shapes(&a)?;
     let is_file = a
         .out
         .extension()
@@ -181,4 +155,37 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The analytic shapes to tessellate: the scene's (those --object names), or
+/// the one --shape.
+fn selected_shapes(a: &TessellateArgs) -> anyhow::Result<Vec<NamedShape>> {
+    let mut shapes: Vec<NamedShape> = match (&a.scene, &a.shape) {
+        (Some(scene), _) => analytic_shapes(scene, &a.vars.define)?,
+        (None, Some(text)) => vec![NamedShape {
+            name: "shape".into(),
+            shape: inline_shape(text)?,
+            transform: Default::default(),
+            resolution: None,
+        }],
+        (None, None) => unreachable!("clap requires one of them"),
+    };
+    if !a.object.is_empty() {
+        for name in &a.object {
+            if !shapes.iter().any(|s| &s.name == name) {
+                let known: Vec<&str> = shapes.iter().map(|s| s.name.as_str()).collect();
+                return Err(InputError(format!(
+                    "--object {name}: no analytic object of that name (have: {known:?})"
+                ))
+                .into());
+            }
+        }
+        shapes.retain(|s| a.object.contains(&s.name));
+    }
+    if shapes.is_empty() {
+        return Err(
+            InputError("nothing to tessellate: the scene has no analytic objects".into()).into(),
+        );
+    }
+    Ok(shapes)
 }

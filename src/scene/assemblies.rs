@@ -145,6 +145,34 @@ fn llnl_data(
     Ok(data)
 }
 
+/// The material name of a part: the absorber, or the mirror material of its
+/// coating (generated once per coating, with the telescope's figure error).
+fn part_material(
+    t: &LlnlTelescopeDesc,
+    material: &PartMaterial,
+    span: &Range<usize>,
+    materials: &mut Vec<GeneratedMaterial>,
+) -> String {
+    match material {
+        PartMaterial::Absorber => "absorber".to_string(),
+        PartMaterial::Mirror(coating) => {
+            let name = format!("{}_mirror_{coating}", t.name);
+            if !materials.iter().any(|m| m.name == name) {
+                materials.push(GeneratedMaterial {
+                    name: name.clone(),
+                    desc: MaterialDesc::Mirror(MirrorDesc {
+                        side: SideDesc::Front,
+                        coating: Some(coating.clone()),
+                        figure_error: t.figure_error.clone(),
+                    }),
+                    span: span.clone(),
+                });
+            }
+            name
+        }
+    }
+}
+
 /// The LLNL telescope's parts as objects: analytic, tessellated, or read from a
 /// mesh file that holds them (tessellated at azimuth 0 and rotated into place).
 fn expand_llnl(
@@ -189,24 +217,7 @@ fn expand_llnl(
         )));
     }
     for part in parts.into_iter().filter(|p| !omitted(&p.name)) {
-        let material = match &part.material {
-            PartMaterial::Absorber => "absorber".to_string(),
-            PartMaterial::Mirror(coating) => {
-                let name = format!("{}_mirror_{coating}", t.name);
-                if !materials.iter().any(|m| m.name == name) {
-                    materials.push(GeneratedMaterial {
-                        name: name.clone(),
-                        desc: MaterialDesc::Mirror(MirrorDesc {
-                            side: SideDesc::Front,
-                            coating: Some(coating.clone()),
-                            figure_error: t.figure_error.clone(),
-                        }),
-                        span: span.clone(),
-                    });
-                }
-                name
-            }
-        };
+        let material = part_material(t, &part.material, &span, materials);
         let is_mirror = matches!(part.material, PartMaterial::Mirror(_));
         let name = format!("{}_{}", t.name, part.name);
         let axis_offset = match t.shell_axes {

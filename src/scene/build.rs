@@ -10,7 +10,7 @@ use super::materials::Materials;
 use super::objects::ObjectBuilder;
 use super::placement::transform;
 use super::shapes::ShapeDesc;
-use super::{embree_binding, load, Representation, Scene};
+use super::{embree_binding, load, Camera, Representation, Scene, Sky};
 use crate::embree::Device;
 use crate::geometry::{AnalyticObject, Resolution, Shape, Transform};
 use crate::source::Source;
@@ -81,52 +81,13 @@ pub(super) fn build(
     if let Some((name, span)) = materials.unused() {
         return Err(at.error(span, format!("material `{name}` is not used by any object")));
     }
-    let sources = desc
-        .sources
-        .iter()
-        .map(|s| s.get_ref().build(dir).map_err(|m| at.error(s.span(), m)))
-        .collect::<Result<Vec<_>, _>>()?;
-    for s in &desc.sources {
-        for file in s.get_ref().files(dir) {
-            inputs.note(&file);
-        }
-    }
-    if sources.len() > 1 {
-        if let Some(k) = sources.iter().position(|s| matches!(s, Source::Sun(_))) {
-            return Err(at.error(
-                desc.sources[k].span(),
-                "a `sun` source must be the scene's only source: its images are in axions per second, which other sources' weights are not",
-            ));
-        }
-    }
+    let sources = build_sources(at, &desc, dir, &inputs)?;
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
     check_foils(at, &materials.foils, &sources)?;
     let embree = embree
         .commit()
         .map_err(|e| at.whole(format!("Embree could not build the scene: {e}")))?;
-    let mut cameras = BTreeMap::new();
-    for (name, c) in &desc.cameras {
-        let camera = c
-            .get_ref()
-            .build()
-            .map_err(|m| at.error(c.span(), format!("camera `{name}`: {m}")))?;
-        cameras.insert(name.clone(), camera);
-    }
-    let sky_desc = desc
-        .sky
-        .as_ref()
-        .map(|k| k.get_ref().clone())
-        .unwrap_or_default();
-    let mut sky = match &desc.sky {
-        None => Default::default(),
-        Some(k) => k.get_ref().build().map_err(|m| at.error(k.span(), m))?,
-    };
-    // A Sun source shows in the sky where it stands, as large as it looks.
-    for source in &sources {
-        if let Source::Sun(sun) = source {
-            sky = sky.with_sun(sun.toward_sun, sun.angular_radius(), &sky_desc);
-        }
-    }
+    let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
     let warnings = builder.warnings;
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
     Ok(Scene {
@@ -147,6 +108,66 @@ pub(super) fn build(
         warnings,
         triangle_count,
     })
+}
+
+/// The sources, with the files they read noted; a Sun must be alone.
+fn build_sources(
+    at: SceneText,
+    desc: &super::desc::SceneDesc,
+    dir: &Path,
+    inputs: &InputFiles,
+) -> Result<Vec<Source>, SceneError> {
+    let sources = desc
+        .sources
+        .iter()
+        .map(|s| s.get_ref().build(dir).map_err(|m| at.error(s.span(), m)))
+        .collect::<Result<Vec<_>, _>>()?;
+    for s in &desc.sources {
+        for file in s.get_ref().files(dir) {
+            inputs.note(&file);
+        }
+    }
+    if sources.len() > 1 {
+        if let Some(k) = sources.iter().position(|s| matches!(s, Source::Sun(_))) {
+            return Err(at.error(
+                desc.sources[k].span(),
+                "a `sun` source must be the scene's only source: its images are in axions per second, which other sources' weights are not",
+            ));
+        }
+    }
+    Ok(sources)
+}
+
+/// The named cameras and the sky of visible-light renders (a Sun source shows
+/// in the sky where it stands, as large as it looks).
+fn cameras_and_sky(
+    at: SceneText,
+    desc: &super::desc::SceneDesc,
+    sources: &[Source],
+) -> Result<(BTreeMap<String, Camera>, Sky), SceneError> {
+    let mut cameras = BTreeMap::new();
+    for (name, c) in &desc.cameras {
+        let camera = c
+            .get_ref()
+            .build()
+            .map_err(|m| at.error(c.span(), format!("camera `{name}`: {m}")))?;
+        cameras.insert(name.clone(), camera);
+    }
+    let sky_desc = desc
+        .sky
+        .as_ref()
+        .map(|k| k.get_ref().clone())
+        .unwrap_or_default();
+    let mut sky = match &desc.sky {
+        None => Default::default(),
+        Some(k) => k.get_ref().build().map_err(|m| at.error(k.span(), m))?,
+    };
+    for source in sources {
+        if let Source::Sun(sun) = source {
+            sky = sky.with_sun(sun.toward_sun, sun.angular_radius(), &sky_desc);
+        }
+    }
+    Ok((cameras, sky))
 }
 
 /// Lowest and highest energy the sources emit (keV); (∞, −∞) without sources.
