@@ -115,20 +115,33 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             a.var, scan.clipped
         );
     }
-    // The scene as the user gave it: -D overrides and variables without the
-    // swept one (focus.csv has its values).
+    let embree = Some(device.info().version);
+    write(&a, folder, &scan, first_scene, embree, &cfg)?;
+    print_fits(&a, &scan)
+}
+
+/// Writes focus.csv, focus.json and focus.png with the provenance of the scene
+/// as the user gave it: -D overrides and variables without the swept one
+/// (focus.csv has its values).
+fn write(
+    a: &FocusArgs,
+    folder: OutputFolder,
+    scan: &FocusScan,
+    first_scene: Option<Provenance>,
+    embree_version: Option<String>,
+    cfg: &traxer::trace::RunConfig,
+) -> anyhow::Result<()> {
     let mut provenance = Provenance {
-        embree_version: Some(device.info().version),
+        embree_version,
         overrides: a.scene.vars.define.clone(),
         ..first_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
     }
-    .run(&cfg, scan.threads);
+    .run(cfg, scan.threads);
     provenance.variables.remove(&a.var);
     let out = &a.output.out;
-    write_focus(folder.path(), &scan, &a.var, (a.from, a.to), &provenance)
+    write_focus(folder.path(), scan, &a.var, (a.from, a.to), &provenance)
         .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
-    print_fits(&a, &scan)
+        .with_context(|| format!("cannot write the results into {}", out.display()))
 }
 
 /// The results folder and the scan's record (resumed with --resume).

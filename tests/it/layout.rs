@@ -175,3 +175,80 @@ fn no_source_file_is_over_600_lines_and_unsafe_stays_in_embree() {
         }
     }
 }
+
+/// (lines, file, name) of every function with a body in `text`: from its `fn`
+/// line to the line that closes its body (braces counted; the crate writes no
+/// braces in character literals that would fool this).
+fn function_lengths(text: &str) -> Vec<(usize, String)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let mut out = Vec::new();
+    let mut i = 0;
+    while i < lines.len() {
+        let l = lines[i].trim_start();
+        let l = l
+            .strip_prefix("pub(crate) ")
+            .or_else(|| l.strip_prefix("pub(super) "))
+            .or_else(|| l.strip_prefix("pub "))
+            .unwrap_or(l);
+        let Some(rest) = l.strip_prefix("fn ") else {
+            i += 1;
+            continue;
+        };
+        let name: String = rest
+            .chars()
+            .take_while(|c| c.is_alphanumeric() || *c == '_')
+            .collect();
+        let (mut depth, mut opened, mut j) = (0i64, false, i);
+        while j < lines.len() {
+            let code = code(lines[j]);
+            if !opened && code.trim_end().ends_with(';') {
+                break; // a declaration without a body
+            }
+            for c in code.chars() {
+                match c {
+                    '{' => {
+                        depth += 1;
+                        opened = true;
+                    }
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if opened && depth == 0 {
+                out.push((j - i + 1, name.clone()));
+                break;
+            }
+            j += 1;
+        }
+        i = j.max(i) + 1;
+    }
+    out
+}
+
+#[test]
+fn no_function_is_over_100_lines_and_commands_only_build_run_and_print() {
+    let src = repo().join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut long = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        let command = f.parent() == Some(&src.join("cli"));
+        for (n, name) in function_lengths(&text) {
+            let limit = if command && name == "run" { 70 } else { 100 };
+            if n > limit {
+                long.push(format!(
+                    "{}: {name} has {n} lines (at most {limit})",
+                    f.display()
+                ));
+            }
+        }
+    }
+    assert!(long.is_empty(), "{long:#?}");
+    // The counter counts.
+    let sample = "fn a() {\n    if x {\n        y();\n    }\n}\nfn b();\npub fn c() { }\n";
+    assert_eq!(
+        function_lengths(sample),
+        vec![(5, "a".to_string()), (1, "c".to_string())]
+    );
+}
