@@ -9,12 +9,10 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::Arc;
-use traxer::analysis::{analyse, ImageGeometry};
-use traxer::output::{
-    flux_unit, image_flux, photon_list_npy, sources_json, statistics_json, Provenance,
-};
+use traxer::analysis::FinishedImage;
+use traxer::output::{flux_unit, photon_list_npy, sources_json, statistics_json, Provenance};
 use traxer::run::{save_results, StateHeader};
-use traxer::sensor::{sum_bands, SensorSpec};
+use traxer::sensor::SensorSpec;
 use traxer::trace::Tally;
 
 /// One sensor's image of a trace.
@@ -74,25 +72,21 @@ impl SensorImage {
         absolute: Option<f64>,
     ) -> PyResult<SensorImage> {
         let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
-        let shape = match spec.energy_bins {
-            Some((_, _, n)) => vec![n as usize, ny, nx],
-            None => vec![ny, nx],
-        };
-        let flux = image_flux(image, absolute);
-        let summed = sum_bands(&flux, spec.pixel_count());
-        let g = ImageGeometry::of_sensor(spec);
-        let analysed = analyse(&summed, &g, spec.focal_length);
-        let (quality, eef) = match analysed {
+        let finished = FinishedImage::of(spec, image, absolute);
+        let total_flux = finished.total_flux();
+        let [x_mm, y_mm] = finished.pixel_centres_mm();
+        let FinishedImage {
+            shape,
+            flux,
+            quality,
+            ..
+        } = finished;
+        let (quality, eef) = match quality {
             Some((q, e)) => (to_json(py, &q)?, Some(e)),
             None => (py.None().into_bound(py), None),
         };
         let (radius, fraction) =
             eef.map_or((Vec::new(), Vec::new()), |e| (e.radius_mm, e.fraction));
-        let centres = |n: usize, origin: f64, pitch: f64| {
-            (0..n)
-                .map(|i| origin + (i as f64 + 0.5) * pitch)
-                .collect::<Vec<f64>>()
-        };
         let pitch = spec.pitch();
         let conversion = match &image.conversion {
             Some(t) => conversion_dict(py, t, absolute.unwrap_or(1.0))?
@@ -103,7 +97,7 @@ impl SensorImage {
         Ok(SensorImage {
             conversion,
             name: spec.name.clone(),
-            total_flux: flux.iter().sum(),
+            total_flux,
             total_counts: image.total_counts(),
             flux: array(py, &shape, flux)?.unbind(),
             counts: array(py, &shape, image.counts.clone())?.unbind(),
@@ -113,8 +107,8 @@ impl SensorImage {
             pixel_pitch_mm: (pitch[0], pitch[1]),
             focal_length_mm: spec.focal_length,
             energy_band_edges_keV: spec.band_edges(),
-            x_mm: array(py, &[nx], centres(nx, g.origin_mm[0], pitch[0]))?.unbind(),
-            y_mm: array(py, &[ny], centres(ny, g.origin_mm[1], pitch[1]))?.unbind(),
+            x_mm: array(py, &[nx], x_mm)?.unbind(),
+            y_mm: array(py, &[ny], y_mm)?.unbind(),
             quality: quality.unbind(),
             eef_radius_mm: array(py, &[radius.len()], radius)?.unbind(),
             eef_fraction: array(py, &[fraction.len()], fraction)?.unbind(),

@@ -9,7 +9,10 @@
 //! sensor positions, whose diameters [`focus::fit_defocus`] fits.
 
 pub mod eef;
+mod finished;
 pub mod focus;
+
+pub use finished::FinishedImage;
 
 use eef::EncircledFlux;
 

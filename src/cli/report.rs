@@ -1,7 +1,7 @@
 //! What a finished trace says on stdout: its statistics and each sensor's image
 //! quality (`trace`, `trace --resume`, `merge`).
 
-use traxer::analysis::{analyse, ImageGeometry};
+use traxer::analysis::FinishedImage;
 use traxer::trace::RunResult;
 
 /// The run's statistics and each sensor's image quality on stdout.
@@ -35,8 +35,8 @@ pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
                 img.total_flux()
             ),
         }
-        let g = ImageGeometry::of_sensor(spec);
-        if let Some((q, _)) = analyse(&img.flux_summed(spec), &g, spec.focal_length) {
+        let finished = FinishedImage::of(spec, img, None);
+        if let Some(q) = finished.image_quality() {
             let arc = |a: Option<f64>| a.map(|v| format!(" ({v:.1}″)")).unwrap_or_default();
             say!(
                 "    centroid ({:.4}, {:.4}) mm; HPD {:.4} mm{}, 80 % {:.4} mm{}, 90 % {:.4} mm{}",

@@ -16,7 +16,7 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
-use traxer::analysis::{analyse, ImageGeometry};
+use traxer::analysis::FinishedImage;
 use traxer::embree::Device;
 use traxer::live::{feed, Published};
 use traxer::output::colormap::Scale;
@@ -188,10 +188,10 @@ impl View<'_> {
             .iter()
             .zip(&p.tally.images)
             .map(|(spec, img)| {
-                let summed = img.flux_summed(spec);
+                let finished = FinishedImage::of(spec, img, None);
+                let summed = &finished.summed;
                 if quality.is_empty() {
-                    let g = ImageGeometry::of_sensor(spec);
-                    if let Some((q, _)) = analyse(&summed, &g, spec.focal_length) {
+                    if let Some(q) = finished.image_quality() {
                         quality = match q.hpd_arcsec {
                             Some(v) => format!(", {}: HPD {v:.1}″", spec.name),
                             None => format!(", {}: HPD {:.3} mm", spec.name, q.hpd_mm),
@@ -203,7 +203,7 @@ impl View<'_> {
                     spec.object,
                     spec.size,
                     px,
-                    &summed,
+                    summed,
                     scale,
                     self.a.brightness,
                 )

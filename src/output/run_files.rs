@@ -6,7 +6,7 @@ use super::history::{history_json, write_class_images, write_photon_list, PHOTON
 use super::write_eef_plot;
 use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
 use super::{write_sensor_fits, FluxUnit, SensorFits};
-use crate::analysis::{analyse, projections, ImageGeometry};
+use crate::analysis::{projections, FinishedImage, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
 use crate::sensor::{fits_file_name, sensor_file_names, SUMMARY_FILE};
@@ -109,14 +109,10 @@ fn write_sensor(
 ) -> std::io::Result<(Value, Vec<PathBuf>)> {
     let mut written = Vec::new();
     let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
+    let finished = FinishedImage::of(spec, image, absolute);
     // [band][iy][ix] with energy bins, [iy][ix] without.
-    let shape: Vec<u64> = match spec.energy_bins {
-        Some((_, _, n)) => vec![n as u64, ny as u64, nx as u64],
-        None => vec![ny as u64, nx as u64],
-    };
-    let flux = image_flux(image, absolute);
-    let flux = &flux[..];
-    let summed = crate::sensor::sum_bands(flux, spec.pixel_count());
+    let shape: Vec<u64> = finished.shape.iter().map(|&n| n as u64).collect();
+    let (flux, summed) = (&finished.flux[..], &finished.summed);
     let files = sensor_file_names(&spec.name);
     let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
     write_npy_f64(&paths[0], &shape, flux)?;
@@ -134,11 +130,10 @@ fn write_sensor(
         write_sensor_fits(&path, &image)?;
         written.push(path);
     }
-    write_png(&paths[2], nx, ny, &summed, Scale::Linear)?;
-    write_png(&paths[3], nx, ny, &summed, Scale::Log { decades: 5 })?;
-    let geometry = ImageGeometry::of_sensor(spec);
-    let quality = analyse(&summed, &geometry, spec.focal_length);
-    if let Some((q, eef)) = &quality {
+    write_png(&paths[2], nx, ny, summed, Scale::Linear)?;
+    write_png(&paths[3], nx, ny, summed, Scale::Log { decades: 5 })?;
+    let (geometry, quality) = (&finished.geometry, &finished.quality);
+    if let Some((q, eef)) = quality {
         write_eef_plot(
             &paths[5],
             &format!("{}: encircled energy", spec.name),
@@ -146,8 +141,8 @@ fn write_sensor(
             eef,
         )?;
     }
-    write_projections(&paths[6], &summed, &geometry)?;
-    let grid = write_grid_files(dir, spec, &summed, &mut written)?;
+    write_projections(&paths[6], summed, geometry)?;
+    let grid = write_grid_files(dir, spec, summed, &mut written)?;
     written.extend(write_class_images(
         dir,
         spec,
@@ -168,8 +163,8 @@ fn write_sensor(
             "flux": flux_units(absolute.is_some(), spec.gas.is_some()),
             "counts": "number of photons per pixel",
         },
-        "total_flux": flux.iter().sum::<f64>(),
-        "image_quality": quality.as_ref().map(|(q, _)| q),
+        "total_flux": finished.total_flux(),
+        "image_quality": finished.image_quality(),
         "total_counts": image.total_counts(),
         "pixel_grid": grid,
         "conversion": conversion,
@@ -251,16 +246,6 @@ fn write_conversion_files(
     let (entry, files) = write_conversion(dir, spec, tally, to_world, absolute.unwrap_or(1.0))?;
     written.extend(files);
     Ok(entry)
-}
-
-/// A sensor's image as its `.npy` holds it: the sum of weights per pixel, times
-/// `absolute` (axions/s per unit weight, with a Sun) when given.
-pub fn image_flux(image: &crate::sensor::SensorImage, absolute: Option<f64>) -> Vec<f64> {
-    let mut flux = image.flux();
-    if let Some(k) = absolute {
-        flux.iter_mut().for_each(|f| *f *= k);
-    }
-    flux
 }
 
 /// What a sensor's pixel values are (as FITS BUNIT): photons per pixel, weighted

@@ -2,7 +2,7 @@
 //! quality in mm or arcseconds.
 
 use super::StudyError;
-use crate::analysis::{analyse, ImageGeometry, ImageQuality};
+use crate::analysis::{FinishedImage, ImageQuality};
 use crate::progress::Progress;
 use crate::scene::Scene;
 use crate::trace::{self, RunConfig};
@@ -59,12 +59,7 @@ pub fn trace_and_measure(
     let result = trace::run_with_progress(scene, cfg, progress)?;
     let spec = &scene.sensors[sensor];
     let image = &result.images[sensor];
-    let quality = analyse(
-        &image.flux_summed(spec),
-        &ImageGeometry::of_sensor(spec),
-        spec.focal_length,
-    )
-    .map(|(q, _)| q);
+    let quality = FinishedImage::of(spec, image, None).quality.map(|(q, _)| q);
     Ok(Measured {
         quality,
         emitted: result.stats.photons_emitted,
