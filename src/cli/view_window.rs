@@ -199,14 +199,7 @@ impl View<'_> {
                     }
                 }
                 let px = [spec.pixels[0] as usize, spec.pixels[1] as usize];
-                SensorTexture::viridis(
-                    spec.object,
-                    spec.size,
-                    px,
-                    summed,
-                    scale,
-                    self.a.brightness,
-                )
+                SensorTexture::viridis(spec.object, spec.size, px, summed, scale, self.a.brightness)
             })
             .collect();
         self.sum.iter_mut().for_each(|v| *v = DVec3::ZERO);

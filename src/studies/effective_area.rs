@@ -27,7 +27,7 @@ use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::scene::{Scene, TABLE_THETA_MAX};
 use crate::source::{ParallelBeam, Photon, Source};
-use crate::trace::{trace_photon, Attenuation, Statistics, CHUNK};
+use crate::trace::{chunk_range, trace_photon, Attenuation, Statistics, CHUNK};
 use crate::xray::{AngleCell, EnergyCell, ReflectivityTable};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -254,14 +254,14 @@ fn trace_angle(
     let chunks: Vec<Hits> = (0..s.photons.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let (lo, hi) = (c * CHUNK, ((c + 1) * CHUNK).min(s.photons));
+            let photons = chunk_range(0, c, s.photons);
             let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
             let mut out = Hits {
                 hits: Vec::new(),
                 steps: Vec::new(),
             };
             let mut rec = Recorder(Vec::new());
-            for i in lo..hi {
+            for i in photons.clone() {
                 let mut rng = PhotonRng::new(s.seed, i);
                 let photon = beam.emit(&mut rng);
                 rec.0.clear();
@@ -279,7 +279,7 @@ fn trace_angle(
                     });
                 }
             }
-            progress.advance(hi - lo);
+            progress.advance(photons.end - photons.start);
             out
         })
         .collect();

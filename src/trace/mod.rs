@@ -25,6 +25,17 @@ use std::time::Instant;
 /// Photons per chunk: large enough to amortise scheduling, small enough to balance
 /// two cores and keep progress reports coming.
 pub const CHUNK: u64 = 4096;
+/// The photon indices of chunk `c` of a run of `photons` photons whose first
+/// photon is `first`: [`CHUNK`] photons each, the last one shorter. With photon i
+/// drawing from the stream `PhotonRng::new(seed, i)`, this is the one rule that
+/// makes every driver (runs, shards, resumes, the live window, effective-area
+/// sweeps) trace the same photons, however the work is split.
+pub fn chunk_range(first: u64, c: u64, photons: u64) -> std::ops::Range<u64> {
+    let lo = c * CHUNK;
+    let hi = (lo + CHUNK).min(photons);
+    first + lo..first + hi
+}
+
 /// Chunks per batch: between batches the photon list is joined in photon order,
 /// checkpoints are written and stops happen (the images are exact sums, added by
 /// each worker as its chunk ends, in any order).
@@ -206,15 +217,14 @@ pub fn run_part(
             (next..end)
                 .into_par_iter()
                 .map(|c| {
-                    let lo = c * CHUNK;
-                    let hi = (lo + CHUNK).min(cfg.photons);
-                    let range = cfg.first_photon + lo..cfg.first_photon + hi;
+                    let range = chunk_range(cfg.first_photon, c, cfg.photons);
+                    let n = range.end - range.start;
                     let r = trace_chunk(scene, cfg.seed, range, list_cap, &mut ());
                     shared
                         .lock()
                         .expect("no worker panics while holding the tally")
                         .add_records(&r.records, &r.stats);
-                    progress.advance(hi - lo);
+                    progress.advance(n);
                     r.listed
                 })
                 .collect()
