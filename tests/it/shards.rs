@@ -762,29 +762,20 @@ fn merge_peak_kb(out: &Path, dirs: &[PathBuf]) -> u64 {
 fn merge_memory_does_not_grow_with_the_number_of_shards() {
     let dir = tempfile::tempdir().unwrap();
     let scene = big_sensor_scene(dir.path());
-    let shards: Vec<PathBuf> = (1..=8)
-        .map(|k| {
-            let d = dir.path().join(format!("s{k}"));
-            run_ok(&mut trace(
-                &scene,
-                &d,
-                &["-n", "8000", "--shard", &format!("{k}/8")],
-            ));
-            d
-        })
-        .collect();
+    // All shards of a cut of the run into `n`, in folders `{prefix}K`.
+    let cut = |n: u64, prefix: &str| -> Vec<PathBuf> {
+        (1..=n)
+            .map(|k| {
+                let d = dir.path().join(format!("{prefix}{k}"));
+                let shard = format!("{k}/{n}");
+                run_ok(&mut trace(&scene, &d, &["-n", "8000", "--shard", &shard]));
+                d
+            })
+            .collect()
+    };
+    let shards = cut(8, "s");
     // Two shards of another cut of the same scene, for the baseline.
-    let pair: Vec<PathBuf> = (1..=2)
-        .map(|k| {
-            let d = dir.path().join(format!("p{k}"));
-            run_ok(&mut trace(
-                &scene,
-                &d,
-                &["-n", "8000", "--shard", &format!("{k}/2")],
-            ));
-            d
-        })
-        .collect();
+    let pair = cut(2, "p");
     let two = merge_peak_kb(&dir.path().join("m2"), &pair);
     let eight = merge_peak_kb(&dir.path().join("m8"), &shards);
     // Each tally of the 1500 × 1500 sensor is tens of MB: holding all eight at
