@@ -466,3 +466,22 @@ def test_the_example_runs(tmp_path):
     assert out.returncode == 0, out.stderr
     assert "window transmission" in out.stdout
     assert (tmp_path / "out" / "chip.npy").exists() and (tmp_path / "out" / "summary.json").exists()
+
+
+@pytest.mark.skipif(not SOLAR_MODEL.exists(), reason="../shared/solar is not here")
+def test_a_degenerate_solar_model_raises_input_error_not_a_panic(tmp_path):
+    """A model whose mass fractions are all zero (or whose numbers are absurd)
+    raises traxer.InputError naming the file, never a PanicException."""
+    lines = []
+    for line in SOLAR_MODEL.read_text().splitlines():
+        fields = line.split()
+        if line.startswith("#") or len(fields) < 7:
+            lines.append(line)
+        else:
+            lines.append(" ".join(fields[:6] + ["0.0"] * (len(fields) - 6)))
+    bad = tmp_path / "empty.dat"
+    bad.write_text("\n".join(lines))
+    with pytest.raises(traxer.InputError, match="empty.dat:.*mass fractions add up to 0"):
+        traxer.SolarEmission.from_model(bad, [1.0, 2.0, 3.0])
+    with pytest.raises(traxer.InputError, match="distance"):
+        traxer.SolarEmission.builtin().flux(1e300)
