@@ -6,7 +6,8 @@ use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress};
 use anyhow::Context;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
-use traxer::run::record::{base_identity, Record};
+use traxer::run::record::base_identity;
+use traxer::run::Study;
 use traxer::studies::effective_area::{sweep, AngleResult, AreaResult, AreaSweep};
 use traxer::trace::RunConfig;
 
@@ -70,11 +71,6 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
     };
     traxer::studies::effective_area::check(&s)?;
     let (device, scene) = load_xray_scene(&a.scene)?;
-    let record_name = Record::<AngleResult>::file_name("effective_area");
-    let folder = traxer::run::results_folder(
-        &a.output.out,
-        &[&EFFECTIVE_AREA_FILES[..], &[record_name.as_str()]].concat(),
-    )?;
     let mut id = base_identity(&scene);
     id.extend([
         ("energies_kev".into(), serde_json::json!(s.energies)),
@@ -84,22 +80,25 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         ("sensor".into(), serde_json::json!(s.sensor)),
         ("radius_mm".into(), serde_json::json!(s.radius_mm)),
     ]);
-    let mut record: Record<AngleResult> =
-        Record::open(&a.output.out, "effective_area", id.into(), a.resume)?;
-    let replay = record.recorded().to_vec();
+    let study: Study<AngleResult> = Study::open(
+        &a.output.out,
+        "effective_area",
+        &EFFECTIVE_AREA_FILES,
+        id.into(),
+        a.resume,
+    )?;
+    let replay = study.replay();
     super::signals::set_stop_message(format!(
         "stopped; the angles so far are in {}: run the same command with --resume to continue",
-        a.output.out.join(&record_name).display()
+        study.record_path().display()
     ));
     let quiet = a.output.quiet.quiet;
     let total = a.photons.saturating_mul(s.angles_arcmin.len() as u64);
     let bar = progress::bar(total, "photons", quiet);
-    let mut position = 0;
     let result = sweep(&scene, &s, &replay, &|n| bar.inc(n), |angle| {
-        if let Some(w) = record.add(position, angle) {
+        if let Some(w) = study.point_done(angle) {
             tell!("warning: {w}");
         }
-        position += 1;
     });
     bar.finish_and_clear();
     let result = result?;
@@ -111,6 +110,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         .scene(&scene)
         .run(&cfg, result.threads);
     let out = &a.output.out;
+    let folder = study.folder;
     write_effective_area(folder.path(), &result, a.radius, &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;

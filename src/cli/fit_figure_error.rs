@@ -6,7 +6,8 @@ use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError};
 use anyhow::Context;
 use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
-use traxer::run::record::{base_identity, Record};
+use traxer::run::record::base_identity;
+use traxer::run::Study;
 use traxer::studies::fit::{
     fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, PARAMETERS,
 };
@@ -137,21 +138,23 @@ fn parse_bounds(specs: &[String]) -> Result<Bounds, InputError> {
 
 pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let run = a.run.config()?;
-    let record_name = Record::<Evaluation>::file_name("fit");
-    let names = [&FIT_FILES[..], &[record_name.as_str()]].concat();
-    let folder = traxer::run::results_folder(&a.output.out, &names)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let settings = fit_settings(&a, &scene, &run)?;
-    let mut record: Record<Evaluation> =
-        Record::open(&a.output.out, "fit", identity(&scene, &settings), a.resume)?;
-    let replay = record.recorded().to_vec();
+    let study: Study<Evaluation> = Study::open(
+        &a.output.out,
+        "fit",
+        &FIT_FILES,
+        identity(&scene, &settings),
+        a.resume,
+    )?;
+    let replay = study.replay();
     let quiet = a.output.quiet.quiet;
     if !quiet && a.resume {
         say!("resuming: {} evaluations recorded", replay.len());
     }
     super::signals::set_stop_message(format!(
         "stopped; the evaluations so far are in {}: run the same command with --resume to continue",
-        a.output.out.join(&record_name).display()
+        study.record_path().display()
     ));
     // The budget: every evaluation and the seed check trace `photons` photons
     // (DIRECT-L may stop early; the bar then ends short of its length).
@@ -164,7 +167,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         &replay,
         &|n| bar.inc(n),
         |e, best| {
-            if let Some(w) = record.add(e.index - 1, e) {
+            if let Some(w) = study.point_done_at(e.index - 1, e) {
                 tell!("warning: {w}");
             }
             if !quiet && e.index > replay.len() {
@@ -192,6 +195,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         fit_seconds,
     };
     let out = &a.output.out;
+    let folder = study.folder;
     write_fit(folder.path(), &report, &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;

@@ -8,7 +8,8 @@ use anyhow::Context;
 use traxer::embree::Device;
 use traxer::files::OutputFolder;
 use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
-use traxer::run::record::{check_inputs, file_identity, Record};
+use traxer::run::record::file_identity;
+use traxer::run::Study;
 use traxer::scene::Scene;
 use traxer::studies::focus::{scan, FocusScan, FocusStep, FocusSweep};
 use traxer::studies::StudyError;
@@ -64,29 +65,24 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     };
     let values = sweep.values()?;
     let cfg = a.run.config()?;
-    let (folder, mut record) = open_record(&a, &values, &cfg)?;
-    let replay = record.recorded().to_vec();
+    let study = open_study(&a, &values, &cfg)?;
+    let replay = study.replay();
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let mut warnings = Warnings::default();
     let mut first_scene = None;
-    // Every value's scene must read the files the first one (in this sitting
-    // or a stopped one) read.
-    let inputs = std::cell::RefCell::new(record.inputs().cloned());
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
         let defines = [a.scene.vars.define.as_slice(), extra].concat();
         let scene = Scene::load(&device, &a.scene.scene, &defines)?;
-        check_inputs(inputs.borrow().as_ref(), &scene).map_err(|e| StudyError::Input(e.0))?;
-        inputs
-            .borrow_mut()
-            .get_or_insert_with(|| scene.inputs.clone());
+        study
+            .check_scene(&scene)
+            .map_err(|e| StudyError::Input(e.to_string()))?;
         warnings.show(&scene);
         first_scene
             .get_or_insert_with(|| Provenance::new(&super::invocation(), None).scene(&scene));
         Ok(scene)
     };
     let bar = progress::bar(cfg.photons * values.len() as u64, "photons", quiet);
-    let mut position = 0;
     let result = scan(
         load,
         &sweep,
@@ -94,13 +90,9 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         &replay,
         &|n| bar.inc(n),
         |step, sensor| {
-            if let Some(i) = inputs.borrow().as_ref() {
-                record.set_inputs(i);
-            }
-            if let Some(w) = record.add(position, step) {
+            if let Some(w) = study.point_done(step) {
                 tell!("warning: {w}");
             }
-            position += 1;
             if !quiet {
                 bar.suspend(|| print_step(&a.var, step, sensor));
             }
@@ -116,7 +108,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         );
     }
     let embree = Some(device.info().version);
-    write(&a, folder, &scan, first_scene, embree, &cfg)?;
+    write(&a, study.folder, &scan, first_scene, embree, &cfg)?;
     print_fits(&a, &scan)
 }
 
@@ -144,17 +136,12 @@ fn write(
         .with_context(|| format!("cannot write the results into {}", out.display()))
 }
 
-/// The results folder and the scan's record (resumed with --resume).
-fn open_record(
+/// The scan's results folder and record (resumed with --resume).
+fn open_study(
     a: &FocusArgs,
     values: &[f64],
     cfg: &traxer::trace::RunConfig,
-) -> anyhow::Result<(OutputFolder, Record<FocusStep>)> {
-    let record_name = Record::<FocusStep>::file_name("focus");
-    let folder = traxer::run::results_folder(
-        &a.output.out,
-        &[&FOCUS_FILES[..], &[record_name.as_str()]].concat(),
-    )?;
+) -> anyhow::Result<Study<FocusStep>> {
     let mut id = file_identity(&a.scene.scene, &a.scene.vars.define)?;
     id.extend([
         ("var".into(), a.var.clone().into()),
@@ -163,12 +150,12 @@ fn open_record(
         ("photons".into(), cfg.photons.into()),
         ("seed".into(), cfg.seed.into()),
     ]);
-    let record = Record::open(&a.output.out, "focus", id.into(), a.resume)?;
+    let study = Study::open(&a.output.out, "focus", &FOCUS_FILES, id.into(), a.resume)?;
     super::signals::set_stop_message(format!(
         "stopped; the positions so far are in {}: run the same command with --resume to continue",
-        a.output.out.join(&record_name).display()
+        study.record_path().display()
     ));
-    Ok((folder, record))
+    Ok(study)
 }
 
 /// One position's line on stdout.

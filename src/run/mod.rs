@@ -28,6 +28,7 @@ pub mod provenance;
 pub mod record;
 mod shard;
 pub mod state_file;
+pub mod study;
 
 pub use finished::{results_file_names, results_folder, save_results, write_results};
 pub use job::{
@@ -38,6 +39,7 @@ pub use merge_job::{MergeJob, MergedRun};
 pub use provenance::{git_hash, Invocation};
 pub use shard::Shard;
 pub use state_file::{read_header, read_state, state_bytes, write_state, RunStateError};
+pub use study::Study;
 
 use crate::scene::{input_difference, InputHashes, Scene};
 use crate::trace::{RunConfig, Tally};
