@@ -9,17 +9,9 @@ use numpy::IntoPyArray;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyString, PyTuple};
 
-/// More worker threads than this is a typo, not a machine (as in the CLI).
-const MAX_THREADS: usize = 1024;
-
-/// Checks a thread count: 0 (one per core) to [`MAX_THREADS`].
+/// Checks a thread count: 0 (one per core) to `traxer::run::MAX_THREADS`.
 pub fn threads(n: usize) -> PyResult<usize> {
-    if n > MAX_THREADS {
-        return Err(input(format!(
-            "threads={n}: expected 0 (one per core) to {MAX_THREADS} worker threads"
-        )));
-    }
-    Ok(n)
+    traxer::run::check_threads(n).map_err(|e| input(e.0))
 }
 
 /// Scene variables as the CLI's `-D name=value`: from a mapping {name: value} or

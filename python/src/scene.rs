@@ -15,9 +15,6 @@ use traxer::output::Provenance;
 use traxer::run::{Invocation, RunPart, RunSettings, Shard, TraceJob};
 use traxer::trace::{run_part, Flow, RunConfig, Tally};
 
-/// At most this many photons in a photon list (about 100 bytes each), as in the CLI.
-const MAX_LIST: usize = 20_000_000;
-
 /// A scene and the Embree device it was built on (the device must outlive it).
 pub struct Loaded {
     pub scene: traxer::scene::Scene,
@@ -150,21 +147,10 @@ impl Scene {
         out: Option<PathBuf>,
         checkpoint_every: Option<f64>,
     ) -> PyResult<TraceResult> {
-        if photons == 0 {
-            return Err(input("photons must be at least 1"));
-        }
-        if photon_list > MAX_LIST {
-            return Err(input(format!(
-                "photon_list={photon_list}: at most {MAX_LIST} photons are listed"
-            )));
-        }
+        let cfg =
+            traxer::run::run_config(photons, seed, threads, photon_list).map_err(|e| input(e.0))?;
         let scene = &self.loaded.scene;
         traxer::studies::require_sources(scene).map_err(lib)?;
-        let cfg = RunConfig {
-            threads: self::threads(threads)?,
-            photon_list,
-            ..RunConfig::new(photons, seed)
-        };
         let invocation = Invocation::new([
             "python".to_string(),
             format!(

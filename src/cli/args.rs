@@ -10,7 +10,7 @@ use traxer::trace::RunConfig;
 
 /// More worker threads than this is a typo, not a machine (and would take minutes
 /// to start).
-pub const MAX_THREADS: usize = 1024;
+pub use traxer::run::MAX_THREADS;
 
 /// Parses `--threads N`: 0 (one per core) to [`MAX_THREADS`].
 pub fn parse_threads(s: &str) -> Result<usize, String> {
@@ -72,13 +72,7 @@ pub struct RunArgs {
 impl RunArgs {
     /// The library's run configuration, checked.
     pub fn config(&self) -> Result<RunConfig, InputError> {
-        if self.photons == 0 {
-            return Err(InputError("--photons must be at least 1".into()));
-        }
-        Ok(RunConfig {
-            threads: self.sampling.threads,
-            ..RunConfig::new(self.photons, self.sampling.seed)
-        })
+        traxer::run::run_config(self.photons, self.sampling.seed, self.sampling.threads, 0)
     }
 }
 

@@ -50,11 +50,45 @@ use std::path::PathBuf;
 /// all of them.
 pub const MAX_PHOTON_LIST: usize = 20_000_000;
 
+/// More worker threads than this is a typo, not a machine.
+pub const MAX_THREADS: usize = 1024;
+
+/// The one validated run configuration of every front end: at least one photon,
+/// 0 (one per core) to [`MAX_THREADS`] threads, a photon list of at most
+/// [`MAX_PHOTON_LIST`]. Messages name the setting as `name=value`, which both
+/// the CLI's options and Python's arguments read.
+pub fn run_config(
+    photons: u64,
+    seed: u64,
+    threads: usize,
+    photon_list: usize,
+) -> Result<RunConfig, InputError> {
+    if photons == 0 {
+        return Err(InputError("photons must be at least 1".into()));
+    }
+    check_threads(threads)?;
+    Ok(RunConfig {
+        threads,
+        photon_list: check_photon_list(photon_list)?,
+        ..RunConfig::new(photons, seed)
+    })
+}
+
+/// A thread count checked: 0 (one per core) to [`MAX_THREADS`].
+pub fn check_threads(threads: usize) -> Result<usize, InputError> {
+    if threads > MAX_THREADS {
+        return Err(InputError(format!(
+            "threads={threads}: expected 0 (one per core) to {MAX_THREADS} worker threads"
+        )));
+    }
+    Ok(threads)
+}
+
 /// The number of photons to list (`--photon-list`, `photon_list=`), checked.
 pub fn check_photon_list(n: usize) -> Result<usize, InputError> {
     if n > MAX_PHOTON_LIST {
         return Err(InputError(format!(
-            "photon list of {n}: at most {MAX_PHOTON_LIST} photons are listed"
+            "photon_list={n}: at most {MAX_PHOTON_LIST} photons are listed"
         )));
     }
     Ok(n)
