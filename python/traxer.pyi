@@ -46,8 +46,8 @@ class Scene:
 
     ``defines`` sets variables declared in the file's ``[vars]``, like the CLI's
     ``-D name=value``: a dict ``{"name": value}`` (bool, number, string or list)
-    or a list of ``"name=value"`` strings. Raises ``SceneError`` for a scene that
-    cannot be loaded.
+    or a list of ``"name=value"`` strings. Raises ``FileNotFoundError`` if there is
+    no such file, ``SceneError`` for a scene that cannot be loaded.
     """
 
     def __init__(
@@ -75,7 +75,7 @@ class Scene:
     def triangle_count(self) -> int: ...
     def trace(
         self,
-        photons: int,
+        photons: int | float,
         seed: int = 1,
         threads: int = 0,
         photon_list: int = 0,
@@ -101,7 +101,7 @@ class Scene:
         self,
         energies_keV: Sequence[float] | npt.ArrayLike,
         angles_arcmin: Sequence[float] | npt.ArrayLike = ...,
-        photons: int = 200_000,
+        photons: Optional[int | float] = None,
         seed: int = 1,
         threads: int = 0,
         sensor: Optional[str] = None,

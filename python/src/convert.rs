@@ -119,3 +119,24 @@ pub fn progress_bar(total: u64, show: bool) -> indicatif::ProgressBar {
     );
     bar
 }
+
+/// A count of photons (or any whole number of things) given as a Python int or
+/// an integral float (`1e6`), at least `min`; the message names the argument
+/// instead of Python's "can't convert negative int to unsigned".
+pub fn count(name: &str, value: &Bound<'_, PyAny>, min: u64) -> PyResult<u64> {
+    let n: Option<i128> = if let Ok(i) = value.extract::<i128>() {
+        Some(i)
+    } else if let Ok(f) = value.extract::<f64>() {
+        (f.is_finite() && f.fract() == 0.0 && f.abs() < 1.9e19).then_some(f as i128)
+    } else {
+        None
+    };
+    match n {
+        Some(n) if n >= min as i128 && n <= u64::MAX as i128 => Ok(n as u64),
+        Some(n) => Err(input(format!("{name}={n}: {name} must be ≥ {min}"))),
+        None => Err(input(format!(
+            "{name}={}: expected a whole number ≥ {min}",
+            value.repr().map_or("?".into(), |r| r.to_string())
+        ))),
+    }
+}

@@ -32,8 +32,9 @@ pub fn embree_version() -> PyResult<String> {
 ///
 /// `defines` sets scene variables declared in the file's [vars], like the CLI's
 /// `-D name=value`: a dict {"name": value} (bool, number, string or list) or a
-/// list of "name=value" strings. A scene that cannot be loaded raises
-/// `traxer.SceneError` with `file`, `line` and `message`.
+/// list of "name=value" strings. A missing file raises `FileNotFoundError`; a
+/// scene that cannot be loaded raises `traxer.SceneError` with `file`, `line`,
+/// `key` and `message`.
 #[pyclass(module = "traxer", frozen)]
 pub struct Scene {
     pub loaded: Arc<Loaded>,
@@ -44,6 +45,13 @@ impl Scene {
     #[new]
     #[pyo3(signature = (path, defines = None))]
     fn new(py: Python<'_>, path: PathBuf, defines: Option<&Bound<'_, PyAny>>) -> PyResult<Scene> {
+        if !path.exists() {
+            return Err(pyo3::exceptions::PyFileNotFoundError::new_err((
+                2,
+                "No such scene file",
+                path.display().to_string(),
+            )));
+        }
         let overrides = self::defines(defines)?;
         let loaded = py
             .detach(|| -> anyhow::Result<Loaded> {
@@ -139,7 +147,7 @@ impl Scene {
     fn trace(
         &self,
         py: Python<'_>,
-        photons: u64,
+        photons: &Bound<'_, PyAny>,
         seed: u64,
         threads: usize,
         photon_list: usize,
@@ -147,6 +155,7 @@ impl Scene {
         out: Option<PathBuf>,
         checkpoint_every: Option<f64>,
     ) -> PyResult<TraceResult> {
+        let photons = crate::convert::count("photons", photons, 1)?;
         let cfg =
             traxer::run::run_config(photons, seed, threads, photon_list).map_err(|e| input(e.0))?;
         let scene = &self.loaded.scene;
@@ -201,18 +210,18 @@ impl Scene {
     ///
     /// The scene's only source must be a parallel beam covering the telescope's
     /// entrance; it is tilted to each of `angles_arcmin`. At each angle `photons`
-    /// photons are traced once and each photon's weight is evaluated at every
+    /// photons (default 200 000; an int or a whole float such as 2e5) are traced once and each photon's weight is evaluated at every
     /// energy of `energies_keV`. `sensor`: the sensor to count on (default: the
     /// only one); `radius_mm`: count only within this radius of the image
     /// centroid. Returns a `traxer.EffectiveArea`.
-    #[pyo3(signature = (energies_keV, angles_arcmin = vec![0.0], photons = 200_000, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false))]
+    #[pyo3(signature = (energies_keV, angles_arcmin = vec![0.0], photons = None, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn effective_area(
         &self,
         py: Python<'_>,
         energies_keV: Vec<f64>,
         angles_arcmin: Vec<f64>,
-        photons: u64,
+        photons: Option<&Bound<'_, PyAny>>,
         seed: u64,
         threads: usize,
         sensor: Option<String>,
@@ -222,7 +231,10 @@ impl Scene {
         let sweep = traxer::studies::effective_area::AreaSweep {
             energies: energies_keV,
             angles_arcmin,
-            photons,
+            photons: match photons {
+                Some(p) => crate::convert::count("photons", p, 2)?,
+                None => 200_000,
+            },
             seed,
             threads: self::threads(threads)?,
             sensor,

@@ -335,7 +335,7 @@ def test_scene_errors_name_file_line_and_key(tmp_path):
     with pytest.raises(traxer.SceneError) as e:
         traxer.Scene(WOLTER, defines={"no_such_variable": 1})
     assert "no_such_variable" in str(e.value) and e.value.line is None and e.value.key is None
-    with pytest.raises(traxer.SceneError):
+    with pytest.raises(FileNotFoundError):  # as open() says it (issue 32)
         traxer.Scene(tmp_path / "missing.toml")
     # Scene errors are input errors are ValueErrors.
     assert issubclass(traxer.SceneError, traxer.InputError) and issubclass(traxer.InputError, ValueError)
@@ -485,3 +485,19 @@ def test_a_degenerate_solar_model_raises_input_error_not_a_panic(tmp_path):
         traxer.SolarEmission.from_model(bad, [1.0, 2.0, 3.0])
     with pytest.raises(traxer.InputError, match="distance"):
         traxer.SolarEmission.builtin().flux(1e300)
+
+
+def test_python_arguments_are_read_as_python_reads_them(tmp_path):
+    """A negative photon count names the argument (not an OverflowError), a whole
+    float such as 1e4 is a count, a fraction is refused, a missing scene file is
+    a FileNotFoundError."""
+    s = traxer.Scene(WOLTER)
+    with pytest.raises(traxer.InputError, match=r"photons=-5: photons must be ≥ 1"):
+        s.trace(-5)
+    with pytest.raises(traxer.InputError, match="photons=2.5"):
+        s.trace(2.5)
+    assert s.trace(1e4, seed=3).photons_traced == 10_000
+    assert np.array_equal(s.trace(1e4, seed=3).sensors["sensor"].flux,
+                          s.trace(10_000, seed=3).sensors["sensor"].flux)
+    with pytest.raises(FileNotFoundError):
+        traxer.Scene(tmp_path / "no_such_scene.toml")
