@@ -157,7 +157,7 @@ impl OutputFolder {
             Err(rustix::io::Errno::WOULDBLOCK) => {
                 return Err(fail(
                     target,
-                    "another traxer run is writing its results here: wait for it, or choose another --out",
+                    "another traxer run is writing its results here: wait for it, or choose another output folder",
                 ))
             }
             // A file system without locks: the atomic swap still keeps the
@@ -174,7 +174,7 @@ impl OutputFolder {
             return Err(fail(
                 target,
                 format!(
-                    "holds files traxer did not write ({}{}): the results replace the folder's contents, so choose another --out or move them",
+                    "holds files traxer did not write ({}{}): the results replace the folder's contents, so choose another output folder or move them",
                     foreign[..shown].join(", "),
                     if shown < foreign.len() { ", ..." } else { "" }
                 ),

@@ -135,7 +135,7 @@ fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
     match scene.sources.as_slice() {
         [Source::Parallel(b)] => Ok(b),
         _ => Err(StudyError::Input(format!(
-            "{}: effective-area needs exactly one source, of type \"parallel\", whose aperture covers the telescope's entrance (the beam is tilted to each --angles value)",
+            "{}: effective-area needs exactly one source, of type \"parallel\", whose aperture covers the telescope's entrance (the beam is tilted to each off-axis angle)",
             scene.path.display()
         ))),
     }
@@ -150,14 +150,14 @@ pub const MAX_SWEEP_POINTS: u64 = 1_000_000;
 pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     let bad = |m: String| Err(StudyError::Input(m));
     if s.energies.is_empty() || s.energies.iter().any(|e| !(0.03..=30.0).contains(e)) {
-        return bad("--energies must lie within 0.03–30 keV (the Henke tables)".into());
+        return bad("energies must lie within 0.03–30 keV (the Henke tables)".into());
     }
     if s.angles_arcmin.is_empty()
         || s.angles_arcmin
             .iter()
             .any(|a| !a.is_finite() || a.abs() >= 5400.0)
     {
-        return bad("--angles are off-axis angles in arcminutes, below 90°".into());
+        return bad("angles are off-axis angles in arcminutes, below 90°".into());
     }
     let points = s.energies.len() as u64 * s.angles_arcmin.len() as u64;
     if points > MAX_SWEEP_POINTS {
@@ -168,10 +168,10 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
         ));
     }
     if s.photons < 2 {
-        return bad("--photons must be at least 2 per angle".into());
+        return bad("photons must be at least 2 per angle".into());
     }
     if s.radius_mm.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
-        return bad("--radius must be a positive length (mm)".into());
+        return bad("the counting radius must be a positive length (mm)".into());
     }
     Ok(())
 }
@@ -208,7 +208,7 @@ pub fn sweep(
         .iter()
         .map(|t| ReflectivityTable::new(&t.coating, e_min, e_max, TABLE_THETA_MAX))
         .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| StudyError::Input(format!("--energies: {e}")))?;
+        .map_err(|e| StudyError::Input(format!("energies: {e}")))?;
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(s.threads)
         .build()?;

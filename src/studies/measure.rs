@@ -13,7 +13,7 @@ pub fn pick_sensor(scene: &Scene, name: Option<&str>) -> Result<usize, StudyErro
     match name {
         Some(n) => names.iter().position(|s| *s == n).ok_or_else(|| {
             StudyError::Input(format!(
-                "--sensor {n}: the scene has no sensor of that name (have: {names:?})"
+                "sensor `{n}`: the scene has no sensor of that name (have: {names:?})"
             ))
         }),
         None => match names.len() {
@@ -23,7 +23,7 @@ pub fn pick_sensor(scene: &Scene, name: Option<&str>) -> Result<usize, StudyErro
                 scene.path.display()
             ))),
             _ => Err(StudyError::Input(format!(
-                "the scene has several sensors ({names:?}): choose one with --sensor"
+                "the scene has several sensors ({names:?}): choose one by its name"
             ))),
         },
     }

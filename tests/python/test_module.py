@@ -501,3 +501,22 @@ def test_python_arguments_are_read_as_python_reads_them(tmp_path):
                           s.trace(10_000, seed=3).sensors["sensor"].flux)
     with pytest.raises(FileNotFoundError):
         traxer.Scene(tmp_path / "no_such_scene.toml")
+
+
+def test_python_messages_name_no_cli_options(tmp_path):
+    """Errors seen from Python speak of its arguments, not of `--energies`,
+    `--sensor` or `--out`."""
+    s = traxer.Scene(WOLTER)
+    calls = [
+        lambda: s.effective_area([100.0], photons=100),
+        lambda: s.effective_area([1.0], angles_arcmin=[1e4], photons=100),
+        lambda: s.effective_area([1.0], sensor="nope", photons=100),
+        lambda: s.effective_area([1.0], photons=1),
+        lambda: s.effective_area([1.0], radius_mm=-1.0, photons=100),
+    ]
+    (tmp_path / "mine.txt").write_text("keep")
+    calls.append(lambda: s.trace(1000).save(tmp_path))
+    for call in calls:
+        with pytest.raises(traxer.InputError) as e:
+            call()
+        assert " --" not in str(e.value) and not str(e.value).startswith("--"), str(e.value)
