@@ -308,7 +308,7 @@ fn effective_area_refuses_what_it_cannot_sweep() {
         (
             "scenes/llnl_effective_area.toml",
             &["--radius=-1"],
-            "--radius",
+            "counting radius must be a positive length",
         ),
     ];
     for (scene, args, message) in cases {
