@@ -54,8 +54,10 @@ pub fn reflectivity<'py>(
             .iter()
             .zip(&angles)
             .map(|(&e, &th)| {
-                if !th.is_finite() {
-                    return Err(format!("grazing angle {th}°: expected a finite angle"));
+                if !(0.0..=90.0).contains(&th) {
+                    return Err(format!(
+                        "angles_deg={th}: a grazing angle is 0° to 90° (from the surface, in degrees)"
+                    ));
                 }
                 coating
                     .reflectance(e, th.to_radians())

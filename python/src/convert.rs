@@ -7,7 +7,7 @@ use crate::errors::input;
 use numpy::ndarray::{ArrayD, IxDyn};
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyString, PyTuple};
+use pyo3::types::{IntoPyDict, PyDict, PyList, PyString, PyTuple};
 
 /// Checks a thread count: 0 (one per core) to `traxer::run::MAX_THREADS`.
 pub fn threads(n: usize) -> PyResult<usize> {
@@ -102,7 +102,11 @@ pub fn array<'py, T: numpy::Element>(
 ) -> PyResult<Bound<'py, PyAny>> {
     let a = ArrayD::from_shape_vec(IxDyn(shape), data)
         .map_err(|e| pyo3::exceptions::PyRuntimeError::new_err(e.to_string()))?;
-    Ok(a.into_pyarray(py).into_any())
+    // Read-only: `flux *= 2` must not leave a result disagreeing with its own
+    // quality and with what `save()` writes (copy the array to change it).
+    let array = a.into_pyarray(py).into_any();
+    array.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
+    Ok(array)
 }
 
 /// A progress bar on stderr when asked for (and stderr is a terminal), else none.

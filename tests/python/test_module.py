@@ -520,3 +520,22 @@ def test_python_messages_name_no_cli_options(tmp_path):
         with pytest.raises(traxer.InputError) as e:
             call()
         assert " --" not in str(e.value) and not str(e.value).startswith("--"), str(e.value)
+
+
+def test_arrays_handed_out_are_read_only_and_angles_are_grazing():
+    """`flux *= 2` cannot make a result disagree with its own quality and save();
+    a copy is the user's to change. Grazing angles lie in 0–90°."""
+    r = traxer.Scene(WOLTER).trace(20_000, seed=2)
+    image = r.sensors["sensor"]
+    before = image.flux.copy()
+    with pytest.raises(ValueError):
+        image.flux *= 2
+    with pytest.raises(ValueError):
+        image.counts[0, 0] = 7
+    assert np.array_equal(image.flux, before)
+    mine = image.flux.copy()
+    mine *= 2
+    assert np.array_equal(mine, 2 * before)
+    with pytest.raises(traxer.InputError, match="angles_deg=120"):
+        traxer.reflectivity("gold", 1.0, 120.0)
+    assert traxer.reflectivity("gold", 1.0, 90.0) < 1.0
