@@ -119,12 +119,16 @@ impl Scene {
 
     fn __repr__(&self) -> String {
         let s = &self.loaded.scene;
+        let count = |n: usize, one: &str| match n {
+            1 => format!("1 {one}"),
+            n => format!("{n} {one}s"),
+        };
         format!(
-            "traxer.Scene({:?}: {} objects, {} sensors, {} sources)",
+            "traxer.Scene({:?}: {}, {}, {})",
             s.path.display().to_string(),
-            s.objects.len(),
-            s.sensors.len(),
-            s.sources.len()
+            count(s.objects.len(), "object"),
+            count(s.sensors.len(), "sensor"),
+            count(s.sources.len(), "source")
         )
     }
 

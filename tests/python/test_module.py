@@ -539,3 +539,8 @@ def test_arrays_handed_out_are_read_only_and_angles_are_grazing():
     with pytest.raises(traxer.InputError, match="angles_deg=120"):
         traxer.reflectivity("gold", 1.0, 120.0)
     assert traxer.reflectivity("gold", 1.0, 90.0) < 1.0
+
+
+def test_reprs_count_in_english():
+    r = repr(traxer.Scene(CAST))
+    assert "1 sensor," in r and "1 source)" in r, r
