@@ -99,7 +99,7 @@ impl SceneText<'_> {
         let line = line_of(self.text, span.start);
         let last = line_of(self.text, span.end.max(span.start));
         let message = match self.override_used(line, last) {
-            Some(d) => format!("{message} (from -D {d})"),
+            Some(d) => format!("{message} (from the variable override {d})"),
             None => message,
         };
         SceneError::new(self.path, Some(line), message).keyed(key_at(self.text, span))

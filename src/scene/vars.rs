@@ -34,7 +34,7 @@ pub fn substitute(
             return Err(SceneError::new(
                 file,
                 None,
-                format!("-D {o}: expected name=value"),
+                format!("variable override `{o}`: expected name=value"),
             ));
         };
         let name = name.trim();
@@ -44,7 +44,7 @@ pub fn substitute(
                 file,
                 None,
                 format!(
-                    "-D {o}: the scene has no variable `{name}` (declare it in [vars]; known: {})",
+                    "variable override `{o}`: the scene has no variable `{name}` (declare it in [vars]; known: {})",
                     if known.is_empty() {
                         "none".to_string()
                     } else {

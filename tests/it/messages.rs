@@ -102,7 +102,7 @@ fn a_bad_value_from_a_define_names_the_define() {
         2,
     );
     assert!(
-        err.contains("-D figure_error=nosuch") && err.contains("nosuch"),
+        err.contains("variable override figure_error=nosuch") && err.contains("nosuch"),
         "{err}"
     );
 }

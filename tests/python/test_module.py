@@ -32,6 +32,7 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 BIN = os.environ.get("TRAXER", str(REPO / "target" / "release" / "traxer"))
 WOLTER = REPO / "scenes" / "wolter1_parallel.toml"
 CAST = REPO / "scenes" / "cast_axion_image.toml"
+PANTER = REPO / "scenes" / "panter_al_ka.toml"
 LLNL_AREA = REPO / "scenes" / "llnl_effective_area.toml"
 SOLAR_MODEL = REPO.parent / "shared" / "solar" / "SolarModel_B16-AGSS09met.dat"
 
@@ -544,3 +545,12 @@ def test_arrays_handed_out_are_read_only_and_angles_are_grazing():
 def test_reprs_count_in_english():
     r = repr(traxer.Scene(CAST))
     assert "1 sensor," in r and "1 source)" in r, r
+
+
+def test_scene_variable_errors_name_no_cli_option():
+    with pytest.raises(traxer.SceneError) as e:
+        traxer.Scene(WOLTER, defines={"no_such_variable": 1})
+    assert "-D" not in str(e.value) and "no_such_variable" in str(e.value)
+    with pytest.raises(traxer.SceneError) as e:
+        traxer.Scene(PANTER, defines={"figure_error": "nosuch"})
+    assert "-D" not in str(e.value) and 'variable override figure_error="nosuch"' in str(e.value)
