@@ -332,27 +332,25 @@ pub fn open_stopped(dir: &Path, moved_scene: Option<&Path>) -> Result<Found, Run
         ))
         .into());
     }
-    let scene_path = moved_scene.map_or_else(|| header.scene_path.clone(), Path::to_path_buf);
-    if !scene_path.is_file() {
-        return Err(InputError(format!(
+    let (device, scene) = reload_scene(
+        &header,
+        moved_scene,
+        |scene| {
+            format!(
             "{}: the run's scene {} is no longer there; if it moved, give its new place: `traxer trace NEW_PATH --resume {}` (its SHA-256 is checked)",
             path.display(),
-            scene_path.display(),
+            scene.display(),
             dir.display()
-        ))
-        .into());
-    }
-    let device = Device::new()?;
-    let scene = Scene::load(&device, &scene_path, &header.overrides)?;
-    let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
-    if let Some(diff) = id.difference(&again) {
-        return Err(InputError(format!(
+        )
+        },
+        |diff, _| {
+            format!(
             "{}: the checkpoint is of {diff} as now: the scene file {} or a file it reads changed since the run stopped",
             path.display(),
             header.scene_path.display()
-        ))
-        .into());
-    }
+        )
+        },
+    )?;
     let shard = check_checkpoint(&path, &header, &tally, &scene)?;
     Ok(Found::Stopped(Box::new(Resumable {
         dir: dir.to_path_buf(),
@@ -362,6 +360,30 @@ pub fn open_stopped(dir: &Path, moved_scene: Option<&Path>) -> Result<Found, Run
         tally: Some(tally),
         shard,
     })))
+}
+
+/// The scene of a recorded run (`header`: a checkpoint's or a shard's), loaded
+/// again — from `moved` if the file moved — and checked to be the one the run
+/// traced (same file, input files, variables, build). `missing` and `changed`
+/// say what is wrong, given the scene's path and the identities' difference.
+pub(super) fn reload_scene(
+    header: &StateHeader,
+    moved: Option<&Path>,
+    missing: impl FnOnce(&Path) -> String,
+    changed: impl FnOnce(&str, &Path) -> String,
+) -> Result<(Device, Scene), RunError> {
+    let path = moved.map_or_else(|| header.scene_path.clone(), Path::to_path_buf);
+    if !path.is_file() {
+        return Err(InputError(missing(&path)).into());
+    }
+    let device = Device::new()?;
+    let scene = Scene::load(&device, &path, &header.overrides)?;
+    let id = &header.identity;
+    let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
+    match id.difference(&again) {
+        Some(diff) => Err(InputError(changed(&diff, &path)).into()),
+        None => Ok((device, scene)),
+    }
 }
 
 /// The checkpoint's shard, after checking that its tally fits the scene and

@@ -3,10 +3,10 @@
 //! variables, build), the tallies added one at a time ([`super::merge`]), and the
 //! results of the whole run written as a finished run's.
 
-use super::job::{fits_scene, prepare_folder, refuse_unfinished_run};
+use super::job::{fits_scene, prepare_folder, refuse_unfinished_run, reload_scene};
 use super::{
-    merge, read_header, read_state, Finished, InputError, Invocation, RunError, RunIdentity,
-    StateHeader, CHECKPOINT_FILE, RUN_STATE_FILE,
+    merge, read_header, read_state, Finished, InputError, Invocation, RunError, StateHeader,
+    CHECKPOINT_FILE, RUN_STATE_FILE,
 };
 use crate::embree::Device;
 use crate::output::Provenance;
@@ -90,30 +90,24 @@ impl MergeJob<'_> {
     /// The shards' scene, loaded again (from where it is now if it moved) and
     /// checked to be the one they traced.
     fn scene_of(&self, first_dir: &Path, first: &StateHeader) -> Result<(Device, Scene), RunError> {
-        let path = self
-            .moved_scene
-            .map_or_else(|| first.scene_path.clone(), Path::to_path_buf);
-        if !path.is_file() {
-            return Err(InputError(format!(
+        reload_scene(
+            first,
+            self.moved_scene,
+            |scene| {
+                format!(
                 "{}: the shards' scene {} is no longer there; if it moved, give its new place with --scene FILE (its SHA-256 is checked)",
                 first_dir.display(),
-                path.display()
-            ))
-            .into());
-        }
-        let device = Device::new()?;
-        let scene = Scene::load(&device, &path, &first.overrides)?;
-        let id = &first.identity;
-        let again = RunIdentity::new(&scene, id.seed, id.total_photons, id.shards, id.photon_list);
-        if let Some(diff) = id.difference(&again) {
-            return Err(InputError(format!(
+                scene.display()
+            )
+            },
+            |diff, scene| {
+                format!(
                 "{}: the shards are of {diff} (scene {}): the scene file or a file it reads changed since they ran, or --scene names another scene",
                 first_dir.display(),
-                path.display()
-            ))
-            .into());
-        }
-        Ok((device, scene))
+                scene.display()
+            )
+            },
+        )
     }
 }
 
