@@ -166,7 +166,16 @@ fn class_images_and_pixel_grids_count_toward_the_image_cap() {
 fn emission_grids_and_area_sweeps_too_large_are_refused_before_work() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let model = crate::common::repo().join("../shared/solar/SolarModel_B16-AGSS09met.dat");
+    // A two-shell model in the B16 format (mass, radius, T, ρ, P, L, then 29
+    // mass fractions adding up to 1): the grid is refused before any work.
+    let row = |r: f64| {
+        let fractions = std::iter::once("0.72".to_string())
+            .chain(std::iter::repeat_n("0.01".to_string(), 28))
+            .collect::<Vec<_>>()
+            .join(" ");
+        format!("0.1 {r} 1.5e7 150 1e17 0.1 {fractions}\n")
+    };
+    let model = write(dir.path(), "model.dat", &(row(0.1) + &row(0.2)));
     let err = run_fails(
         traxer()
             .args(["solar-flux", "-q", "--model"])
