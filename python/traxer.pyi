@@ -22,6 +22,12 @@ git_hash: str
 
 _Path = Union[str, os.PathLike[str]]
 _Value = Union[bool, int, float, str, Sequence["_Value"]]
+# An astropy Quantity (astropy is optional): wherever a physical value is taken,
+# a Quantity is converted to the documented unit, and one of the wrong kind is
+# refused with InputError; plain numbers are in the unit the name says.
+_Quantity = Any
+_Number = Union[float, _Quantity]
+_Numbers = Union[float, Sequence[float], npt.ArrayLike, _Quantity]
 
 class InputError(ValueError):
     """Bad input: a setting, a data file, an output folder. The message says which
@@ -56,7 +62,8 @@ class Scene:
         defines: Optional[Union[Mapping[str, _Value], Sequence[str]]] = None,
     ) -> None: ...
     @property
-    def path(self) -> str: ...
+    def path(self) -> str:
+        """The scene file's path."""
     @property
     def sha256(self) -> str:
         """SHA-256 of the scene file's bytes."""
@@ -68,11 +75,13 @@ class Scene:
         """The objects' names, in the scene's order (photon lists index them)."""
     @property
     def variables(self) -> dict[str, Any]:
-        """The scene's variables after ``defines``."""
+        """The scene's variables after ``defines``: {name: value}."""
     @property
-    def warnings(self) -> list[str]: ...
+    def warnings(self) -> list[str]:
+        """The warnings the scene gave when it was loaded."""
     @property
-    def triangle_count(self) -> int: ...
+    def triangle_count(self) -> int:
+        """Number of triangles of the meshed objects."""
     def trace(
         self,
         photons: int | float,
@@ -81,12 +90,12 @@ class Scene:
         photon_list: int = 0,
         progress: bool = False,
         out: Optional[_Path] = None,
-        checkpoint_every: Optional[float] = None,
+        checkpoint_every: Optional[_Number] = None,
     ) -> TraceResult:
         """Traces ``photons`` photons, as ``traxer trace SCENE --photons N --seed S``.
 
-        Photon i uses the random stream (seed, i): the images are the same for any
-        ``threads`` (0: one per core) and equal the CLI's bit for bit.
+        Photon i uses the random stream (seed, i), so the images are the same for
+        any ``threads`` (0: one per core) and equal the CLI's bit for bit.
         ``photon_list``: also keep the first N photons recorded on a sensor.
         ``progress``: draw a progress bar on stderr. The GIL is released while
         tracing; Ctrl-C stops the run after the current batch (about a million
@@ -99,27 +108,32 @@ class Scene:
         """
     def effective_area(
         self,
-        energies_keV: Sequence[float] | npt.ArrayLike,
-        angles_arcmin: Sequence[float] | npt.ArrayLike = ...,
+        energies_keV: _Numbers,
+        angles_arcmin: Optional[_Numbers] = None,
         photons: Optional[int | float] = None,
         seed: int = 1,
         threads: int = 0,
         sensor: Optional[str] = None,
-        radius_mm: Optional[float] = None,
+        radius_mm: Optional[_Number] = None,
         progress: bool = False,
     ) -> EffectiveArea:
-        """The effective area A_eff(E, θ), as ``traxer effective-area``.
+        """The telescope's effective area A_eff(E, θ), as ``traxer effective-area``.
 
         The scene's only source must be a parallel beam covering the telescope's
-        entrance; it is tilted to each of ``angles_arcmin`` (default: on axis).
-        Each angle traces ``photons`` photons once and evaluates every photon's
-        weight at every energy.
+        entrance; it is tilted to each of ``angles_arcmin`` (None: on axis only).
+        Each angle traces ``photons`` photons (default 200 000) once and
+        evaluates every photon's weight at every energy. Energies, angles and
+        ``radius_mm`` may be astropy Quantities.
         """
 
 class SensorImage:
-    """One sensor's image of a trace, in the units of the CLI's files."""
+    """One sensor's image of a trace.
+
+    In the units of the CLI's files; ``grid`` is the image on the detector's
+    pixels, ``by_class`` the image split by photon path."""
 
     name: str
+    """The sensor's name in the scene."""
     flux: npt.NDArray[np.float64]
     """[iy, ix], or [band, iy, ix] with energy bins; ix along the sensor's local
     x. The sum of photon weights per pixel, or axions per second with a Sun
@@ -127,167 +141,254 @@ class SensorImage:
     counts: npt.NDArray[np.uint64]
     """Photons per pixel, the shape of ``flux``. Equal to NAME_counts.npy."""
     unit: Literal["ph", "s-1"]
+    """"ph" (weighted photons per pixel) or "s-1" (axions per second per pixel)."""
     size_mm: tuple[float, float]
+    """(x, y) extent of the sensor, mm."""
     pixels: tuple[int, int]
     """(nx, ny)."""
     pixel_pitch_mm: tuple[float, float]
+    """(x, y) pixel pitch, mm."""
     focal_length_mm: Optional[float]
+    """The sensor's focal length (mm) for angular diameters, or None."""
     energy_band_edges_keV: Optional[list[float]]
+    """The energy bands' edges (keV) of a [band, iy, ix] image, or None."""
     x_mm: npt.NDArray[np.float64]
     """Pixel-centre positions along local x (mm); pixel (0, 0) has its corner at
     (-size_x/2, -size_y/2)."""
     y_mm: npt.NDArray[np.float64]
+    """Pixel-centre positions along local y (mm)."""
     quality: Optional[dict[str, Any]]
     """centroid_mm, total_flux, hpd_mm, d80_mm, d90_mm and, with a focal length,
     hpd_arcsec, d80_arcsec, d90_arcsec, of the image summed over bands; None
-    without flux."""
+    without flux. The d* are diameters around the centroid."""
     eef_radius_mm: npt.NDArray[np.float64]
+    """The encircled-energy curve: radius (mm) around the centroid …"""
     eef_fraction: npt.NDArray[np.float64]
+    """… and the fraction of the flux within it."""
     total_flux: float
+    """The sum of ``flux``, in ``unit``."""
     total_counts: int
+    """The sum of ``counts``."""
     conversion: Optional[dict[str, Any]]
-    """For a gas detector, where its X-rays converted (None otherwise):
-    entered_flux, converted_flux (in ``unit``), converted_fraction,
-    mean_depth_mm, median_depth_mm, quantiles_mm [(q, depth)], as in NAME.json;
-    depth_edges_mm and depth_flux (the histogram below the gas entrance, as
-    NAME_conversion_depth.csv); spectrum [depth slice, energy bin] with
-    spectrum_depth_edges_mm and spectrum_energy_edges_keV."""
+    """For a gas detector, where its X-rays converted (None otherwise): a dict
+    with the numbers of NAME.json → conversion (mean_depth_mm, quantiles_mm
+    [(q, depth)], converted_fraction, entered_flux, converted_flux, in the
+    image's unit), depth_edges_mm and depth_flux (the histogram below the gas
+    entrance), and spectrum [slice, energy bin] with spectrum_depth_edges_mm
+    and spectrum_energy_edges_keV."""
+    grid: Optional[GridImage]
+    """The image on the sensor's detector pixel grid (``pixel_grid`` in the
+    scene; the GridPix's 256 × 256 pixels of 55 µm) as a ``traxer.GridImage``,
+    equal to NAME_grid.npy; None for a sensor without one."""
+    by_class: Optional[dict[str, npt.NDArray[np.float64]]]
+    """With ``history_images = true`` on the sensor: {class: flux [iy, ix]} for
+    each photon-path class of ``TraceResult.classes`` (direct, front_rear,
+    front_only, rear_only, other), equal to NAME_CLASS.npy; None otherwise."""
+
+class GridImage:
+    """A sensor's image on its detector pixel grid (the scene's ``pixel_grid``),
+    summed over energy bands, flux conserved by overlap area."""
+
+    flux: npt.NDArray[np.float64]
+    """Flux per grid pixel [iy, ix], in the sensor image's unit."""
+    pixels: tuple[int, int]
+    """(nx, ny) grid pixels."""
+    pitch_mm: float
+    """The grid's pixel pitch, mm (square pixels)."""
+    rotation_deg: float
+    """Degrees, counter-clockwise from the sensor's x axis to the grid's."""
+    center_mm: tuple[float, float]
+    """The grid's centre on the sensor (local x, y), mm."""
+    x_mm: npt.NDArray[np.float64]
+    """Sensor x (mm) of each grid pixel's centre, [iy, ix] (a turned grid's
+    centres are not a product of two axes)."""
+    y_mm: npt.NDArray[np.float64]
+    """Sensor y (mm) of each grid pixel's centre, [iy, ix]."""
+    flux_on_grid: float
+    """The flux landing on the grid."""
+    flux_outside_grid: float
+    """The flux of the sensor image outside the grid (never negative)."""
 
 class TraceResult:
-    """A finished trace."""
+    """A finished trace: each sensor's image, the statistics, the sources, the
+    provenance and the photon list; ``save(folder)`` writes the CLI's files."""
 
     sensors: dict[str, SensorImage]
-    """Each sensor's image, in the scene's order."""
+    """Each sensor's image, {name: SensorImage}, in the scene's order."""
     statistics: dict[str, Any]
     """Photon fates and counters, as summary.json's "statistics"."""
     sources: list[dict[str, Any]]
     """The sources, as summary.json's "sources"."""
     photons: Optional[np.ndarray]
-    """The photon list (``photon_list=N``): a structured array like photons.npy
-    (index, sensor, x_mm, y_mm, dir_x, dir_y, dir_z, energy_kev, weight,
-    reflections, first_mirror, last_mirror, class); None without one."""
+    """The photon list (``photon_list=N``): a read-only structured array like
+    photons.npy (index, sensor, x_mm, y_mm, dir_x, dir_y, dir_z, energy_keV,
+    weight, reflections, first_mirror, last_mirror, class); None without one."""
+    classes: list[str]
+    """The photon-path classes by index, as ``photons["class"]`` and the class
+    images number them: direct (no reflection), front_rear (a front then a
+    rear mirror: the focus), front_only, rear_only, other."""
     @property
-    def provenance(self) -> dict[str, Any]: ...
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the run (as in every JSON the CLI writes)."""
     @property
-    def seconds(self) -> float: ...
+    def seconds(self) -> float:
+        """Seconds spent tracing."""
     @property
-    def threads(self) -> int: ...
+    def threads(self) -> int:
+        """Worker threads used (the result does not depend on it)."""
     @property
-    def photons_traced(self) -> int: ...
+    def photons_traced(self) -> int:
+        """Photons traced."""
     def __getitem__(self, sensor: str) -> SensorImage: ...
     def save(self, folder: _Path, fits: bool = False) -> int:
-        """Writes the files of ``traxer trace`` into ``folder`` (NAME.npy,
-        NAME_counts.npy, PNGs, NAME.json, summary.json, run_state.bin, the photon
-        list, and NAME.fits with ``fits=True``), all at once; returns the number
-        of files."""
+        """Writes the files of ``traxer trace`` into ``folder`` (created if
+        needed): per sensor NAME.npy, NAME_counts.npy, PNGs, NAME.json, ...,
+        summary.json, run_state.bin (for ``traxer merge``), the photon list if
+        one was kept, and with ``fits=True`` each sensor's image as NAME.fits.
+        All files appear at once; returns the number of files written."""
 
 class EffectiveArea:
-    """The effective area over energies and off-axis angles."""
+    """The effective area of a telescope over energies and off-axis angles."""
 
     sensor: str
+    """The sensor counted on."""
     energies_keV: npt.NDArray[np.float64]
+    """The energies, keV."""
     angles_arcmin: npt.NDArray[np.float64]
+    """The off-axis angles, arcmin."""
     area_cm2: npt.NDArray[np.float64]
-    """[angle, energy]."""
+    """The effective area, cm², [angle, energy]."""
     error_cm2: npt.NDArray[np.float64]
-    """Monte Carlo standard error of ``area_cm2``."""
+    """The Monte Carlo standard error of ``area_cm2``, cm²."""
     by_class_cm2: npt.NDArray[np.float64]
-    """[angle, energy, class], classes as in ``classes``."""
+    """The area split by photon path, cm², [angle, energy, class], classes as
+    in ``classes``."""
     classes: list[str]
+    """The photon-path classes: direct, front_rear, front_only, rear_only, other."""
     geometric_area_cm2: npt.NDArray[np.float64]
-    """Per angle: the area with every reflectivity and transmission 1."""
+    """Per angle: the area with every reflectivity and transmission 1, cm²."""
     quality: list[Optional[dict[str, Any]]]
+    """Per angle: the image's centroid and 50/80/90 % diameters (a dict), or None."""
     on_sensor: list[int]
+    """Per angle: photons that reached the sensor."""
     counted: list[int]
+    """Per angle: photons counted (within ``radius_mm`` if given)."""
     aperture_cm2: float
+    """The beam's cross-section on axis, cm²."""
     radius_mm: Optional[float]
+    """The counting radius around the image centroid (mm), or None."""
     seconds: float
+    """Seconds spent tracing."""
     threads: int
+    """Worker threads used (the result does not depend on them)."""
     @property
-    def provenance(self) -> dict[str, Any]: ...
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the sweep."""
     def save(self, folder: _Path) -> None:
-        """Writes the files of ``traxer effective-area`` into ``folder``."""
+        """Writes the files of ``traxer effective-area`` into ``folder``:
+        effective_area.csv, off_axis.csv, effective_area.json and the plots,
+        all at once."""
 
 class SolarEmission:
     """A solar axion emission table w(r, E) on a radius × energy grid."""
 
-    description: str
-    coupling: str
+    @property
+    def description(self) -> str:
+        """Where the table comes from."""
+    @property
+    def coupling(self) -> str:
+        """The couplings it is for."""
     @staticmethod
     def builtin(
         emission: Literal["primakoff", "abc", "primakoff+abc"] = "primakoff",
-        g_agamma: float = 1e-10,
-        g_ae: float = 1e-13,
+        g_agamma: _Number = 1e-10,
+        g_ae: _Number = 1e-13,
     ) -> SolarEmission:
-        """The built-in emission of the B16-AGSS09met solar model: Primakoff
-        (g_aγ in GeV⁻¹), ABC (axion–electron: atomic, electron–ion and
-        electron–electron bremsstrahlung, Compton; g_ae) or both; fluxes ∝ g²."""
+        """The built-in emission of the B16-AGSS09met standard solar model:
+        "primakoff" (g_aγ in GeV⁻¹), "abc" (the axion–electron processes, g_ae)
+        or "primakoff+abc"; fluxes scale as the couplings squared."""
     @staticmethod
     def from_model(
         path: _Path,
-        energies_keV: Sequence[float] | npt.ArrayLike,
-        radii: Optional[Sequence[float] | npt.ArrayLike] = None,
+        energies_keV: _Numbers,
+        radii: Optional[_Numbers] = None,
         emission: Literal["primakoff", "abc", "primakoff+abc"] = "primakoff",
         opacities: Optional[_Path] = None,
-        g_agamma: float = 1e-10,
-        g_ae: float = 1e-13,
+        g_agamma: _Number = 1e-10,
+        g_ae: _Number = 1e-13,
     ) -> SolarEmission:
-        """The emission of a standard solar model file (B16 format) on the grid;
-        ``radii`` in fractions of R_sun (None: the model's shells); ABC needs
-        ``opacities``, the Opacity Project tables' folder."""
-    def process_spectra(self, distance_au: float = 1.0) -> dict[str, npt.NDArray[np.float64]]:
-        """dΦ/dE per process (primakoff, atomic, electron_ion, electron_electron,
-        compton, abc), axions cm⁻² s⁻¹ keV⁻¹, at the grid's energies."""
+        """The emission of a standard solar model file in the B16 format, on
+        ``energies_keV`` (cell centres) and ``radii`` (fractions of R_sun; None:
+        every shell of the model file). ABC needs ``opacities``, the folder of
+        the Opacity Project tables."""
+    def process_spectra(self, distance_au: _Number = 1.0) -> dict[str, npt.NDArray[np.float64]]:
+        """dΦ/dE per process at the grid's energies (axions cm⁻² s⁻¹ keV⁻¹ at
+        ``distance_au``): a dict with "primakoff", "atomic", "electron_ion",
+        "electron_electron", "compton" and "abc" as the emission has them."""
     @staticmethod
     def from_csv(path: _Path) -> SolarEmission:
-        """An emission table CSV (Radius, Energy [keV], emRates)."""
+        """An emission table CSV (columns Radius, Energy [keV], emRates)."""
     @property
-    def radii(self) -> npt.NDArray[np.float64]: ...
+    def radii(self) -> npt.NDArray[np.float64]:
+        """Radii of the grid, fractions of R_sun."""
     @property
-    def energies_keV(self) -> npt.NDArray[np.float64]: ...
+    def energies_keV(self) -> npt.NDArray[np.float64]:
+        """Energies of the grid, keV."""
     @property
     def rates(self) -> npt.NDArray[np.float64]:
         """w(r, E) in keV, [radius, energy]."""
-    def spectrum(self, distance_au: float = 1.0) -> npt.NDArray[np.float64]:
-        """dΦ/dE at the grid's energies, axions cm⁻² s⁻¹ keV⁻¹."""
-    def luminosity(self, e_min_keV: float = 0.0, e_max_keV: float = ...) -> float:
-        """Axions per second emitted with energies in [e_min_keV, e_max_keV]."""
+    def spectrum(self, distance_au: _Number = 1.0) -> npt.NDArray[np.float64]:
+        """dΦ/dE at the grid's energies, axions cm⁻² s⁻¹ keV⁻¹, at ``distance_au``."""
+    def luminosity(self, e_min_keV: _Number = 0.0, e_max_keV: Optional[_Number] = None) -> float:
+        """Axions per second emitted by the Sun with energies in [e_min_keV,
+        e_max_keV] (None: no upper limit)."""
     def flux(
-        self, distance_au: float = 1.0, e_min_keV: float = 0.0, e_max_keV: float = ...
+        self,
+        distance_au: _Number = 1.0,
+        e_min_keV: _Number = 0.0,
+        e_max_keV: Optional[_Number] = None,
     ) -> float:
-        """Axion flux in cm⁻² s⁻¹ at ``distance_au``."""
+        """Axion flux, cm⁻² s⁻¹, at ``distance_au`` with energies in [e_min_keV,
+        e_max_keV] (None: no upper limit)."""
     def save_csv(self, path: _Path) -> None:
-        """Writes the table as an emission CSV for a Sun source (atomically)."""
+        """Writes the table as an emission CSV (atomically), for a Sun source's
+        ``emission = "FILE.csv"``."""
 
 def resume(
     folder: _Path,
     threads: int = 0,
-    checkpoint_every: float = 60.0,
+    checkpoint_every: _Number = 60.0,
     progress: bool = False,
     scene: Optional[_Path] = None,
 ) -> TraceResult:
-    """Continues the stopped run in ``folder`` (``Scene.trace(..., out=folder,
-    checkpoint_every=S)`` or ``traxer trace --checkpoint-every S``) to its end,
-    writing the files of an uninterrupted run, and returns its result; a finished
-    run's folder returns its result at once. ``scene``: where the scene file is
-    now, if it moved (its SHA-256 is checked). The resumed run keeps a checkpoint
-    every ``checkpoint_every`` seconds; Ctrl-C stops it again after a batch."""
+    """Continues the stopped run in ``folder`` (a ``Scene.trace(..., out=folder,
+    checkpoint_every=S)`` or ``traxer trace --checkpoint-every S`` that was
+    stopped) to its end, writing the same files as an uninterrupted run, and
+    returns its result. A finished run's folder returns its result at once.
+    ``scene``: where the scene file is now, if it moved (its SHA-256 is
+    checked). Ctrl-C stops it again after the current batch, with the
+    checkpoint written."""
 
 def reflectivity(
     coating: str,
-    energies_keV: npt.ArrayLike,
-    angles_deg: npt.ArrayLike,
+    energies_keV: _Numbers,
+    angles_deg: _Numbers,
     polarisation: Literal["unpolarised", "unpolarized", "s", "p"] = "unpolarised",
 ) -> npt.NDArray[np.float64]:
-    """R(E, θ) of a coating (a shipped one such as "llnl_recipe_3" or "gold", or
-    "FILE" / "FILE:NAME"); energies and grazing angles broadcast like numpy
-    arguments (``E[:, None], theta[None, :]`` gives the grid)."""
+    """Reflectivity R(E, θ) of a mirror coating.
+
+    ``coating``: a shipped one such as "llnl_recipe_3" or "gold", or "FILE" /
+    "FILE:NAME"; energies (keV) and grazing angles (degrees, 0–90) broadcast
+    like numpy arguments (``E[:, None], theta[None, :]`` gives the grid); either
+    may be an astropy Quantity."""
 
 def eef(
     image: npt.ArrayLike,
-    pixel_pitch_mm: Union[float, tuple[float, float]],
-    focal_length_mm: Optional[float] = None,
+    pixel_pitch_mm: Union[_Number, tuple[_Number, _Number]],
+    focal_length_mm: Optional[_Number] = None,
 ) -> dict[str, Any]:
-    """Encircled energy of an image [iy, ix] (or [band, iy, ix], summed), as
-    ``traxer eef``: centroid_mm, total_flux, hpd_mm, d80_mm, d90_mm, their
-    *_arcsec with a focal length, and the curve as radius_mm and fraction."""
+    """Encircled energy of an image, as ``traxer eef``.
+
+    ``image`` [iy, ix] (or [band, iy, ix], summed): centroid_mm, total_flux,
+    hpd_mm, d80_mm, d90_mm (diameters around the centroid), their *_arcsec with
+    a focal length, and the curve as radius_mm and fraction."""

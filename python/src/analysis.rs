@@ -3,6 +3,7 @@
 
 use crate::convert::{array, to_json};
 use crate::errors::{input, lib};
+use crate::units::{numbers, optional, plain, Unit};
 use numpy::{AllowTypeChange, PyArrayLikeDyn, PyUntypedArrayMethods};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -19,6 +20,8 @@ use traxer::xray::coating_from_spec;
 /// like numpy arguments: two arrays of one length give R at each pair,
 /// `E[:, None]` and `theta[None, :]` give the grid. `polarisation`:
 /// "unpolarised", "s" or "p". Returns a float64 array of the broadcast shape.
+/// Plain numbers are keV and degrees (0–90); astropy Quantities convert (an
+/// angle in arcmin, an energy in eV, a wavelength in Å).
 #[pyfunction]
 #[pyo3(signature = (coating, energies_keV, angles_deg, polarisation = "unpolarised"))]
 #[allow(non_snake_case)]
@@ -40,6 +43,8 @@ pub fn reflectivity<'py>(
         }
     };
     let coating = coating_from_spec(coating).map_err(lib)?;
+    let energies_keV = plain("energies_keV", energies_keV, Unit::KeV)?;
+    let angles_deg = plain("angles_deg", angles_deg, Unit::Degree)?;
     let numpy = py.import("numpy")?;
     let pair = numpy.call_method1("broadcast_arrays", (energies_keV, angles_deg))?;
     let as_f64 = |i: usize| -> PyResult<Vec<f64>> {
@@ -75,7 +80,8 @@ pub fn reflectivity<'py>(
 ///
 /// `image`: [iy, ix] (or [band, iy, ix], summed over bands), any numeric type,
 /// values finite and ≥ 0; pixel (0, 0) has its corner at (-nx/2, -ny/2) pitches.
-/// `pixel_pitch_mm`: one number or (x, y). Returns a dict: centroid_mm,
+/// `pixel_pitch_mm`: one number or (x, y); it and `focal_length_mm` may be
+/// astropy Quantities (the image's own unit does not matter). Returns a dict: centroid_mm,
 /// total_flux, hpd_mm, d80_mm, d90_mm (diameters around the centroid holding 50,
 /// 80 and 90 % of the flux), their *_arcsec with a focal length (2·atan(r/f)),
 /// and the curve as radius_mm and fraction arrays.
@@ -85,8 +91,9 @@ pub fn eef<'py>(
     py: Python<'py>,
     image: PyArrayLikeDyn<'py, f64, AllowTypeChange>,
     pixel_pitch_mm: &Bound<'py, PyAny>,
-    focal_length_mm: Option<f64>,
+    focal_length_mm: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let focal_length_mm = optional("focal_length_mm", focal_length_mm, Unit::Mm)?;
     let shape = image.shape().to_vec();
     let (ny, nx) = match shape[..] {
         [ny, nx] | [_, ny, nx] => (ny, nx),
@@ -100,12 +107,10 @@ pub fn eef<'py>(
     if values.iter().any(|v| !v.is_finite() || *v < 0.0) {
         return Err(input("image: pixel values must be finite and ≥ 0"));
     }
-    let pitch = match pixel_pitch_mm.extract::<f64>() {
-        Ok(p) => [p, p],
-        Err(_) => pixel_pitch_mm
-            .extract::<(f64, f64)>()
-            .map(|(x, y)| [x, y])
-            .map_err(|_| input("pixel_pitch_mm: expected one number or (x, y) in mm"))?,
+    let pitch = match numbers("pixel_pitch_mm", pixel_pitch_mm, Unit::Mm)?[..] {
+        [p] => [p, p],
+        [x, y] => [x, y],
+        _ => return Err(input("pixel_pitch_mm: expected one number or (x, y) in mm")),
     };
     if !pitch.iter().all(|p| p.is_finite() && *p > 0.0)
         || focal_length_mm.is_some_and(|f| !(f.is_finite() && f > 0.0))

@@ -65,34 +65,49 @@ pub fn run(
 #[pyclass(module = "traxer", frozen)]
 #[allow(non_snake_case)]
 pub struct EffectiveArea {
+    /// The sensor counted on.
     #[pyo3(get)]
     pub sensor: String,
+    /// The energies, keV.
     #[pyo3(get)]
     pub energies_keV: Py<PyAny>,
+    /// The off-axis angles, arcmin.
     #[pyo3(get)]
     pub angles_arcmin: Py<PyAny>,
+    /// The effective area, cm², [angle, energy].
     #[pyo3(get)]
     pub area_cm2: Py<PyAny>,
+    /// The Monte Carlo standard error of `area_cm2`, cm².
     #[pyo3(get)]
     pub error_cm2: Py<PyAny>,
+    /// The area split by photon path, cm², [angle, energy, class], classes as in `classes`.
     #[pyo3(get)]
     pub by_class_cm2: Py<PyAny>,
+    /// The photon-path classes: direct, front_rear, front_only, rear_only, other.
     #[pyo3(get)]
     pub classes: Vec<&'static str>,
+    /// Per angle: the area with every reflectivity and transmission 1, cm².
     #[pyo3(get)]
     pub geometric_area_cm2: Py<PyAny>,
+    /// Per angle: the image's centroid and 50/80/90 % diameters (a dict), or None.
     #[pyo3(get)]
     pub quality: Vec<Py<PyAny>>,
+    /// Per angle: photons that reached the sensor.
     #[pyo3(get)]
     pub on_sensor: Vec<u64>,
+    /// Per angle: photons counted (within `radius_mm` if given).
     #[pyo3(get)]
     pub counted: Vec<u64>,
+    /// The beam's cross-section on axis, cm².
     #[pyo3(get)]
     pub aperture_cm2: f64,
+    /// The counting radius around the image centroid (mm), or None.
     #[pyo3(get)]
     pub radius_mm: Option<f64>,
+    /// Seconds spent tracing.
     #[pyo3(get)]
     pub seconds: f64,
+    /// Worker threads used (the result does not depend on them).
     #[pyo3(get)]
     pub threads: usize,
     result: AreaResult,

@@ -4,7 +4,7 @@
 //! same scene and seed; images come back as numpy arrays, reports as dicts, and
 //! `save` writes the binary's output set.
 //!
-//! Data flow: Python arguments → checked here ([`convert`]) → the traxer library
+//! Data flow: Python arguments → checked and converted here ([`convert`], astropy Quantities by [`units`]) → the traxer library
 //! (scene, trace, studies, analysis, output) with the GIL released while it
 //! computes → numpy arrays and dicts; errors become the exceptions of [`errors`].
 //! Built by maturin (python/pyproject.toml); its type hints are traxer.pyi.
@@ -15,10 +15,12 @@ mod analysis;
 mod convert;
 mod effective_area;
 mod errors;
+mod grid;
 mod result;
 mod run;
 mod scene;
 mod solar;
+mod units;
 
 use pyo3::prelude::*;
 
@@ -40,6 +42,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<scene::Scene>()?;
     m.add_class::<result::TraceResult>()?;
     m.add_class::<result::SensorImage>()?;
+    m.add_class::<grid::GridImage>()?;
     m.add_class::<effective_area::EffectiveArea>()?;
     m.add_class::<solar::SolarEmission>()?;
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;

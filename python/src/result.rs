@@ -6,10 +6,11 @@ use crate::convert::{array, json, to_json};
 use crate::errors::lib;
 use crate::scene::Loaded;
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{IntoPyDict, PyDict};
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::analysis::FinishedImage;
+use traxer::history::PathClass;
 use traxer::output::{flux_unit, photon_list_npy, sources_json, statistics_json, Provenance};
 use traxer::run::{save_results, StateHeader};
 use traxer::sensor::SensorSpec;
@@ -17,33 +18,51 @@ use traxer::trace::Tally;
 
 /// One sensor's image of a trace.
 ///
-/// `flux` is the image as NAME.npy holds it (float64, [iy, ix], or [band, iy, ix]
-/// with energy bins; ix along the sensor's local x): the sum of photon weights
-/// per pixel, or axions per second with a Sun source (see `unit`). `counts`:
-/// photons per pixel (uint64, same shape). `quality`: centroid and the 50/80/90 %
-/// diameters (mm, and arcsec with a focal length) of the image summed over
-/// bands, as in NAME.json; None without flux.
+/// In the units of the CLI's files: `flux` equals NAME.npy, `counts`
+/// NAME_counts.npy, `quality` the image quality of NAME.json. Pixel (0, 0) has
+/// its corner at (-size_x/2, -size_y/2) of the sensor's local frame; ix runs
+/// along local x. With a `pixel_grid`, `grid` is the image on the detector's
+/// pixels (NAME_grid.npy); with `history_images`, `by_class` splits it by
+/// photon path.
 #[pyclass(module = "traxer", frozen, get_all)]
 #[allow(non_snake_case)]
 pub struct SensorImage {
+    /// The sensor's name in the scene.
     pub name: String,
+    /// [iy, ix], or [band, iy, ix] with energy bins; ix along the sensor's local
+    /// x. The sum of photon weights per pixel, or axions per second with a Sun
+    /// source (see `unit`). Equal to NAME.npy.
     pub flux: Py<PyAny>,
+    /// Photons per pixel, the shape of `flux`. Equal to NAME_counts.npy.
     pub counts: Py<PyAny>,
     /// "ph" (weighted photons per pixel) or "s-1" (axions per second per pixel).
     pub unit: String,
+    /// (x, y) extent of the sensor, mm.
     pub size_mm: (f64, f64),
+    /// (nx, ny).
     pub pixels: (u32, u32),
+    /// (x, y) pixel pitch, mm.
     pub pixel_pitch_mm: (f64, f64),
+    /// The sensor's focal length (mm) for angular diameters, or None.
     pub focal_length_mm: Option<f64>,
+    /// The energy bands' edges (keV) of a [band, iy, ix] image, or None.
     pub energy_band_edges_keV: Option<Vec<f64>>,
-    /// Pixel-centre positions along local x and y (mm).
+    /// Pixel-centre positions along local x (mm); pixel (0, 0) has its corner at
+    /// (-size_x/2, -size_y/2).
     pub x_mm: Py<PyAny>,
+    /// Pixel-centre positions along local y (mm).
     pub y_mm: Py<PyAny>,
+    /// centroid_mm, total_flux, hpd_mm, d80_mm, d90_mm and, with a focal length,
+    /// hpd_arcsec, d80_arcsec, d90_arcsec, of the image summed over bands; None
+    /// without flux. The d* are diameters around the centroid.
     pub quality: Py<PyAny>,
-    /// The encircled-energy curve: radius (mm) and the fraction of flux within.
+    /// The encircled-energy curve: radius (mm) around the centroid …
     pub eef_radius_mm: Py<PyAny>,
+    /// … and the fraction of the flux within it.
     pub eef_fraction: Py<PyAny>,
+    /// The sum of `flux`, in `unit`.
     pub total_flux: f64,
+    /// The sum of `counts`.
     pub total_counts: u64,
     /// For a gas detector, where its X-rays converted (None otherwise): a dict
     /// with the numbers of NAME.json → conversion (`mean_depth_mm`,
@@ -52,6 +71,14 @@ pub struct SensorImage {
     /// (the histogram below the gas entrance), and `spectrum` [slice, energy bin]
     /// with `spectrum_depth_edges_mm` and `spectrum_energy_edges_keV`.
     pub conversion: Py<PyAny>,
+    /// The image on the sensor's detector pixel grid (`pixel_grid` in the
+    /// scene; the GridPix's 256 × 256 pixels of 55 µm) as a `traxer.GridImage`,
+    /// equal to NAME_grid.npy; None for a sensor without one.
+    pub grid: Option<Py<crate::grid::GridImage>>,
+    /// With `history_images = true` on the sensor: {class: flux [iy, ix]} for
+    /// each photon-path class of `TraceResult.classes` (direct, front_rear,
+    /// front_only, rear_only, other), equal to NAME_CLASS.npy; None otherwise.
+    pub by_class: Option<Py<PyDict>>,
 }
 
 #[pymethods]
@@ -75,6 +102,10 @@ impl SensorImage {
         let finished = FinishedImage::of(spec, image, absolute);
         let total_flux = finished.total_flux();
         let [x_mm, y_mm] = finished.pixel_centres_mm();
+        let grid = match finished.on_grid(spec) {
+            Some((g, r)) => Some(Py::new(py, crate::grid::GridImage::new(py, &g, r)?)?),
+            None => None,
+        };
         let FinishedImage {
             shape,
             flux,
@@ -94,8 +125,22 @@ impl SensorImage {
                 .unbind(),
             None => py.None(),
         };
+        let by_class = match image.paths.class_images() {
+            Some(images) => {
+                let d = PyDict::new(py);
+                let scale = absolute.unwrap_or(1.0);
+                for (class, img) in PathClass::ALL.iter().zip(images) {
+                    let flux = img.iter().map(|v| v * scale).collect();
+                    d.set_item(class.name(), array(py, &[ny, nx], flux)?)?;
+                }
+                Some(d.unbind())
+            }
+            None => None,
+        };
         Ok(SensorImage {
             conversion,
+            grid,
+            by_class,
             name: spec.name.clone(),
             total_flux,
             total_counts: image.total_counts(),
@@ -151,11 +196,10 @@ fn conversion_dict<'py>(
     Ok(d)
 }
 
-/// A finished trace: `sensors` ({name: SensorImage}, in the scene's order; also
-/// `result["name"]`), `statistics` and `sources` (dicts as in summary.json),
-/// `provenance` (dict), `photons` (the photon list as a numpy structured array
-/// like photons.npy, or None), `seconds` and `threads`. `save(folder)` writes the
-/// files of `traxer trace`.
+/// A finished trace: each sensor's image, the statistics, the sources, the
+/// provenance and the photon list; `save(folder)` writes the CLI's files.
+///
+/// `result["name"]` is `result.sensors["name"]`.
 #[pyclass(module = "traxer", frozen)]
 pub struct TraceResult {
     loaded: Arc<Loaded>,
@@ -163,14 +207,25 @@ pub struct TraceResult {
     tally: Tally,
     threads: usize,
     provenance: Provenance,
+    /// Each sensor's image, {name: SensorImage}, in the scene's order.
     #[pyo3(get)]
     sensors: Py<PyDict>,
+    /// Photon fates and counters, as summary.json's "statistics".
     #[pyo3(get)]
     statistics: Py<PyAny>,
+    /// The sources, as summary.json's "sources".
     #[pyo3(get)]
     sources: Py<PyAny>,
+    /// The photon list (`photon_list=N`): a read-only structured array like
+    /// photons.npy (index, sensor, x_mm, y_mm, dir_x, dir_y, dir_z, energy_keV,
+    /// weight, reflections, first_mirror, last_mirror, class); None without one.
     #[pyo3(get)]
     photons: Py<PyAny>,
+    /// The photon-path classes by index, as `photons["class"]` and the class
+    /// images number them: direct (no reflection), front_rear (a front then a
+    /// rear mirror: the focus), front_only, rear_only, other.
+    #[pyo3(get)]
+    classes: Vec<&'static str>,
 }
 
 impl TraceResult {
@@ -198,7 +253,10 @@ impl TraceResult {
         let photons = if header.identity.photon_list > 0 {
             let bytes = photon_list_npy(&result.photons, absolute.unwrap_or(1.0)).map_err(lib)?;
             let buffer = py.import("io")?.call_method1("BytesIO", (bytes,))?;
-            py.import("numpy")?.call_method1("load", (buffer,))?
+            let photons = py.import("numpy")?.call_method1("load", (buffer,))?;
+            // Read-only like every other array the result hands out.
+            photons.call_method("setflags", (), Some(&[("write", false)].into_py_dict(py)?))?;
+            photons
         } else {
             py.None().into_bound(py)
         };
@@ -212,6 +270,7 @@ impl TraceResult {
             statistics: statistics.unbind(),
             sources: sources.unbind(),
             photons: photons.unbind(),
+            classes: PathClass::ALL.iter().map(|c| c.name()).collect(),
         })
     }
 }

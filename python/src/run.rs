@@ -8,6 +8,7 @@ use crate::convert::{progress_bar, threads};
 use crate::errors::{lib, to_py};
 use crate::result::TraceResult;
 use crate::scene::Loaded;
+use crate::units::Unit;
 use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
@@ -103,15 +104,17 @@ pub fn finished_result(
 /// the scene file is now, if it moved (its SHA-256 is checked). Ctrl-C stops it
 /// again after the current batch, with the checkpoint written.
 #[pyfunction]
-#[pyo3(signature = (folder, threads = 0, checkpoint_every = 60.0, progress = false, scene = None))]
+#[pyo3(signature = (folder, threads = 0, checkpoint_every = None, progress = false, scene = None), text_signature = "(folder, threads=0, checkpoint_every=60.0, progress=False, scene=None)")]
 pub fn resume(
     py: Python<'_>,
     folder: PathBuf,
     threads: usize,
-    checkpoint_every: f64,
+    checkpoint_every: Option<&Bound<'_, PyAny>>,
     progress: bool,
     scene: Option<PathBuf>,
 ) -> PyResult<TraceResult> {
+    let checkpoint_every =
+        crate::units::optional("checkpoint_every", checkpoint_every, Unit::Second)?.unwrap_or(60.0);
     // A resumed run stays resumable: it keeps its checkpoint.
     let settings = RunSettings {
         threads: self::threads(threads)?,

@@ -6,6 +6,7 @@ use crate::convert::{defines, progress_bar, threads, to_json};
 use crate::errors::{input, lib, to_py};
 use crate::result::TraceResult;
 use crate::run::{finished_result, PyControl};
+use crate::units::{numbers, optional, Unit};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -26,7 +27,7 @@ pub fn embree_version() -> PyResult<String> {
     Ok(Device::new().map_err(lib)?.info().version)
 }
 
-/// A scene file (TOML), loaded and built for tracing.
+/// A scene file (TOML, see docs/scene-format.md), loaded and built for tracing.
 ///
 /// Scene(path, defines=None)
 ///
@@ -134,7 +135,7 @@ impl Scene {
 
     /// Traces `photons` photons, as `traxer trace SCENE --photons N --seed S`.
     ///
-    /// photon i uses the random stream (seed, i), so the images are the same for
+    /// Photon i uses the random stream (seed, i), so the images are the same for
     /// any `threads` (0: one per core) and equal the CLI's bit for bit.
     /// `photon_list`: also keep the first N photons recorded on a sensor
     /// (`TraceResult.photons`). `progress`: draw a progress bar on stderr. The
@@ -157,8 +158,9 @@ impl Scene {
         photon_list: usize,
         progress: bool,
         out: Option<PathBuf>,
-        checkpoint_every: Option<f64>,
+        checkpoint_every: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<TraceResult> {
+        let checkpoint_every = optional("checkpoint_every", checkpoint_every, Unit::Second)?;
         let photons = crate::convert::count("photons", photons, 1)?;
         let cfg =
             traxer::run::run_config(photons, seed, threads, photon_list).map_err(|e| input(e.0))?;
@@ -213,28 +215,33 @@ impl Scene {
     /// The telescope's effective area A_eff(E, θ), as `traxer effective-area`.
     ///
     /// The scene's only source must be a parallel beam covering the telescope's
-    /// entrance; it is tilted to each of `angles_arcmin`. At each angle `photons`
-    /// photons (default 200 000; an int or a whole float such as 2e5) are traced once and each photon's weight is evaluated at every
-    /// energy of `energies_keV`. `sensor`: the sensor to count on (default: the
+    /// entrance; it is tilted to each of `angles_arcmin` (None: on axis only). At
+    /// each angle `photons` photons (default 200 000; an int or a whole float
+    /// such as 2e5) are traced once and each photon's weight is evaluated at
+    /// every energy of `energies_keV`. Energies, angles and `radius_mm` may be
+    /// astropy Quantities (a wavelength converts to its energy). `sensor`: the sensor to count on (default: the
     /// only one); `radius_mm`: count only within this radius of the image
     /// centroid. Returns a `traxer.EffectiveArea`.
-    #[pyo3(signature = (energies_keV, angles_arcmin = vec![0.0], photons = None, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false))]
+    #[pyo3(signature = (energies_keV, angles_arcmin = None, photons = None, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn effective_area(
         &self,
         py: Python<'_>,
-        energies_keV: Vec<f64>,
-        angles_arcmin: Vec<f64>,
+        energies_keV: &Bound<'_, PyAny>,
+        angles_arcmin: Option<&Bound<'_, PyAny>>,
         photons: Option<&Bound<'_, PyAny>>,
         seed: u64,
         threads: usize,
         sensor: Option<String>,
-        radius_mm: Option<f64>,
+        radius_mm: Option<&Bound<'_, PyAny>>,
         progress: bool,
     ) -> PyResult<crate::effective_area::EffectiveArea> {
         let sweep = traxer::studies::effective_area::AreaSweep {
-            energies: energies_keV,
-            angles_arcmin,
+            energies: numbers("energies_keV", energies_keV, Unit::KeV)?,
+            angles_arcmin: match angles_arcmin.filter(|a| !a.is_none()) {
+                Some(a) => numbers("angles_arcmin", a, Unit::Arcmin)?,
+                None => vec![0.0],
+            },
             photons: match photons {
                 Some(p) => crate::convert::count("photons", p, 2)?,
                 None => 200_000,
@@ -242,7 +249,7 @@ impl Scene {
             seed,
             threads: self::threads(threads)?,
             sensor,
-            radius_mm,
+            radius_mm: optional("radius_mm", radius_mm, Unit::Mm)?,
         };
         crate::effective_area::run(py, self.loaded.clone(), sweep, progress)
     }

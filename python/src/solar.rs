@@ -4,6 +4,7 @@
 
 use crate::convert::array;
 use crate::errors::{input, lib};
+use crate::units::{numbers, optional, Unit};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use traxer::files::atomic_write;
@@ -46,7 +47,14 @@ impl From<AxionEmission> for SolarEmission {
 }
 
 /// (g_aγ, g_ae) for the processes that `emission` names.
-fn couplings(emission: &str, g_agamma: f64, g_ae: f64) -> PyResult<(Option<f64>, Option<f64>)> {
+fn couplings(
+    emission: &str,
+    g_agamma: Option<&Bound<'_, PyAny>>,
+    g_ae: Option<&Bound<'_, PyAny>>,
+) -> PyResult<(Option<f64>, Option<f64>)> {
+    let g_agamma =
+        optional("g_agamma", g_agamma, Unit::PerGeV)?.unwrap_or(G_AGAMMA_REFERENCE_PER_GEV);
+    let g_ae = optional("g_ae", g_ae, Unit::Dimensionless)?.unwrap_or(G_AE_REFERENCE);
     let (p, a) = builtin::parse_name(emission).ok_or_else(|| {
         input(format!(
             "emission={emission:?}: expected \"primakoff\", \"abc\" or \"primakoff+abc\""
@@ -60,7 +68,9 @@ fn couplings(emission: &str, g_agamma: f64, g_ae: f64) -> PyResult<(Option<f64>,
     Ok((p.then_some(g_agamma), a.then_some(g_ae)))
 }
 
-fn au(distance_au: f64) -> PyResult<f64> {
+/// A distance from the Sun (AU, or a length Quantity) checked, in cm.
+fn au(distance_au: Option<&Bound<'_, PyAny>>) -> PyResult<f64> {
+    let distance_au = optional("distance_au", distance_au, Unit::Au)?.unwrap_or(1.0);
     traxer::source::sun::check_distance_au("distance_au =", distance_au).map_err(input)?;
     Ok(distance_au * AU_CM)
 }
@@ -69,10 +79,15 @@ fn au(distance_au: f64) -> PyResult<f64> {
 impl SolarEmission {
     /// The built-in emission of the B16-AGSS09met standard solar model:
     /// "primakoff" (g_aγ in GeV⁻¹), "abc" (the axion–electron processes, g_ae) or
-    /// "primakoff+abc"; fluxes scale as the couplings squared.
+    /// "primakoff+abc"; fluxes scale as the couplings squared. `g_agamma` may be
+    /// a Quantity in 1/GeV.
     #[staticmethod]
-    #[pyo3(signature = (emission = "primakoff", g_agamma = G_AGAMMA_REFERENCE_PER_GEV, g_ae = G_AE_REFERENCE))]
-    fn builtin(emission: &str, g_agamma: f64, g_ae: f64) -> PyResult<SolarEmission> {
+    #[pyo3(signature = (emission = "primakoff", g_agamma = None, g_ae = None), text_signature = "(emission=\"primakoff\", g_agamma=1e-10, g_ae=1e-13)")]
+    fn builtin(
+        emission: &str,
+        g_agamma: Option<&Bound<'_, PyAny>>,
+        g_ae: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<SolarEmission> {
         let (p, a) = couplings(emission, g_agamma, g_ae)?;
         Ok(builtin_emission(p, a).map_err(lib)?.into())
     }
@@ -82,19 +97,24 @@ impl SolarEmission {
     /// shell of the model file). ABC needs `opacities`, the folder of the Opacity
     /// Project tables (e.g. ../shared/solar/op).
     #[staticmethod]
-    #[pyo3(signature = (path, energies_keV, radii = None, emission = "primakoff", opacities = None, g_agamma = G_AGAMMA_REFERENCE_PER_GEV, g_ae = G_AE_REFERENCE))]
+    #[pyo3(signature = (path, energies_keV, radii = None, emission = "primakoff", opacities = None, g_agamma = None, g_ae = None), text_signature = "(path, energies_keV, radii=None, emission=\"primakoff\", opacities=None, g_agamma=1e-10, g_ae=1e-13)")]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn from_model(
         py: Python<'_>,
         path: PathBuf,
-        energies_keV: Vec<f64>,
-        radii: Option<Vec<f64>>,
+        energies_keV: &Bound<'_, PyAny>,
+        radii: Option<&Bound<'_, PyAny>>,
         emission: &str,
         opacities: Option<PathBuf>,
-        g_agamma: f64,
-        g_ae: f64,
+        g_agamma: Option<&Bound<'_, PyAny>>,
+        g_ae: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<SolarEmission> {
         let (p, a) = couplings(emission, g_agamma, g_ae)?;
+        let energies_keV = numbers("energies_keV", energies_keV, Unit::KeV)?;
+        let radii = radii
+            .filter(|r| !r.is_none())
+            .map(|r| numbers("radii", r, Unit::FractionOfRsun))
+            .transpose()?;
         let model = SolarModel::read(&path).map_err(lib)?;
         let radii = radii.unwrap_or_else(|| model.shells.iter().map(|s| s.radius).collect());
         EmissionTable::check_grid(&radii, &energies_keV)
@@ -119,11 +139,11 @@ impl SolarEmission {
     /// `distance_au`): a dict with "primakoff", "atomic", "electron_ion",
     /// "electron_electron", "compton" and "abc" as the emission has them (empty
     /// for a table read from a CSV).
-    #[pyo3(signature = (distance_au = 1.0))]
+    #[pyo3(signature = (distance_au = None), text_signature = "($self, distance_au=1.0)")]
     fn process_spectra<'py>(
         &self,
         py: Python<'py>,
-        distance_au: f64,
+        distance_au: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
         let scale = (AU_CM / au(distance_au)?).powi(2);
         let d = pyo3::types::PyDict::new(py);
@@ -170,26 +190,44 @@ impl SolarEmission {
     }
 
     /// dΦ/dE at the grid's energies, axions cm⁻² s⁻¹ keV⁻¹, at `distance_au`.
-    #[pyo3(signature = (distance_au = 1.0))]
-    fn spectrum<'py>(&self, py: Python<'py>, distance_au: f64) -> PyResult<Bound<'py, PyAny>> {
+    #[pyo3(signature = (distance_au = None), text_signature = "($self, distance_au=1.0)")]
+    fn spectrum<'py>(
+        &self,
+        py: Python<'py>,
+        distance_au: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
         let s = self.table.spectrum_at(au(distance_au)?);
         array(py, &[s.len()], s)
     }
 
-    /// Axions per second emitted by the Sun with energies in [e_min_keV, e_max_keV].
-    #[pyo3(signature = (e_min_keV = 0.0, e_max_keV = f64::INFINITY))]
+    /// Axions per second emitted by the Sun with energies in [e_min_keV,
+    /// e_max_keV] (None: no upper limit). Energies may be astropy Quantities.
+    #[pyo3(signature = (e_min_keV = None, e_max_keV = None), text_signature = "($self, e_min_keV=0.0, e_max_keV=None)")]
     #[allow(non_snake_case)]
-    fn luminosity(&self, e_min_keV: f64, e_max_keV: f64) -> PyResult<f64> {
+    fn luminosity(
+        &self,
+        e_min_keV: Option<&Bound<'_, PyAny>>,
+        e_max_keV: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<f64> {
+        let e_min_keV = optional("e_min_keV", e_min_keV, Unit::KeV)?.unwrap_or(0.0);
+        let e_max_keV = optional("e_max_keV", e_max_keV, Unit::KeV)?.unwrap_or(f64::INFINITY);
         if e_min_keV.is_nan() || e_max_keV.is_nan() || e_min_keV > e_max_keV {
             return Err(input("expected e_min_keV ≤ e_max_keV"));
         }
         Ok(self.table.luminosity(e_min_keV, e_max_keV))
     }
 
-    /// Axion flux, cm⁻² s⁻¹, at `distance_au` with energies in [e_min_keV, e_max_keV].
-    #[pyo3(signature = (distance_au = 1.0, e_min_keV = 0.0, e_max_keV = f64::INFINITY))]
+    /// Axion flux, cm⁻² s⁻¹, at `distance_au` with energies in [e_min_keV,
+    /// e_max_keV] (None: no upper limit). The distance and energies may be
+    /// astropy Quantities.
+    #[pyo3(signature = (distance_au = None, e_min_keV = None, e_max_keV = None), text_signature = "($self, distance_au=1.0, e_min_keV=0.0, e_max_keV=None)")]
     #[allow(non_snake_case)]
-    fn flux(&self, distance_au: f64, e_min_keV: f64, e_max_keV: f64) -> PyResult<f64> {
+    fn flux(
+        &self,
+        distance_au: Option<&Bound<'_, PyAny>>,
+        e_min_keV: Option<&Bound<'_, PyAny>>,
+        e_max_keV: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<f64> {
         let d = au(distance_au)?;
         Ok(self.luminosity(e_min_keV, e_max_keV)? / (4.0 * std::f64::consts::PI * d * d))
     }

@@ -5,7 +5,7 @@
 //! 80 % / 90 %).
 
 use super::{analyse, Eef, ImageGeometry, ImageQuality};
-use crate::sensor::{sum_bands, SensorImage, SensorSpec};
+use crate::sensor::{rebin, sum_bands, PixelGrid, Rebinned, SensorImage, SensorSpec};
 
 /// One sensor's image, finished.
 pub struct FinishedImage {
@@ -57,6 +57,13 @@ impl FinishedImage {
     /// The quality alone.
     pub fn image_quality(&self) -> Option<&ImageQuality> {
         self.quality.as_ref().map(|(q, _)| q)
+    }
+
+    /// The flux summed over bands, rebinned onto the sensor's detector pixel
+    /// grid (`pixel_grid`), if it has one.
+    pub fn on_grid(&self, spec: &SensorSpec) -> Option<(PixelGrid, Rebinned)> {
+        let g = spec.pixel_grid?;
+        Some((g, rebin(&self.summed, spec.size, spec.pixels, &g)))
     }
 
     /// Pixel centres (mm, sensor frame) along x and along y.

@@ -120,23 +120,29 @@ pub fn write_class_images(
     Ok(written)
 }
 
-/// One row of `photons.npy`.
-#[derive(npyz::Serialize, npyz::AutoSerialize, Clone, Copy)]
-struct PhotonRow {
-    index: u64,
-    sensor: u32,
-    x_mm: f64,
-    y_mm: f64,
-    dir_x: f64,
-    dir_y: f64,
-    dir_z: f64,
-    energy_kev: f64,
-    weight: f64,
-    reflections: u16,
-    first_mirror: i32,
-    last_mirror: i32,
-    class: u8,
+/// One row of `photons.npy`: the field names are the dtype's, `energy_keV`
+/// as in every other file and Python name (the derive's generated code needs
+/// the allowance at module level).
+mod row {
+    #![allow(non_snake_case)]
+    #[derive(npyz::Serialize, npyz::AutoSerialize, Clone, Copy)]
+    pub struct PhotonRow {
+        pub index: u64,
+        pub sensor: u32,
+        pub x_mm: f64,
+        pub y_mm: f64,
+        pub dir_x: f64,
+        pub dir_y: f64,
+        pub dir_z: f64,
+        pub energy_keV: f64,
+        pub weight: f64,
+        pub reflections: u16,
+        pub first_mirror: i32,
+        pub last_mirror: i32,
+        pub class: u8,
+    }
 }
+use row::PhotonRow;
 
 fn mirror_index(m: u32) -> i32 {
     if m == NO_MIRROR {
@@ -160,7 +166,7 @@ fn photon_rows(photons: &[RecordedPhoton], scale: f64) -> Vec<PhotonRow> {
                 dir_x: p.dir.x,
                 dir_y: p.dir.y,
                 dir_z: p.dir.z,
-                energy_kev: r.energy,
+                energy_keV: r.energy,
                 weight: r.weight * scale,
                 reflections: r.history.reflections,
                 first_mirror: mirror_index(r.history.first_mirror),
@@ -193,7 +199,7 @@ pub fn photon_list_npy(photons: &[RecordedPhoton], scale: f64) -> std::io::Resul
 }
 
 /// Writes the photon list: `photons.npy` (structured: index, sensor, x_mm, y_mm
-/// on the sensor, dir_x/y/z, energy_kev, weight, reflections, first_mirror,
+/// on the sensor, dir_x/y/z, energy_keV, weight, reflections, first_mirror,
 /// last_mirror (object indices, −1 = none), class (0 direct, 1 front_rear,
 /// 2 front_only, 3 rear_only, 4 other)) and `photons.csv` with names instead of
 /// indices. Weights are in the images' units (`scale`).
@@ -234,7 +240,7 @@ pub fn write_photon_list(
                 r.dir_x.to_string(),
                 r.dir_y.to_string(),
                 r.dir_z.to_string(),
-                r.energy_kev.to_string(),
+                r.energy_keV.to_string(),
                 r.weight.to_string(),
                 r.reflections.to_string(),
                 mirror_name(scene, p.record.history.first_mirror),

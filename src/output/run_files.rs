@@ -142,7 +142,7 @@ fn write_sensor(
         )?;
     }
     write_projections(&paths[6], summed, geometry)?;
-    let grid = write_grid_files(dir, spec, summed, &mut written)?;
+    let grid = write_grid_files(dir, spec, &finished, &mut written)?;
     written.extend(write_class_images(
         dir,
         spec,
@@ -210,15 +210,16 @@ fn flux_units(absolute: bool, gas: bool) -> &'static str {
 fn write_grid_files(
     dir: &Path,
     spec: &crate::sensor::SensorSpec,
-    summed: &[f64],
+    finished: &FinishedImage,
     written: &mut Vec<PathBuf>,
 ) -> std::io::Result<Value> {
-    let Some(g) = &spec.pixel_grid else {
+    let Some((g, r)) = finished.on_grid(spec) else {
         return Ok(Value::Null);
     };
+    let g = &g;
     let names = crate::sensor::grid_file_names(&spec.name);
     let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
-    let r = write_grid(&grid_paths, summed, spec, g)?;
+    write_grid(&grid_paths, &r, g)?;
     written.extend(grid_paths);
     Ok(json!({
         "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
@@ -304,11 +305,9 @@ fn write_projections(path: &Path, image: &[f64], g: &ImageGeometry) -> std::io::
 /// (pixel indices, pixel-centre positions on the sensor, flux).
 fn write_grid(
     paths: &[PathBuf; 2],
-    summed: &[f64],
-    spec: &crate::sensor::SensorSpec,
+    r: &crate::sensor::Rebinned,
     g: &crate::sensor::PixelGrid,
-) -> std::io::Result<crate::sensor::Rebinned> {
-    let r = crate::sensor::rebin(summed, spec.size, spec.pixels, g);
+) -> std::io::Result<()> {
     let (gx, gy) = (g.pixels[0] as usize, g.pixels[1] as usize);
     write_npy_f64(&paths[0], &[gy as u64, gx as u64], &r.flux)?;
     write_csv(
@@ -325,8 +324,7 @@ fn write_grid(
                 r.flux[k].to_string(),
             ]
         }),
-    )?;
-    Ok(r)
+    )
 }
 
 /// Pretty JSON, written atomically.

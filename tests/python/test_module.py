@@ -138,6 +138,61 @@ def test_photon_list_equals_the_cli(pair):
     assert len(result.photons) == 50 and result.photons.tobytes() == listed.tobytes()
 
 
+def test_grid_image_in_memory_equals_the_cli_grid_files(pair):
+    out, result, _, case = pair
+    for name, img in result.sensors.items():
+        grid = json.loads((out / f"{name}.json").read_text())["sensor"]["pixel_grid"]
+        if grid is None:
+            assert img.grid is None
+            continue
+        g = img.grid
+        on_disk = np.load(out / f"{name}_grid.npy")
+        assert g.flux.tobytes() == on_disk.tobytes() and g.flux.shape == on_disk.shape
+        assert list(g.pixels) == grid["pixels"] and g.pitch_mm == grid["pitch_mm"]
+        assert g.flux_on_grid == grid["flux_on_grid"]
+        assert g.flux_outside_grid == grid["flux_outside_grid"] >= 0
+        # The flux is conserved: on the grid plus beside it is the image's.
+        assert math.isclose(g.flux_on_grid + g.flux_outside_grid, img.total_flux, rel_tol=1e-9)
+        # Pixel centres: the CSV's, [iy, ix], one pitch apart.
+        rows = np.loadtxt(out / f"{name}_grid.csv", delimiter=",", skiprows=1)
+        ny, nx = g.flux.shape
+        assert np.allclose(g.x_mm.ravel(), rows[:, 2], atol=1e-6)
+        assert np.allclose(g.y_mm.ravel(), rows[:, 3], atol=1e-6)
+        step = math.hypot(g.x_mm[0, 1] - g.x_mm[0, 0], g.y_mm[0, 1] - g.y_mm[0, 0])
+        assert math.isclose(step, g.pitch_mm, rel_tol=1e-9)
+        assert not g.flux.flags.writeable
+    assert case != "cast" or any(i.grid is not None for i in result.sensors.values())
+
+
+def test_result_names_its_path_classes_and_lists_energy_kev(pair):
+    _, result, _, case = pair
+    assert result.classes == ["direct", "front_rear", "front_only", "rear_only", "other"]
+    if case == "wolter":
+        assert "energy_keV" in result.photons.dtype.names
+        assert not result.photons.flags.writeable
+        assert set(np.unique(result.photons["class"])) <= set(range(len(result.classes)))
+
+
+def test_class_images_in_memory_equal_the_cli_class_files(tmp_path):
+    text = WOLTER.read_text().replace('"../meshes/', '"%s/' % (REPO / "meshes"))
+    assert "pixels = [512, 512]" in text
+    text = text.replace("pixels = [512, 512]", "pixels = [64, 64]\nhistory_images = true")
+    scene = tmp_path / "classes.toml"
+    scene.write_text(text)
+    cli("trace", scene, "-n", 20_000, "--seed", 4, "--out", tmp_path / "cli", "-q")
+    result = traxer.Scene(scene).trace(20_000, seed=4)
+    img = next(iter(result.sensors.values()))
+    assert list(img.by_class) == result.classes
+    for cls, flux in img.by_class.items():
+        on_disk = np.load(tmp_path / "cli" / f"{img.name}_{cls}.npy")
+        assert flux.tobytes() == on_disk.tobytes(), cls
+    # The classes split the image: they add up to it.
+    assert np.allclose(sum(img.by_class.values()), img.flux, rtol=1e-12, atol=0)
+    assert img.by_class["front_rear"].sum() > 0.5 * img.total_flux
+    # A sensor without history images has none.
+    assert traxer.Scene(WOLTER).trace(1000).sensors["sensor"].by_class is None
+
+
 def test_save_writes_the_cli_files(pair):
     out, _, saved, _ = pair
     cli_files = sorted(p.name for p in out.iterdir())
@@ -554,3 +609,51 @@ def test_scene_variable_errors_name_no_cli_option():
     with pytest.raises(traxer.SceneError) as e:
         traxer.Scene(PANTER, defines={"figure_error": "nosuch"})
     assert "-D" not in str(e.value) and 'variable override figure_error="nosuch"' in str(e.value)
+
+
+def test_astropy_quantities_are_converted_never_misread():
+    """A Quantity converts to the documented unit (independently: 30′ = 0.5°,
+    3000 eV = 3 keV, hc/λ = 12.398 keV·Å / λ); one of the wrong kind raises
+    InputError naming the argument; plain numbers keep their units."""
+    u = pytest.importorskip("astropy.units")
+    gold = lambda e, a: float(traxer.reflectivity("gold", e, a))
+    assert gold(3 * u.keV, 30 * u.arcmin) == gold(3.0, 0.5)
+    assert gold(3000 * u.eV, 0.5 * u.deg) == gold(3.0, 0.5)
+    assert gold(3 * u.keV, (0.5 * u.deg).to(u.rad)) == pytest.approx(gold(3.0, 0.5), rel=1e-12)
+    hc_kev_angstrom = 12.398419843320026  # CODATA 2018
+    assert gold((hc_kev_angstrom / 3.0) * u.AA, 0.5) == pytest.approx(gold(3.0, 0.5), rel=1e-9)
+    grid = traxer.reflectivity("gold", np.array([1.5, 3.0])[:, None] * u.keV, np.array([30, 60]) * u.arcmin)
+    assert np.array_equal(grid, traxer.reflectivity("gold", np.array([1.5, 3.0])[:, None], [0.5, 1.0]))
+    for call, name in [
+        (lambda: traxer.reflectivity("gold", 3 * u.keV, 2 * u.keV), "angles_deg"),
+        (lambda: traxer.reflectivity("gold", 3 * u.s, 0.5), "energies_keV"),
+        (lambda: traxer.eef(np.ones((8, 8)), 1 * u.s), "pixel_pitch_mm"),
+        (lambda: traxer.SolarEmission.builtin(g_agamma=1e-10 * u.m), "g_agamma"),
+        (lambda: traxer.SolarEmission.builtin().flux(distance_au=1 * u.s), "distance_au"),
+    ]:
+        with pytest.raises(traxer.InputError, match=name):
+            call()
+    # Lengths, distances and couplings.
+    img = np.zeros((40, 40))
+    img[15:25, 15:25] = 1
+    assert traxer.eef(img, 55 * u.um)["hpd_mm"] == traxer.eef(img, 0.055)["hpd_mm"]
+    assert traxer.eef(img, (0.055 * u.mm, 55 * u.um), 1.5 * u.m)["hpd_arcsec"] == traxer.eef(img, 0.055, 1500.0)["hpd_arcsec"]
+    sun = traxer.SolarEmission.builtin()
+    assert sun.flux(distance_au=149_597_870.7 * u.km) == pytest.approx(sun.flux(), rel=1e-12)
+    assert sun.flux(e_min_keV=2000 * u.eV, e_max_keV=7 * u.keV) == sun.flux(e_min_keV=2, e_max_keV=7)
+    assert np.array_equal(sun.spectrum(2 * u.AU), sun.spectrum(2.0))
+    # g_aγ = 1e-13 MeV⁻¹ is 1e-10 GeV⁻¹.
+    assert traxer.SolarEmission.builtin(g_agamma=1e-13 / u.MeV).flux() == pytest.approx(sun.flux(), rel=1e-12)
+
+
+def test_effective_area_takes_quantity_arrays():
+    u = pytest.importorskip("astropy.units")
+    scene = traxer.Scene(LLNL_AREA)
+    plain = scene.effective_area([1.5, 3.0], [0.0, 5.0], photons=4000, seed=3)
+    q = scene.effective_area(np.array([1500.0, 3000.0]) * u.eV, [0, 300] * u.arcsec, photons=4000, seed=3)
+    assert np.array_equal(plain.area_cm2, q.area_cm2)
+    assert np.array_equal(q.energies_keV, [1.5, 3.0]) and np.array_equal(q.angles_arcmin, [0.0, 5.0])
+    with pytest.raises(traxer.InputError, match="angles_arcmin"):
+        scene.effective_area([1.5], [1.0] * u.keV, photons=100)
+    with pytest.raises(traxer.InputError, match="radius_mm"):
+        scene.effective_area([1.5], photons=100, radius_mm=2 * u.keV)
