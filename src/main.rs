@@ -42,9 +42,36 @@ enum Command {
     Synopsis,
 }
 
+impl Command {
+    /// `-q`: every command takes it and means the same by it.
+    fn quiet(&self) -> bool {
+        match self {
+            Command::Trace(a) => a.output.quiet.quiet,
+            Command::Tessellate(a) => a.quiet.quiet,
+            Command::Merge(a) => a.output.quiet.quiet,
+            Command::Info(a) => a.quiet.quiet,
+            Command::Inspect(a) => a.quiet.quiet,
+            Command::Bench(a) => a.quiet.quiet,
+            Command::Reflectivity(a) => a.quiet.quiet,
+            Command::Eef(a) => a.quiet.quiet,
+            Command::Focus(a) => a.output.quiet.quiet,
+            Command::EffectiveArea(a) => a.output.quiet.quiet,
+            Command::Compare(a) => a.output.quiet.quiet,
+            Command::FitFigureError(a) => a.output.quiet.quiet,
+            Command::Render(a) => a.quiet.quiet,
+            Command::SolarFlux(a) => a.output.quiet.quiet,
+            Command::View(a) => a.quiet.quiet,
+            Command::Synopsis => true,
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     cli::signals::stop_cleanly_on_signals();
+    if !cli.command.quiet() {
+        traxer::progress::set_notice_sink(|m| cli::tell_line(format_args!("note: {m}")));
+    }
     let result = match cli.command {
         Command::Trace(a) => cli::trace::run(a),
         Command::Tessellate(a) => cli::tessellate::run(a),

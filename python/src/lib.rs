@@ -38,6 +38,17 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("embree_version", scene::embree_version()?)?;
     m.add("git_hash", traxer::run::git_hash())?;
+    // Notes of slow first-time work (a reflectivity table built and cached) go
+    // to Python's stderr, so a notebook shows them too.
+    traxer::progress::set_notice_sink(|message| {
+        Python::attach(|py| {
+            let line = format!("traxer: {message}\n");
+            let _ = py
+                .import("sys")
+                .and_then(|sys| sys.getattr("stderr"))
+                .and_then(|err| err.call_method1("write", (line,)));
+        })
+    });
     errors::register(m)?;
     m.add_class::<scene::Scene>()?;
     m.add_class::<result::TraceResult>()?;

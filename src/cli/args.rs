@@ -89,7 +89,9 @@ pub struct OutputArgs {
 /// `--quiet`.
 #[derive(clap::Args, Clone, Copy, Debug)]
 pub struct QuietArg {
-    /// No progress bar, and on stdout only the result (nothing for trace and render).
+    /// Quiet: no progress bar and no notes on stderr (errors and warnings still
+    /// appear); stdout carries only the result (nothing for trace and render).
+    /// The same for every command.
     #[arg(short, long)]
     pub quiet: bool,
 }

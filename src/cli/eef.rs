@@ -31,6 +31,8 @@ pub struct EefArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub quiet: super::args::QuietArg,
 }
 
 pub fn run(a: EefArgs) -> anyhow::Result<()> {
@@ -81,7 +83,9 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         say!("{}", serde_json::to_string_pretty(&q)?);
     } else {
         print_quality(&q);
-        tell!("wrote {}", plot.display());
+        if !a.quiet.quiet {
+            tell!("wrote {}", plot.display());
+        }
     }
     Ok(())
 }

@@ -6,6 +6,8 @@ pub struct InfoArgs {
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
+    #[command(flatten)]
+    pub quiet: super::args::QuietArg,
 }
 
 pub fn run(a: InfoArgs) -> anyhow::Result<()> {

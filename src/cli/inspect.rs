@@ -32,6 +32,8 @@ pub struct InspectArgs {
     /// (e.g. 450 for a telescope): the units hint then names the unit that fits.
     #[arg(long, value_name = "MM")]
     pub expect_size: Option<f64>,
+    #[command(flatten)]
+    pub quiet: super::args::QuietArg,
 }
 
 /// Version of the JSON layout: raised when a key changes meaning or disappears.

@@ -37,6 +37,8 @@ pub struct ReflectivityArgs {
     /// Also write the CSV to this file (atomically) instead of only printing it.
     #[arg(value_name = "FILE", long)]
     pub csv: Option<PathBuf>,
+    #[command(flatten)]
+    pub quiet: super::args::QuietArg,
 }
 
 pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
@@ -100,7 +102,9 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         details,
     )
     .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;
-    tell!("wrote {}", a.plot.display());
+    if !a.quiet.quiet {
+        tell!("wrote {}", a.plot.display());
+    }
     Ok(())
 }
 

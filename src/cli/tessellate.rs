@@ -46,6 +46,8 @@ pub struct TessellateArgs {
     pub local: bool,
     #[command(flatten)]
     pub vars: DefineArgs,
+    #[command(flatten)]
+    pub quiet: super::args::QuietArg,
 }
 
 /// One shape tessellated at the resolution asked (command line, else the
@@ -67,6 +69,9 @@ fn tessellate(a: &TessellateArgs, s: &NamedShape) -> Result<TriangleMesh, InputE
     let mut mesh = s.shape.tessellate(res);
     if !a.local {
         mesh = mesh.transformed(&s.transform);
+    }
+    if a.quiet.quiet {
+        return Ok(mesh);
     }
     say!(
         "{}: {} triangles, {} vertices ({} × {})",
@@ -137,6 +142,9 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
         write_mesh_parts(&a.out, &parts)
             .with_context(|| format!("cannot write {}", a.out.display()))?;
         let triangles: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+        if a.quiet.quiet {
+            return Ok(());
+        }
         say!(
             "wrote {} part(s), {triangles} triangles → {}",
             parts.len(),
@@ -150,7 +158,9 @@ pub fn run(a: TessellateArgs) -> anyhow::Result<()> {
                     .join(format!("{}.{}", file_stem(&s.name), f.extension()));
                 write_mesh(&t, mesh, &s.name)
                     .with_context(|| format!("cannot write {}", t.display()))?;
-                say!("  → {}", t.display());
+                if !a.quiet.quiet {
+                    say!("  → {}", t.display());
+                }
             }
         }
     }

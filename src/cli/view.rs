@@ -57,6 +57,8 @@ pub struct ViewArgs {
     pub show_help: bool,
     #[command(flatten)]
     pub sampling: SamplingArgs,
+    #[command(flatten)]
+    pub quiet: super::args::QuietArg,
 }
 
 pub fn run(a: ViewArgs) -> anyhow::Result<()> {

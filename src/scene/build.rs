@@ -209,7 +209,7 @@ fn reflectivity_tables(
     coatings
         .iter()
         .map(|c| {
-            ReflectivityTable::new(c, e_min, e_max, TABLE_THETA_MAX).map_err(|e| {
+            ReflectivityTable::cached(c, e_min, e_max, TABLE_THETA_MAX).map_err(|e| {
                 at.whole(format!(
                     "coating `{}`: the sources emit energies it cannot describe: {e}",
                     c.name

@@ -206,7 +206,7 @@ pub fn sweep(
     let tables = scene
         .reflectivity
         .iter()
-        .map(|t| ReflectivityTable::new(&t.coating, e_min, e_max, TABLE_THETA_MAX))
+        .map(|t| ReflectivityTable::cached(&t.coating, e_min, e_max, TABLE_THETA_MAX))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| StudyError::Input(format!("energies: {e}")))?;
     let pool = rayon::ThreadPoolBuilder::new()

@@ -7,7 +7,8 @@
 //! data/coatings.toml and the scene's own entries, and resolves figure-error
 //! presets from data/figure_errors.toml; the photon loop multiplies a photon's
 //! weight by R(E, θ) at each reflection and tilts the reflected ray by the figure
-//! error; `traxer reflectivity` prints and plots R.
+//! error; `traxer reflectivity` prints and plots R. Tables are kept on disk
+//! between builds ([`table_cache`]).
 
 pub mod coating;
 pub mod coating_spec;
@@ -19,6 +20,7 @@ pub mod gas;
 pub mod optical;
 pub mod parratt;
 pub mod table;
+pub mod table_cache;
 
 pub use coating::{Coating, CoatingLibrary};
 pub use coating_spec::{coating_from_spec, CoatingSpecError};

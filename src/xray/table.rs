@@ -92,6 +92,36 @@ impl ReflectivityTable {
         })
     }
 
+    /// The table's grid and values, for the disk cache.
+    pub(super) fn parts(&self) -> (&[f64], f64, f64, usize, &[f32]) {
+        let t = self;
+        (&t.energies, t.theta_step, t.theta_max, t.n_theta, &t.values)
+    }
+
+    /// A table from the cache's parts, if they make a table.
+    pub(super) fn from_parts(
+        coating: &Coating,
+        energies: Vec<f64>,
+        theta_step: f64,
+        theta_max: f64,
+        n_theta: usize,
+        values: Vec<f32>,
+    ) -> Option<ReflectivityTable> {
+        let grid_ok = !energies.is_empty()
+            && n_theta >= 2
+            && theta_step > 0.0
+            && theta_max > 0.0
+            && values.len() == energies.len() * n_theta;
+        grid_ok.then(|| ReflectivityTable {
+            coating: coating.clone(),
+            energies,
+            theta_step,
+            theta_max,
+            n_theta,
+            values,
+        })
+    }
+
     /// Unpolarised R at `energy_kev` (inside the table's range; clamped to it) and
     /// grazing angle `theta` (rad, ≥ 0).
     #[inline]

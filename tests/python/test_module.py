@@ -657,3 +657,16 @@ def test_effective_area_takes_quantity_arrays():
         scene.effective_area([1.5], [1.0] * u.keV, photons=100)
     with pytest.raises(traxer.InputError, match="radius_mm"):
         scene.effective_area([1.5], photons=100, radius_mm=2 * u.keV)
+
+
+def test_reflectivity_tables_are_cached_between_builds(tmp_path, monkeypatch, capsys):
+    """A scan rebuilds the scene per value: the second build reads the tables the
+    first one kept (in TRAXER_CACHE), says nothing, and traces the same photons."""
+    monkeypatch.setenv("TRAXER_CACHE", str(tmp_path / "cache"))
+    first = traxer.Scene(WOLTER, defines={"coating": "gold"}).trace(5000, seed=2)
+    said = capsys.readouterr().err
+    assert "traxer: building the reflectivity table of coating `gold`" in said, said
+    assert list((tmp_path / "cache" / "reflectivity").iterdir())
+    second = traxer.Scene(WOLTER, defines={"coating": "gold"}).trace(5000, seed=2)
+    assert "building" not in capsys.readouterr().err
+    assert first["sensor"].flux.tobytes() == second["sensor"].flux.tobytes()

@@ -1,0 +1,173 @@
+//! A disk cache of reflectivity tables, so that building the same scene again
+//! (a scan over a scene variable, a second Python session, the next shard) skips
+//! the Parratt evaluations that dominate a CAST scene's build.
+//!
+//! Data flow: `scene::build` asks [`ReflectivityTable::cached`] for each
+//! coating's table → the file named by the key is read if it exists and checks
+//! out, else the table is built and written for next time.
+//!
+//! The key is the SHA-256 of everything the table depends on: the coating as
+//! built (its layers, roughnesses and every optical constant of its materials,
+//! through `Debug`, which prints each f64 exactly), the energy range and angle
+//! limit (their bits), traxer's version and the source text of the modules that
+//! compute tables. A change to any of them is a different file, never a stale
+//! table. Each file ends with the SHA-256 of its contents; a damaged file is
+//! rebuilt. Files are written atomically (a temporary file renamed), so runs
+//! sharing the cache concurrently see a whole table or none, and two writers of
+//! one key write the same bytes. Values are stored as their bits: a table read
+//! back is the table built, and images are the same with or without the cache.
+//!
+//! The folder: `TRAXER_CACHE` if set (`off` disables the cache), else
+//! `$XDG_CACHE_HOME/traxer`, else `~/.cache/traxer`; tables go in its
+//! `reflectivity/`. A cache that cannot be written is skipped silently: it only
+//! saves time.
+
+use super::coating::Coating;
+use super::optical::EnergyOutOfRange;
+use super::table::ReflectivityTable;
+use sha2::{Digest, Sha256};
+use std::path::{Path, PathBuf};
+
+/// The first bytes of a table file; bump the number when the layout changes.
+const MAGIC: &[u8] = b"traxer reflectivity table 1\n";
+
+/// The source of the modules whose code decides a table's values.
+const TABLE_SOURCES: [&str; 6] = [
+    include_str!("table.rs"),
+    include_str!("parratt.rs"),
+    include_str!("coating.rs"),
+    include_str!("optical.rs"),
+    include_str!("compound.rs"),
+    include_str!("elements.rs"),
+];
+
+/// The cache's folder, or `None` when disabled or no home is known.
+pub fn cache_dir() -> Option<PathBuf> {
+    let root = match std::env::var_os("TRAXER_CACHE") {
+        Some(v) if v == "off" || v.is_empty() => return None,
+        Some(v) => PathBuf::from(v),
+        None => match std::env::var_os("XDG_CACHE_HOME").filter(|v| !v.is_empty()) {
+            Some(x) => PathBuf::from(x).join("traxer"),
+            None => PathBuf::from(std::env::var_os("HOME")?)
+                .join(".cache")
+                .join("traxer"),
+        },
+    };
+    Some(root.join("reflectivity"))
+}
+
+/// The file of the table for these inputs.
+fn key(coating: &Coating, e_min: f64, e_max: f64, theta_max: f64) -> String {
+    let mut h = Sha256::new();
+    h.update(MAGIC);
+    h.update(env!("CARGO_PKG_VERSION").as_bytes());
+    for source in TABLE_SOURCES {
+        h.update(Sha256::digest(source.as_bytes()));
+    }
+    h.update(format!("{coating:?}").as_bytes());
+    for x in [e_min, e_max, theta_max] {
+        h.update(x.to_bits().to_le_bytes());
+    }
+    format!("{:x}", h.finalize())
+}
+
+impl ReflectivityTable {
+    /// The table of [`ReflectivityTable::new`], read from the disk cache when
+    /// it holds it; otherwise built, with a notice saying so (it takes
+    /// seconds for a broad band), and stored for next time.
+    pub fn cached(
+        coating: &Coating,
+        e_min: f64,
+        e_max: f64,
+        theta_max: f64,
+    ) -> Result<ReflectivityTable, EnergyOutOfRange> {
+        let path =
+            cache_dir().map(|d| d.join(format!("{}.bin", key(coating, e_min, e_max, theta_max))));
+        if let Some(table) = path.as_deref().and_then(|p| read(p, coating)) {
+            return Ok(table);
+        }
+        let energies = if e_min == e_max {
+            format!("at {e_min} keV")
+        } else {
+            format!("for {e_min}–{e_max} keV")
+        };
+        crate::progress::notice(&format!(
+            "building the reflectivity table of coating `{}` {energies}{}",
+            coating.name,
+            match &path {
+                Some(p) => format!(
+                    " (once: kept in {} for the next build)",
+                    p.parent().unwrap_or(p).display()
+                ),
+                None => String::new(),
+            }
+        ));
+        let table = ReflectivityTable::new(coating, e_min, e_max, theta_max)?;
+        if let Some(p) = &path {
+            // Only time is lost if the cache cannot be written.
+            let _ = std::fs::create_dir_all(p.parent().expect("a file in a folder"))
+                .and_then(|()| crate::files::atomic_write(p, &encode(&table)));
+        }
+        Ok(table)
+    }
+}
+
+/// The table's file contents.
+fn encode(t: &ReflectivityTable) -> Vec<u8> {
+    let (energies, theta_step, theta_max, n_theta, values) = t.parts();
+    let mut b = MAGIC.to_vec();
+    b.extend((energies.len() as u64).to_le_bytes());
+    energies
+        .iter()
+        .for_each(|e| b.extend(e.to_bits().to_le_bytes()));
+    b.extend(theta_step.to_bits().to_le_bytes());
+    b.extend(theta_max.to_bits().to_le_bytes());
+    b.extend((n_theta as u64).to_le_bytes());
+    b.extend((values.len() as u64).to_le_bytes());
+    values
+        .iter()
+        .for_each(|v| b.extend(v.to_bits().to_le_bytes()));
+    let sum = Sha256::digest(&b);
+    b.extend(sum);
+    b
+}
+
+/// The table in `path`, if the file exists and is whole.
+fn read(path: &Path, coating: &Coating) -> Option<ReflectivityTable> {
+    let bytes = std::fs::read(path).ok()?;
+    let (body, sum) = bytes.split_at(bytes.len().checked_sub(32)?);
+    if Sha256::digest(body).as_slice() != sum {
+        return None;
+    }
+    let mut r = Reader(body.strip_prefix(MAGIC)?);
+    let energies = (0..r.u64()?)
+        .map(|_| r.f64())
+        .collect::<Option<Vec<f64>>>()?;
+    let (theta_step, theta_max, n_theta) = (r.f64()?, r.f64()?, r.u64()? as usize);
+    let n = r.u64()? as usize;
+    if n != n_theta.checked_mul(energies.len())? || r.0.len() != 4 * n {
+        return None;
+    }
+    let values = (0..n).map(|_| r.f32()).collect::<Option<Vec<f32>>>()?;
+    ReflectivityTable::from_parts(coating, energies, theta_step, theta_max, n_theta, values)
+}
+
+/// Little-endian numbers off the front of a byte slice.
+struct Reader<'a>(&'a [u8]);
+
+impl Reader<'_> {
+    fn take<const N: usize>(&mut self) -> Option<[u8; N]> {
+        let (head, rest) = self.0.split_first_chunk::<N>()?;
+        self.0 = rest;
+        Some(*head)
+    }
+    fn u64(&mut self) -> Option<u64> {
+        self.take().map(u64::from_le_bytes)
+    }
+    fn f64(&mut self) -> Option<f64> {
+        self.u64().map(f64::from_bits)
+    }
+    fn f32(&mut self) -> Option<f32> {
+        self.take().map(|b| f32::from_bits(u32::from_le_bytes(b)))
+    }
+}

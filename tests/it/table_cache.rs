@@ -1,0 +1,105 @@
+//! The reflectivity tables' disk cache (src/xray/table_cache.rs): a second build
+//! reads what the first wrote and gives the same images bit for bit; a damaged
+//! file is rebuilt; two runs filling an empty cache at once both succeed and
+//! leave whole files; `TRAXER_CACHE=off` writes nothing; the note about building
+//! appears when a table is built, and never with `-q`.
+
+use crate::common::{repo, run_ok, traxer};
+use std::path::Path;
+
+/// `traxer trace` of the Wolter-I scene (two coatings' tables) with the cache in
+/// `cache`; returns (stderr, the image's bytes).
+fn trace(cache: &str, out: &Path, quiet: bool) -> (String, Vec<u8>) {
+    let mut cmd = traxer();
+    cmd.env("TRAXER_CACHE", cache)
+        .arg("trace")
+        .arg(repo().join("scenes/wolter1_parallel.toml"))
+        .args(["-n", "20000", "-D", "coating=gold", "--out"])
+        .arg(out);
+    if quiet {
+        cmd.arg("-q");
+    }
+    let o = run_ok(&mut cmd);
+    let image = std::fs::read(out.join("sensor.npy")).unwrap();
+    (String::from_utf8_lossy(&o.stderr).into_owned(), image)
+}
+
+fn tables(cache: &Path) -> Vec<std::path::PathBuf> {
+    match std::fs::read_dir(cache.join("reflectivity")) {
+        Ok(d) => d.map(|e| e.unwrap().path()).collect(),
+        Err(_) => Vec::new(),
+    }
+}
+
+#[test]
+fn a_second_build_reads_the_tables_and_traces_the_same_photons() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = tmp.path().join("cache");
+    let c = cache.to_str().unwrap();
+    let (note, first) = trace(c, &tmp.path().join("a"), false);
+    assert!(
+        note.contains("building the reflectivity table of coating `gold`"),
+        "{note}"
+    );
+    assert!(note.contains("kept in"), "{note}");
+    let files = tables(&cache);
+    assert!(!files.is_empty());
+    let (note, second) = trace(c, &tmp.path().join("b"), false);
+    assert!(
+        !note.contains("building"),
+        "the second build rebuilt: {note}"
+    );
+    assert_eq!(first, second, "the cached table changed the image");
+    // A damaged file (one flipped byte) is noticed by its checksum and rebuilt.
+    let mut bytes = std::fs::read(&files[0]).unwrap();
+    let mid = bytes.len() / 2;
+    bytes[mid] ^= 0x40;
+    std::fs::write(&files[0], &bytes).unwrap();
+    let (note, third) = trace(c, &tmp.path().join("c"), false);
+    assert!(
+        note.contains("building"),
+        "a damaged table was used: {note}"
+    );
+    assert_eq!(first, third);
+    // A truncated file too.
+    let bytes = std::fs::read(&files[0]).unwrap();
+    std::fs::write(&files[0], &bytes[..bytes.len() / 3]).unwrap();
+    let (note, fourth) = trace(c, &tmp.path().join("d"), true);
+    assert_eq!(note, "", "-q must keep the note to itself");
+    assert_eq!(first, fourth);
+    // Off: no cache written, the note says nothing about keeping it.
+    let off = tmp.path().join("off");
+    let (note, fifth) = trace("off", &off, false);
+    assert!(
+        note.contains("building") && !note.contains("kept in"),
+        "{note}"
+    );
+    assert_eq!(first, fifth);
+}
+
+#[test]
+fn runs_filling_an_empty_cache_at_once_both_succeed_and_leave_whole_tables() {
+    let tmp = tempfile::tempdir().unwrap();
+    let cache = tmp.path().join("cache");
+    let spawn = |out: &str| {
+        traxer()
+            .env("TRAXER_CACHE", &cache)
+            .arg("trace")
+            .arg(repo().join("scenes/wolter1_parallel.toml"))
+            .args(["-n", "20000", "-D", "coating=gold", "-q", "--out"])
+            .arg(tmp.path().join(out))
+            .spawn()
+            .unwrap()
+    };
+    let (mut a, mut b) = (spawn("a"), spawn("b"));
+    assert!(a.wait().unwrap().success() && b.wait().unwrap().success());
+    let read = |d: &str| std::fs::read(tmp.path().join(d).join("sensor.npy")).unwrap();
+    assert_eq!(read("a"), read("b"));
+    // No temporary files left, and the tables read back without a rebuild.
+    for f in tables(&cache) {
+        assert_eq!(f.extension().and_then(|e| e.to_str()), Some("bin"), "{f:?}");
+    }
+    let (note, again) = trace(cache.to_str().unwrap(), &tmp.path().join("c"), false);
+    assert!(!note.contains("building"), "{note}");
+    assert_eq!(again.len(), read("a").len());
+}
