@@ -18,10 +18,12 @@ pub fn write_eef_plot(
         Some(f) => arcsec_of_radius(r_mm, f),
         None => r_mm,
     };
+    // Physicists quote diameters (HPD) while the curve is drawn against the
+    // radius around the centroid: the axis and every label say which is which.
     let x_label = if q.focal_length_mm.is_some() {
-        "radius [arcsec]"
+        "radius r around the centroid [arcsec]  (diameters = 2r)"
     } else {
-        "radius [mm]"
+        "radius r around the centroid [mm]  (diameters = 2r)"
     };
     // Thin the curve to ≤ 2000 points for plotting.
     let step = (eef.radius_mm.len() / 2000).max(1);
@@ -33,7 +35,7 @@ pub fn write_eef_plot(
         .map(|(&r, &f)| (to_x(r), f))
         .collect();
     curve.insert(0, (0.0, 0.0));
-    let mut series = vec![Series::line("encircled energy", curve)];
+    let mut series = vec![Series::line("fraction of the flux within r", curve).without_markers()];
     for (name, diam) in [
         ("50 % (HPD)", q.hpd_mm),
         ("80 %", q.d80_mm),
@@ -42,10 +44,10 @@ pub fn write_eef_plot(
         let r = to_x(0.5 * diam);
         let frac = name[..2].parse::<f64>().unwrap_or(0.0) / 100.0;
         let label = match q.focal_length_mm {
-            Some(_) => format!("{name}: diameter {:.1}″", 2.0 * r),
-            None => format!("{name}: diameter {:.3} mm", 2.0 * r),
+            Some(_) => format!("{name} at r = {r:.1}″: diameter 2r = {:.1}″", 2.0 * r),
+            None => format!("{name} at r = {r:.4} mm: diameter 2r = {:.4} mm", 2.0 * r),
         };
-        series.push(Series::line(label, vec![(r, 0.0), (r, frac), (0.0, frac)]));
+        series.push(Series::line(label, vec![(r, 0.0), (r, frac), (0.0, frac)]).without_markers());
     }
     line_plot(
         path,

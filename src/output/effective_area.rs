@@ -133,8 +133,8 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
     line_plot(
         &paths[0],
         &title,
-        "energy (keV)",
-        "area (cm²)",
+        "energy [keV]",
+        "effective area [cm²]",
         &by_energy,
         (800, 500),
     )?;
@@ -161,8 +161,8 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
     line_plot(
         &paths[1],
         &title,
-        "off-axis angle (arcmin)",
-        "area (cm²)",
+        "off-axis angle [arcmin]",
+        "effective area [cm²]",
         &by_angle,
         (800, 500),
     )?;
@@ -194,15 +194,15 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
         })
         .collect();
     let unit = if arcsec {
-        "diameter (arcsec)"
+        "diameter around the centroid [arcsec]"
     } else {
-        "diameter (mm)"
+        "diameter around the centroid [mm]"
     };
     let title = format!("off-axis image quality on {}", r.sensor);
     line_plot(
         &paths[2],
         &title,
-        "off-axis angle (arcmin)",
+        "off-axis angle [arcmin]",
         unit,
         &diameters,
         (800, 500),

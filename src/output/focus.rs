@@ -86,7 +86,7 @@ fn plot(
         let points = scan.points(*diameter);
         series.push(
             Series::dots(
-                format!("{label} measured"),
+                format!("{label} traced"),
                 points.iter().map(|&(z, d)| (z, to_unit(d))).collect(),
             )
             .with_color(k),
@@ -99,7 +99,9 @@ fn plot(
                 })
                 .collect();
             series.push(
-                Series::line(format!("{label} fit: best at {:.2}", f.z0), curve).with_color(k),
+                Series::line(format!("{label} fit: best at {:.2} mm", f.z0), curve)
+                    .with_color(k)
+                    .without_markers(),
             );
         }
     }
@@ -107,13 +109,16 @@ fn plot(
         path,
         &format!(
             "focus sweep: {}",
-            provenance.scene_path.as_deref().unwrap_or("")
+            provenance
+                .scene_path
+                .as_deref()
+                .map_or("", |p| p.rsplit('/').next().unwrap_or(p))
         ),
-        var,
+        &format!("{var} (scene variable placing the sensor) [mm]"),
         if scan.focal_length.is_some() {
-            "diameter (arcsec)"
+            "diameter around the centroid [arcsec]"
         } else {
-            "diameter (mm)"
+            "diameter around the centroid [mm]"
         },
         &series,
         (900, 600),

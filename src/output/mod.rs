@@ -18,6 +18,7 @@ mod fit;
 mod fits;
 mod focus;
 mod history;
+mod image_plot;
 mod montage;
 mod npy;
 mod plot;
@@ -38,6 +39,7 @@ pub use focus::{plotted_diameter, write_focus, FOCUS_FILES};
 pub use history::{
     history_json, photon_list_npy, write_class_images, write_photon_list, PHOTON_LIST_FILES,
 };
+pub use image_plot::{write_image_figure, ImageFigure};
 pub use montage::{write_montage, Tile};
 pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyImage};
 pub use plot::{line_plot, Series};

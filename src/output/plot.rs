@@ -1,6 +1,10 @@
-//! Line plots (PNG) with plotters: reflectivity curves now, encircled-energy
-//! curves later. The font is compiled in (data/fonts), so plots look the same on
-//! every machine; files are written atomically.
+//! Line plots (PNG) with plotters: reflectivity, encircled energy, spectra,
+//! effective area, focus and fit curves. The font is compiled in (data/fonts),
+//! so plots look the same on every machine; files are written atomically.
+//! Every plot follows the same rules: tick labels in scientific notation
+//! (2×10¹⁰) when the numbers are large or small, the legend in the corner that
+//! hides the fewest points, and markers on curves with few points (five angles
+//! are not a curve).
 
 use super::write_rgb_png;
 use plotters::prelude::*;
@@ -29,7 +33,12 @@ pub struct Series {
     /// Palette colour index (default: the series' position), so that a fit and
     /// its measurements can share a colour.
     pub color: Option<usize>,
+    /// Mark the points of a curve with few of them (off for guide lines).
+    pub markers: bool,
 }
+
+/// A curve with at most this many points also marks them.
+const SPARSE: usize = 12;
 
 impl Series {
     /// A curve through `points`.
@@ -39,6 +48,15 @@ impl Series {
             points,
             dots: false,
             color: None,
+            markers: true,
+        }
+    }
+
+    /// The same curve without point markers (a guide line, a fitted curve).
+    pub fn without_markers(self) -> Series {
+        Series {
+            markers: false,
+            ..self
         }
     }
 
@@ -50,7 +68,7 @@ impl Series {
         }
     }
 
-    /// Measured points, drawn as dots.
+    /// Points drawn as dots, not joined (measurements, simulated points).
     pub fn dots(label: impl Into<String>, points: Vec<(f64, f64)>) -> Series {
         Series {
             dots: true,
@@ -95,20 +113,35 @@ pub fn line_plot(
         (y0, y1) = (y0 - 0.5, y0 + 0.5);
     }
     let pad = 0.04 * (y1 - y0);
+    let (mut y_lo, mut y_hi) = (y0 - pad, y1 + pad);
+    let show_legend = series.len() > 1 || !series.first().is_some_and(|s| s.label.is_empty());
+    let corner = if show_legend {
+        let (corner, top) = place_legend(series, size, (x0, x1), (y_lo, y_hi));
+        y_hi = top;
+        corner
+    } else {
+        SeriesLabelPosition::UpperRight
+    };
+    if y_lo >= y_hi {
+        y_lo = y_hi - 1.0;
+    }
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         let draw = || -> Result<(), Box<dyn std::error::Error + '_>> {
             root.fill(&WHITE)?;
             let mut chart = ChartBuilder::on(&root)
-                .caption(title, ("sans-serif", 22))
+                .caption(typeset(title), ("sans-serif", 22))
                 .margin(12)
                 .x_label_area_size(45)
-                .y_label_area_size(60)
-                .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))?;
+                .y_label_area_size(85)
+                .build_cartesian_2d(x0..x1, y_lo..y_hi)?;
+            let (x_span, y_span) = (x0.abs().max(x1.abs()), y0.abs().max(y1.abs()));
             chart
                 .configure_mesh()
-                .x_desc(x_label)
-                .y_desc(y_label)
+                .x_desc(typeset(x_label))
+                .y_desc(typeset(y_label))
+                .x_label_formatter(&|v| tick_label(*v, x_span))
+                .y_label_formatter(&|v| tick_label(*v, y_span))
                 .label_style(("sans-serif", 15))
                 .draw()?;
             for (i, s) in series.iter().enumerate() {
@@ -116,7 +149,7 @@ pub fn line_plot(
                 if s.dots {
                     chart
                         .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?
-                        .label(s.label.clone())
+                        .label(typeset(&s.label))
                         .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
                 } else {
                     chart
@@ -124,15 +157,21 @@ pub fn line_plot(
                             s.points.iter().copied(),
                             color.stroke_width(2),
                         ))?
-                        .label(s.label.clone())
+                        .label(typeset(&s.label))
                         .legend(move |(x, y)| {
                             PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
                         });
+                    if s.points.len() <= SPARSE && s.markers {
+                        chart.draw_series(
+                            s.points.iter().map(|&p| Circle::new(p, 4, color.filled())),
+                        )?;
+                    }
                 }
             }
-            if series.len() > 1 || !series.first().is_some_and(|s| s.label.is_empty()) {
+            if show_legend {
                 chart
                     .configure_series_labels()
+                    .position(corner)
                     .background_style(WHITE.mix(0.85))
                     .border_style(BLACK)
                     .label_font(("sans-serif", 15))
@@ -145,4 +184,143 @@ pub fn line_plot(
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
     write_rgb_png(path, &img)
+}
+
+/// A tick label: plain for moderate numbers, a×10ⁿ when the axis spans large
+/// or small magnitudes (`span`: the largest absolute value on the axis).
+pub fn tick_label(v: f64, span: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    if (1e-2..1e5).contains(&span) {
+        let text = format!("{v:.4}");
+        let text = text.trim_end_matches('0').trim_end_matches('.');
+        return if text == "-0" {
+            "0".into()
+        } else {
+            text.into()
+        };
+    }
+    let exponent = v.abs().log10().floor() as i32;
+    let mantissa = v / 10f64.powi(exponent);
+    let m = format!("{mantissa:.2}");
+    let m = m.trim_end_matches('0').trim_end_matches('.');
+    let power = format!("10{}", superscript(exponent));
+    if m == "1" {
+        power
+    } else if m == "-1" {
+        format!("-{power}")
+    } else {
+        format!("{m}×{power}")
+    }
+}
+
+/// An integer in superscript digits (⁻¹⁰).
+pub fn superscript(n: i32) -> String {
+    n.to_string()
+        .chars()
+        .map(|c| match c {
+            '-' => '⁻',
+            '0' => '⁰',
+            '1' => '¹',
+            '2' => '²',
+            '3' => '³',
+            '4' => '⁴',
+            '5' => '⁵',
+            '6' => '⁶',
+            '7' => '⁷',
+            '8' => '⁸',
+            _ => '⁹',
+        })
+        .collect()
+}
+
+/// Text for a plot: couplings with subscripts (g_aγ → gₐᵧ, g_ae → gₐₑ) and
+/// numbers written as 1e-10 as powers of ten (10⁻¹⁰, 2.5×10⁻¹³).
+pub fn typeset(text: &str) -> String {
+    let text = text
+        .replace("g_aγ", "gₐᵧ")
+        .replace("g_ae", "gₐₑ")
+        .replace("R_sun", "R☉");
+    text.split(' ')
+        .map(|word| {
+            let core = word.trim_end_matches([',', ')', ';']);
+            let tail = &word[core.len()..];
+            let (lead, number) = match core.strip_prefix('(') {
+                Some(n) => ("(", n),
+                None => ("", core),
+            };
+            match number.parse::<f64>() {
+                Ok(v) if number.contains('e') && v != 0.0 => {
+                    format!("{lead}{}{tail}", tick_label(v, v.abs().max(1e6)))
+                }
+                _ => word.to_string(),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
+/// Where the legend goes: the corner (of four) under which no point of any
+/// series lies; if every corner covers data, the upper right with the y axis
+/// raised so that the legend sits above the data. Returns the corner and the
+/// y axis' upper end. The legend's size is estimated from its text (15 px
+/// font: about 8.5 px per character, 20 px per line) and the plot's size.
+fn place_legend(
+    series: &[Series],
+    (w, h): (u32, u32),
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> (SeriesLabelPosition, f64) {
+    let chars = series
+        .iter()
+        .map(|s| typeset(&s.label).chars().count())
+        .max()
+        .unwrap_or(0);
+    let (plot_w, plot_h) = (
+        (w as f64 - 85.0 - 24.0).max(1.0),
+        (h as f64 - 45.0 - 64.0).max(1.0),
+    );
+    let fw = ((chars as f64 * 8.5 + 50.0) / plot_w).min(1.0);
+    let fh = ((series.len() as f64 * 20.0 + 24.0) / plot_h).min(0.9);
+    let corners = [
+        (
+            SeriesLabelPosition::UpperRight,
+            (1.0 - fw, 1.0),
+            (1.0 - fh, 1.0),
+        ),
+        (SeriesLabelPosition::UpperLeft, (0.0, fw), (1.0 - fh, 1.0)),
+        (SeriesLabelPosition::LowerRight, (1.0 - fw, 1.0), (0.0, fh)),
+        (SeriesLabelPosition::LowerLeft, (0.0, fw), (0.0, fh)),
+    ];
+    let fraction = |v: f64, lo: f64, hi: f64| (v - lo) / (hi - lo);
+    let covered = |fx: (f64, f64), fy: (f64, f64)| {
+        series
+            .iter()
+            .flat_map(|s| {
+                // A joined curve also passes between its points: sample it.
+                let dense = if s.dots { 1 } else { 8 };
+                let between = s.points.windows(2).flat_map(move |p| {
+                    (1..dense).map(move |k| {
+                        let t = k as f64 / dense as f64;
+                        (
+                            p[0].0 + t * (p[1].0 - p[0].0),
+                            p[0].1 + t * (p[1].1 - p[0].1),
+                        )
+                    })
+                });
+                s.points.iter().copied().chain(between)
+            })
+            .filter(|&(x, y)| {
+                let (u, v) = (fraction(x, x0, x1), fraction(y, y0, y1));
+                (fx.0..=fx.1).contains(&u) && (fy.0..=fy.1).contains(&v)
+            })
+            .count()
+    };
+    if let Some((corner, _, _)) = corners.iter().find(|(_, fx, fy)| covered(*fx, *fy) == 0) {
+        return (corner.clone(), y1);
+    }
+    // Raise the top so that the data keeps below the legend's lower edge.
+    let raised = y0 + (y1 - y0) / (1.0 - fh - 0.02);
+    (SeriesLabelPosition::UpperRight, raised)
 }

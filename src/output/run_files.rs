@@ -4,7 +4,10 @@
 use super::conversion::write_conversion;
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
 use super::write_eef_plot;
-use super::{write_csv, write_npy_f64, write_npy_u64, write_png, Provenance, Scale};
+use super::{
+    write_csv, write_image_figure, write_npy_f64, write_npy_u64, write_png, ImageFigure,
+    Provenance, Scale,
+};
 use super::{write_sensor_fits, FluxUnit, SensorFits};
 use crate::analysis::{projections, FinishedImage, ImageGeometry};
 use crate::files::atomic_write;
@@ -130,8 +133,10 @@ fn write_sensor(
         write_sensor_fits(&path, &image)?;
         written.push(path);
     }
-    write_png(&paths[2], nx, ny, summed, Scale::Linear)?;
-    write_png(&paths[3], nx, ny, summed, Scale::Log { decades: 5 })?;
+    let figure = |scale| sensor_figure(scene, spec, &finished, run.provenance, scale);
+    write_image_figure(&paths[2], &figure(Scale::Linear))?;
+    write_image_figure(&paths[3], &figure(Scale::Log { decades: 5 }))?;
+    write_png(&paths[7], nx, ny, summed, Scale::Linear)?;
     let (geometry, quality) = (&finished.geometry, &finished.quality);
     if let Some((q, eef)) = quality {
         write_eef_plot(
@@ -142,7 +147,7 @@ fn write_sensor(
         )?;
     }
     write_projections(&paths[6], summed, geometry)?;
-    let grid = write_grid_files(dir, spec, &finished, &mut written)?;
+    let grid = write_grid_files(dir, scene, spec, &finished, run.provenance, &mut written)?;
     written.extend(write_class_images(
         dir,
         spec,
@@ -171,7 +176,7 @@ fn write_sensor(
         "history": history_json(scene, image, absolute.unwrap_or(1.0)),
         "files": {
             "flux_npy": files[0], "counts_npy": files[1],
-            "png_linear": files[2], "png_log": files[3],
+            "png_linear": files[2], "png_log": files[3], "png_pixels": files[7],
             "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
             "projections_csv": files[6],
             "fits": run.fits.then(|| fits_file_name(&spec.name)),
@@ -195,6 +200,59 @@ fn write_sensor(
     Ok((sensor, written))
 }
 
+/// The figure of a sensor's image (flux summed over bands) for NAME.png and
+/// NAME_log.png: axes in mm (and arcsec with a focal length), colour bar with
+/// the unit, the scene, energies and photons in the title.
+fn sensor_figure<'a>(
+    scene: &Scene,
+    spec: &crate::sensor::SensorSpec,
+    finished: &'a FinishedImage,
+    provenance: &Provenance,
+    scale: Scale,
+) -> ImageFigure<'a> {
+    let g = &finished.geometry;
+    let (e_lo, e_hi) = image_energy_range(scene, spec);
+    let energies = if e_lo == e_hi {
+        format!("{e_lo} keV")
+    } else {
+        format!("{e_lo}–{e_hi} keV")
+    };
+    let unit = if finished.absolute {
+        "axions s⁻¹ per pixel"
+    } else {
+        "weighted photons per pixel"
+    };
+    let photons = provenance
+        .photons
+        .map_or(String::new(), |n| format!(" · {n} photons traced"));
+    let scene_name = scene
+        .path
+        .file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    ImageFigure {
+        title: format!("{scene_name}: sensor {}", spec.name),
+        subtitle: format!(
+            "{energies}{photons} · total {:.4e} {}",
+            finished.total_flux(),
+            unit.trim_end_matches(" per pixel")
+        ),
+        values: &finished.summed,
+        pixels: [g.nx, g.ny],
+        extent_mm: [
+            [g.origin_mm[0], g.origin_mm[0] + g.nx as f64 * g.pitch[0]],
+            [g.origin_mm[1], g.origin_mm[1] + g.ny as f64 * g.pitch[1]],
+        ],
+        focal_length_mm: spec.focal_length,
+        unit: unit.into(),
+        scale,
+        axes: ["sensor x".into(), "sensor y".into()],
+        orientation: format!(
+            "Seen facing the sensor (its normal, local +z, towards you): local x right, local y up; {}.npy row 0 is the bottom row.",
+            crate::sensor::file_stem(&spec.name)
+        ),
+    }
+}
+
 /// What a sensor's pixel values are, in words, for `NAME.json`.
 fn flux_units(absolute: bool, gas: bool) -> &'static str {
     match (absolute, gas) {
@@ -209,8 +267,10 @@ fn flux_units(absolute: bool, gas: bool) -> &'static str {
 /// its `NAME.json` entry (null without a grid) and adds the paths to `written`.
 fn write_grid_files(
     dir: &Path,
+    scene: &Scene,
     spec: &crate::sensor::SensorSpec,
     finished: &FinishedImage,
+    provenance: &Provenance,
     written: &mut Vec<PathBuf>,
 ) -> std::io::Result<Value> {
     let Some((g, r)) = finished.on_grid(spec) else {
@@ -218,15 +278,45 @@ fn write_grid_files(
     };
     let g = &g;
     let names = crate::sensor::grid_file_names(&spec.name);
-    let grid_paths = [dir.join(&names[0]), dir.join(&names[1])];
-    write_grid(&grid_paths, &r, g)?;
+    let grid_paths = [
+        dir.join(&names[0]),
+        dir.join(&names[1]),
+        dir.join(&names[2]),
+    ];
+    write_grid(&grid_paths[..2], &r, g)?;
+    let mut figure = sensor_figure(scene, spec, finished, provenance, Scale::Linear);
+    let half = [
+        g.pixels[0] as f64 * g.pitch_mm / 2.0,
+        g.pixels[1] as f64 * g.pitch_mm / 2.0,
+    ];
+    figure.title = format!(
+        "{} on its {}×{} pixel grid",
+        figure.title, g.pixels[0], g.pixels[1]
+    );
+    figure.values = &r.flux;
+    figure.pixels = [g.pixels[0] as usize, g.pixels[1] as usize];
+    figure.extent_mm = [[-half[0], half[0]], [-half[1], half[1]]];
+    figure.axes = [
+        "grid x from its centre".into(),
+        "grid y from its centre".into(),
+    ];
+    figure.unit = figure.unit.replace("per pixel", "per grid pixel");
+    figure.orientation = format!(
+        "Grid axes turned {}° counter-clockwise from the sensor's, centred at ({}, {}) mm on it; {} row 0 is the bottom row. Flux outside the grid: {}.",
+        g.rotation_deg,
+        g.center_mm[0],
+        g.center_mm[1],
+        names[0],
+        if r.outside > 0.0 { format!("{:.4e}", r.outside) } else { "none".into() }
+    );
+    write_image_figure(&grid_paths[2], &figure)?;
     written.extend(grid_paths);
     Ok(json!({
         "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
         "center_mm": g.center_mm,
         "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
         "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
-        "files": {"grid_npy": names[0], "grid_csv": names[1]},
+        "files": {"grid_npy": names[0], "grid_csv": names[1], "grid_png": names[2]},
     }))
 }
 
@@ -304,7 +394,7 @@ fn write_projections(path: &Path, image: &[f64], g: &ImageGeometry) -> std::io::
 /// The image rebinned to the sensor's detector grid, as `.npy` [iy][ix] and as CSV
 /// (pixel indices, pixel-centre positions on the sensor, flux).
 fn write_grid(
-    paths: &[PathBuf; 2],
+    paths: &[PathBuf],
     r: &crate::sensor::Rebinned,
     g: &crate::sensor::PixelGrid,
 ) -> std::io::Result<()> {

@@ -25,9 +25,9 @@ pub fn file_stem(name: &str) -> String {
         .collect()
 }
 
-/// The files of one sensor named `name`: flux, counts, linear and log PNGs, the
-/// JSON sidecar, the EEF plot, the projections.
-pub fn sensor_file_names(name: &str) -> [String; 7] {
+/// The files of one sensor named `name`: flux, counts, linear and log figures,
+/// the JSON sidecar, the EEF plot, the projections, the bare pixel image.
+pub fn sensor_file_names(name: &str) -> [String; 8] {
     let stem = file_stem(name);
     [
         format!("{stem}.npy"),
@@ -37,6 +37,7 @@ pub fn sensor_file_names(name: &str) -> [String; 7] {
         format!("{stem}.json"),
         format!("{stem}_eef.png"),
         format!("{stem}_projections.csv"),
+        format!("{stem}_pixels.png"),
     ]
 }
 
@@ -46,10 +47,14 @@ pub fn fits_file_name(name: &str) -> String {
 }
 
 /// The files of a sensor's image on its detector pixel grid: flux as `.npy` and
-/// as CSV for the limit code.
-pub fn grid_file_names(name: &str) -> [String; 2] {
+/// as CSV for the limit code, and its figure.
+pub fn grid_file_names(name: &str) -> [String; 3] {
     let stem = file_stem(name);
-    [format!("{stem}_grid.npy"), format!("{stem}_grid.csv")]
+    [
+        format!("{stem}_grid.npy"),
+        format!("{stem}_grid.csv"),
+        format!("{stem}_grid.png"),
+    ]
 }
 
 /// The files of a gas detector's conversions: the depth histogram (CSV and

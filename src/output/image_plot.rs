@@ -1,0 +1,258 @@
+//! Image figures a physicist can read: a sensor image (or its detector-grid
+//! image) with axes in mm, a second pair of axes in arcsec when the focal length
+//! is known, a colour bar with the unit (and, on a log scale, the decades shown),
+//! a title with the scene, energies and photon count, and a line saying which
+//! way the axes point. The picture is drawn by plotters; the image itself is
+//! copied into the plot area afterwards, each screen pixel the mean of the image
+//! pixels it covers (so a large image is shown faithfully, a small one in blocks).
+//!
+//! Data flow: `run_files` (NAME.png, NAME_log.png, NAME_grid.png) → here →
+//! [`write_rgb_png`].
+
+use super::colormap::{max_value, viridis, Scale};
+use super::plot::register_font;
+use super::write_rgb_png;
+use plotters::prelude::*;
+use std::path::Path;
+
+/// One image figure.
+pub struct ImageFigure<'a> {
+    /// First title line (scene and sensor).
+    pub title: String,
+    /// Second title line (energies, photons, total flux).
+    pub subtitle: String,
+    /// [iy][ix], row 0 at the bottom (lowest y), as the `.npy` files hold it.
+    pub values: &'a [f64],
+    pub pixels: [usize; 2],
+    /// The x and y extent of the image's pixel edges, mm.
+    pub extent_mm: [[f64; 2]; 2],
+    /// For the arcsec axes (small-angle: x / f).
+    pub focal_length_mm: Option<f64>,
+    /// What a pixel value is, e.g. "axions s⁻¹ per pixel".
+    pub unit: String,
+    pub scale: Scale,
+    /// Axis names without the unit, e.g. ["sensor x", "sensor y"].
+    pub axes: [String; 2],
+    /// Which way is which, printed under the image.
+    pub orientation: String,
+}
+
+/// Room around the image for labels, in screen pixels.
+const LEFT: u32 = 80;
+const BOTTOM: u32 = 60;
+const TOP_TITLE: u32 = 62;
+const ARCSEC_AXIS: u32 = 50;
+/// The arcsec axis on the right needs room for its tick labels and name.
+const ARCSEC_RIGHT: u32 = 82;
+const COLOUR_BAR: u32 = 150;
+const MARGIN: u32 = 14;
+/// The image's longer side on screen.
+const IMAGE_SIDE: f64 = 560.0;
+
+const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
+
+/// Writes the figure as a PNG.
+pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()> {
+    register_font();
+    let [[x0, x1], [y0, y1]] = fig.extent_mm;
+    let (sx, sy) = ((x1 - x0).abs().max(1e-12), (y1 - y0).abs().max(1e-12));
+    // Keep the physical aspect ratio, within reason for strip-like sensors.
+    let k = IMAGE_SIDE / sx.max(sy);
+    let (iw, ih) = ((sx * k).max(160.0) as u32, (sy * k).max(160.0) as u32);
+    let arcsec = if fig.focal_length_mm.is_some() {
+        ARCSEC_AXIS
+    } else {
+        0
+    };
+    let right = if fig.focal_length_mm.is_some() {
+        ARCSEC_RIGHT
+    } else {
+        0
+    };
+    let w = MARGIN + LEFT + iw + right + COLOUR_BAR + MARGIN;
+    let h = TOP_TITLE + arcsec + ih + BOTTOM + 24 + MARGIN;
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    let max = max_value(fig.values);
+    let plot_area = {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        let r = draw_frame(&root, fig, h, (iw, ih), arcsec, max);
+        let plot_area = r.map_err(|e| std::io::Error::other(format!("{}: {e}", path.display())))?;
+        root.present()
+            .map_err(|e| std::io::Error::other(format!("{}: {e}", path.display())))?;
+        plot_area
+    };
+    let mut img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
+    blit(&mut img, fig, plot_area, max);
+    write_rgb_png(path, &img)
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+type Error = Box<dyn std::error::Error>;
+
+/// Title, axes, colour bar and orientation line; returns the plot area's
+/// screen rectangle (x range, y range) for the image.
+fn draw_frame(
+    root: &Area,
+    fig: &ImageFigure,
+    h: u32,
+    (iw, ih): (u32, u32),
+    arcsec: u32,
+    max: f64,
+) -> Result<(std::ops::Range<i32>, std::ops::Range<i32>), Error> {
+    root.fill(&WHITE)?;
+    let title = ("sans-serif", 20).into_font();
+    root.draw(&Text::new(fig.title.clone(), (MARGIN as i32, 8), title))?;
+    let sub = ("sans-serif", 15).into_font();
+    root.draw(&Text::new(
+        fig.subtitle.clone(),
+        (MARGIN as i32, 34),
+        sub.clone(),
+    ))?;
+    let foot = ("sans-serif", 13).into_font().color(&RGBColor(80, 80, 80));
+    root.draw(&Text::new(
+        fig.orientation.clone(),
+        (MARGIN as i32, (h - MARGIN - 14) as i32),
+        foot,
+    ))?;
+    let right_axis = if arcsec > 0 { ARCSEC_RIGHT } else { 0 };
+    let chart_w = MARGIN + LEFT + iw + right_axis;
+    let (left, right) = root.split_horizontally(chart_w);
+    let (body, _) = left.split_vertically(h - 24 - MARGIN);
+    let (_, body) = body.split_vertically(TOP_TITLE - 6);
+    let [[x0, x1], [y0, y1]] = fig.extent_mm;
+    // The mm axes left and below; the arcsec axes (a second chart with the
+    // same plot rectangle) above and right.
+    let mut chart = ChartBuilder::on(&body)
+        .margin_left(MARGIN)
+        .margin_top(6 + arcsec)
+        .margin_right(right_axis)
+        .set_label_area_size(LabelAreaPosition::Left, LEFT)
+        .set_label_area_size(LabelAreaPosition::Bottom, BOTTOM)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    let label = ("sans-serif", 14);
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc(format!("{} [mm]", fig.axes[0]))
+        .y_desc(format!("{} [mm]", fig.axes[1]))
+        .label_style(label)
+        .axis_desc_style(("sans-serif", 15))
+        .draw()?;
+    let plot_area = chart.plotting_area().get_pixel_range();
+    if let Some(f) = fig.focal_length_mm {
+        let a = |mm: f64| (mm / f) * ARCSEC_PER_RAD;
+        let mut angles = ChartBuilder::on(&body)
+            .margin_left(MARGIN + LEFT)
+            .margin_top(6)
+            .margin_bottom(BOTTOM)
+            .set_label_area_size(LabelAreaPosition::Top, arcsec)
+            .set_label_area_size(LabelAreaPosition::Right, right_axis)
+            .build_cartesian_2d(a(x0)..a(x1), a(y0)..a(y1))?;
+        angles
+            .configure_mesh()
+            .disable_mesh()
+            .x_label_formatter(&|v| format!("{v:.0}"))
+            .y_label_formatter(&|v| format!("{v:.0}"))
+            .x_desc("angle x [arcsec] (x / focal length)")
+            .y_desc("angle y [arcsec]")
+            .label_style(label)
+            .axis_desc_style(("sans-serif", 14))
+            .draw()?;
+    }
+    let top = TOP_TITLE as i32 + arcsec as i32;
+    let bar_area = right.shrink((36, top), (26 + 62, ih.min(h)));
+    draw_colour_bar(&bar_area, fig, max)?;
+    Ok(plot_area)
+}
+
+/// The colour bar: the map from value to colour, labelled with the unit.
+fn draw_colour_bar(area: &Area, fig: &ImageFigure, max: f64) -> Result<(), Error> {
+    let (lo, hi, name) = match fig.scale {
+        Scale::Linear => (0.0, max.max(f64::MIN_POSITIVE), fig.unit.clone()),
+        Scale::Log { decades } => {
+            let top = if max > 0.0 { max.log10() } else { 0.0 };
+            (
+                top - decades.max(1) as f64,
+                top,
+                format!("log₁₀ ({}), {} decades", fig.unit, decades.max(1)),
+            )
+        }
+    };
+    let mut bar = ChartBuilder::on(area)
+        .set_label_area_size(LabelAreaPosition::Right, 62)
+        .build_cartesian_2d(0.0..1.0, lo..hi)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .set_tick_mark_size(LabelAreaPosition::Right, 6)
+        .disable_x_axis()
+        .y_desc(name)
+        .y_label_formatter(&|v| match fig.scale {
+            Scale::Linear => scientific(*v),
+            Scale::Log { .. } => format!("{v:.1}"),
+        })
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 14))
+        .draw()?;
+    let steps = 256;
+    bar.draw_series((0..steps).map(|i| {
+        let (a, b) = (i as f64 / steps as f64, (i + 1) as f64 / steps as f64);
+        let value = match fig.scale {
+            Scale::Linear => a.max(1e-9) * max,
+            Scale::Log { .. } => 10f64.powf(lo + a * (hi - lo)),
+        };
+        let c = viridis(value, max, fig.scale);
+        Rectangle::new(
+            [(0.0, lo + a * (hi - lo)), (1.0, lo + b * (hi - lo))],
+            RGBColor(c[0], c[1], c[2]).filled(),
+        )
+    }))?;
+    Ok(())
+}
+
+/// A tick label in scientific notation (2.5e11), plain for 0.
+fn scientific(v: f64) -> String {
+    if v == 0.0 {
+        "0".into()
+    } else if (1e-2..1e4).contains(&v.abs()) {
+        format!("{v:.3}")
+            .trim_end_matches('0')
+            .trim_end_matches('.')
+            .into()
+    } else {
+        format!("{v:.2e}")
+    }
+}
+
+/// Copies the image into the plot area: each screen pixel the mean of the image
+/// pixels under it, row 0 of the image at the bottom.
+fn blit(
+    img: &mut image::RgbImage,
+    fig: &ImageFigure,
+    (xs, ys): (std::ops::Range<i32>, std::ops::Range<i32>),
+    max: f64,
+) {
+    let [nx, ny] = fig.pixels;
+    let (dw, dh) = (
+        (xs.end - xs.start).max(1) as usize,
+        (ys.end - ys.start).max(1) as usize,
+    );
+    for j in 0..dh {
+        // Screen row j (from the top) covers image rows [r0, r1) from the bottom.
+        let r1 = ny - (j * ny) / dh;
+        let r0 = (ny - ((j + 1) * ny).div_ceil(dh)).min(r1 - 1);
+        for i in 0..dw {
+            let c0 = (i * nx) / dw;
+            let c1 = ((i + 1) * nx).div_ceil(dw).max(c0 + 1).min(nx);
+            let mut sum = 0.0;
+            for r in r0..r1 {
+                sum += fig.values[r * nx + c0..r * nx + c1].iter().sum::<f64>();
+            }
+            let mean = sum / ((r1 - r0) * (c1 - c0)) as f64;
+            let c = viridis(mean, max, fig.scale);
+            let (x, y) = (xs.start + i as i32, ys.start + j as i32);
+            if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
+                img.put_pixel(x as u32, y as u32, image::Rgb(c));
+            }
+        }
+    }
+}
