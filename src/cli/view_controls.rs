@@ -214,12 +214,18 @@ fn rotate(v: DVec3, axis: DVec3, angle: f64) -> DVec3 {
 /// Text lines drawn on a dark box in the top-left corner (8×8 font, doubled in
 /// windows 800 pixels wide or more).
 pub fn overlay(pixels: &mut [u32], w: usize, h: usize, lines: &[&str]) {
+    overlay_at(pixels, w, h, lines, false)
+}
+
+/// `overlay` in the top-left corner, or the bottom-left one with `bottom`.
+pub fn overlay_at(pixels: &mut [u32], w: usize, h: usize, lines: &[&str], bottom: bool) {
     use font8x8::UnicodeFonts;
     let scale = if w >= 800 { 2 } else { 1 };
     let line_h = 10 * scale;
     let width = lines.iter().map(|l| l.len()).max().unwrap_or(0) * 8 * scale + 16;
     let height = lines.len() * line_h + 12;
-    for y in 0..height.min(h) {
+    let top = if bottom { h.saturating_sub(height) } else { 0 };
+    for y in top..(top + height).min(h) {
         for x in 0..width.min(w) {
             let p = &mut pixels[y * w + x];
             *p = (*p >> 2) & 0x3f3f3f;
@@ -237,7 +243,7 @@ pub fn overlay(pixels: &mut [u32], w: usize, h: usize, lines: &[&str]) {
                     }
                     for (sy, sx) in (0..scale).flat_map(|a| (0..scale).map(move |b| (a, b))) {
                         let x = 8 + (j * 8 + gx) * scale + sx;
-                        let y = 6 + i * line_h + gy * scale + sy;
+                        let y = top + 6 + i * line_h + gy * scale + sy;
                         if x < w && y < h {
                             pixels[y * w + x] = 0xffffff;
                         }

@@ -7,7 +7,7 @@
 
 use super::args::SceneArgs;
 use super::view::ViewArgs;
-use super::view_controls::{overlay, Controls, HELP};
+use super::view_controls::{overlay, overlay_at, Controls, HELP};
 use super::{load_scene, InputError};
 use anyhow::Context;
 use glam::DVec3;
@@ -118,6 +118,8 @@ struct View<'a> {
     version: u64,
     textures_at: Instant,
     title: String,
+    /// Photons and image quality, drawn into the frame (ASCII: the 8×8 font).
+    status: String,
     pixels: Vec<u32>,
 }
 
@@ -193,7 +195,7 @@ impl View<'_> {
                 if quality.is_empty() {
                     if let Some(q) = finished.image_quality() {
                         quality = match q.hpd_arcsec {
-                            Some(v) => format!(", {}: HPD {v:.1}″", spec.name),
+                            Some(v) => format!(", {}: HPD {v:.1} arcsec", spec.name),
                             None => format!(", {}: HPD {:.3} mm", spec.name, q.hpd_mm),
                         };
                     }
@@ -204,10 +206,8 @@ impl View<'_> {
             .collect();
         self.sum.iter_mut().for_each(|v| *v = DVec3::ZERO);
         self.passes = 0;
-        self.title = format!(
-            "traxer view: {} photons{quality}",
-            p.tally.stats.photons_emitted
-        );
+        self.status = format!("{} photons{quality}", p.tally.stats.photons_emitted);
+        self.title = format!("traxer view: {}", self.status);
     }
 }
 
@@ -236,6 +236,7 @@ fn window_loop(
         version: 0,
         textures_at: Instant::now(),
         title: "traxer view: starting".into(),
+        status: "starting".into(),
         pixels: vec![0; w * h],
     };
     let started = Instant::now();
@@ -254,6 +255,7 @@ fn window_loop(
         if controls.help {
             overlay(&mut shown, w, h, &HELP);
         }
+        overlay_at(&mut shown, w, h, &[v.status.as_str()], true);
         window.set_title(&format!(
             "{} | {:.0} fps, {} spp | H: help",
             v.title, fps, v.passes
