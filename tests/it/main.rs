@@ -27,6 +27,7 @@ mod obj_faces;
 mod output_location;
 mod outputs;
 mod photon_loop;
+mod pictures;
 mod quiet;
 mod rebin;
 mod render;
