@@ -12,7 +12,7 @@ use std::process::ExitCode;
 /// X-ray raytracer for grazing-incidence telescopes (CAST, BabyIAXO), on Intel Embree.
 ///
 /// Units everywhere: millimetres, keV, degrees. Start with
-/// `traxer trace scenes/wolter1_parallel.toml --out out/`.
+/// `traxer trace scenes/wolter1_parallel.toml` (results in out/wolter1_parallel).
 #[derive(Parser)]
 #[command(name = "traxer", version = concat!(env!("CARGO_PKG_VERSION"), " (", env!("TRAXER_GIT_HASH"), ")"))]
 struct Cli {

@@ -62,8 +62,8 @@ pub struct SamplingArgs {
 /// How many photons, with which random numbers, on how many threads.
 #[derive(clap::Args, Clone, Debug)]
 pub struct RunArgs {
-    /// Number of photons to emit.
-    #[arg(short = 'n', long, value_name = "N", default_value_t = 1_000_000)]
+    /// Number of photons to emit (1000000, 1e6 or 1_000_000).
+    #[arg(short = 'n', long, value_name = "N", default_value = "1000000", value_parser = parse_count)]
     pub photons: u64,
     #[command(flatten)]
     pub sampling: SamplingArgs,
@@ -79,11 +79,29 @@ impl RunArgs {
 /// Where results go and how much is said.
 #[derive(clap::Args, Clone, Debug)]
 pub struct OutputArgs {
-    /// Output folder (created if missing).
-    #[arg(short, long, value_name = "DIR", default_value = "out")]
-    pub out: PathBuf,
+    /// Output folder, created if missing (default: out/NAME, NAME after the
+    /// scene file, e.g. out/wolter1_parallel, so that runs do not mix).
+    #[arg(short, long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
     #[command(flatten)]
     pub quiet: QuietArg,
+}
+
+impl OutputArgs {
+    /// The output folder: `--out`, else out/`name`.
+    pub fn folder(&self, name: &str) -> PathBuf {
+        self.out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from("out").join(name))
+    }
+
+    /// The output folder named after `scene` (its file stem) and `suffix`.
+    pub fn scene_folder(&self, scene: &std::path::Path, suffix: &str) -> PathBuf {
+        let stem = scene
+            .file_stem()
+            .map_or("run".into(), |s| s.to_string_lossy().into_owned());
+        self.folder(&format!("{stem}{suffix}"))
+    }
 }
 
 /// `--quiet`.
@@ -94,6 +112,24 @@ pub struct QuietArg {
     /// The same for every command.
     #[arg(short, long)]
     pub quiet: bool,
+}
+
+/// A count of photons as a physicist writes it: 1000000, 1e6, 2.5e5 or
+/// 1_000_000 (a whole number, at most 2^63).
+pub fn parse_count(s: &str) -> Result<u64, String> {
+    let text = s.trim().replace('_', "");
+    if let Ok(n) = text.parse::<u64>() {
+        return Ok(n);
+    }
+    match text.parse::<f64>() {
+        Ok(x) if x.is_finite() && x >= 0.0 && x.fract() == 0.0 && x <= 2f64.powi(63) => {
+            Ok(x as u64)
+        }
+        Ok(x) if x.is_finite() && x >= 0.0 && x <= 2f64.powi(63) => {
+            Err(format!("{s} is not a whole number of photons"))
+        }
+        _ => Err(format!("expected a whole number such as 1000000 or 1e6, not `{s}`")),
+    }
 }
 
 /// Parses "a,b,c" or "start:stop:step" (inclusive of stop).

@@ -18,7 +18,7 @@ pub struct BenchArgs {
     #[command(flatten)]
     pub run: RunArgs,
     /// Photons whose queries are replayed for the raw Embree rate.
-    #[arg(value_name = "N", long, default_value_t = 300_000)]
+    #[arg(value_name = "N", long, default_value = "300000", value_parser = super::args::parse_count)]
     pub raw_photons: u64,
     /// Print JSON.
     #[arg(long)]

@@ -26,7 +26,6 @@ use traxer::studies::compare::{compare, variants};
 ///   traxer compare scenes/panter_al_ka.toml --resolutions 8x1,30x1,120x2
 #[derive(clap::Args)]
 #[command(mut_arg("photons", |a| a.help("Photons per run").default_value("2000000")))]
-#[command(mut_arg("out", |a| a.default_value("out/compare")))]
 pub struct CompareArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
@@ -60,7 +59,7 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    let folder = traxer::run::results_folder(&a.output.out, &COMPARE_FILES)?;
+    let folder = traxer::run::results_folder(&a.output.scene_folder(&a.scene.scene, "_compare"), &COMPARE_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);
@@ -104,7 +103,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         ..main_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
     }
     .run(&cfg, threads);
-    let out = &a.output.out;
+    let out = &a.output.scene_folder(&a.scene.scene, "_compare");
     write_compare(folder.path(), &rows, &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;

@@ -28,7 +28,6 @@ use traxer::studies::{pick_sensor, Diameters};
 #[derive(clap::Args)]
 #[command(mut_arg("photons", |a| a.help("Photons per evaluation")))]
 #[command(mut_arg("seed", |a| a.help("Random seed of every evaluation (common random numbers)")))]
-#[command(mut_arg("out", |a| a.default_value("out/fit_figure_error")))]
 #[command(mut_arg("quiet", |a| a.help("No progress bar and no line per evaluation")))]
 pub struct FitFigureErrorArgs {
     #[command(flatten)]
@@ -141,7 +140,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let settings = fit_settings(&a, &scene, &run)?;
     let study: Study<Evaluation> = Study::open(
-        &a.output.out,
+        &a.output.scene_folder(&a.scene.scene, "_fit"),
         "fit",
         &FIT_FILES,
         identity(&scene, &settings),
@@ -194,7 +193,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         preset_name: &a.name,
         fit_seconds,
     };
-    let out = &a.output.out;
+    let out = &a.output.scene_folder(&a.scene.scene, "_fit");
     let folder = study.folder;
     write_fit(folder.path(), &report, &provenance)
         .and_then(|_| folder.commit())

@@ -25,7 +25,6 @@ use traxer::studies::StudyError;
 ///   traxer focus scenes/panter_al_ka.toml --from -1460 --to -1580 --steps 13
 #[derive(clap::Args)]
 #[command(mut_arg("photons", |a| a.help("Photons per position")))]
-#[command(mut_arg("out", |a| a.default_value("out/focus")))]
 pub struct FocusArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
@@ -130,7 +129,7 @@ fn write(
     }
     .run(cfg, scan.threads);
     provenance.variables.remove(&a.var);
-    let out = &a.output.out;
+    let out = &a.output.scene_folder(&a.scene.scene, "_focus");
     write_focus(folder.path(), scan, &a.var, (a.from, a.to), &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))
@@ -150,7 +149,7 @@ fn open_study(
         ("photons".into(), cfg.photons.into()),
         ("seed".into(), cfg.seed.into()),
     ]);
-    let study = Study::open(&a.output.out, "focus", &FOCUS_FILES, id.into(), a.resume)?;
+    let study = Study::open(&a.output.scene_folder(&a.scene.scene, "_focus"), "focus", &FOCUS_FILES, id.into(), a.resume)?;
     super::signals::set_stop_message(format!(
         "stopped; the positions so far are in {}: run the same command with --resume to continue",
         study.record_path().display()
@@ -175,7 +174,7 @@ fn print_step(var: &str, step: &FocusStep, sensor: &str) {
 
 /// The best focus and the other fits on stdout; an error if the HPD fit failed.
 fn print_fits(a: &FocusArgs, scan: &FocusScan) -> anyhow::Result<()> {
-    let out = &a.output.out;
+    let out = &a.output.scene_folder(&a.scene.scene, "_focus");
     let fits = &scan.fits;
     match &fits[0].1 {
         Ok(f) => {

@@ -37,9 +37,10 @@ pub struct MergeArgs {
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
+    let out = a.output.folder("merged");
     let job = MergeJob {
         shards: &a.shards,
-        out: &a.output.out,
+        out: &out,
         partial: a.partial,
         moved_scene: a.scene.as_deref(),
         fits: a.fits,

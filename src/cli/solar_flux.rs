@@ -98,7 +98,8 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         ))
         .into());
     };
-    let folder = traxer::run::results_folder(&a.output.out, &SOLAR_FLUX_FILES)?;
+    let out = a.output.folder("solar");
+    let folder = traxer::run::results_folder(&out, &SOLAR_FLUX_FILES)?;
     let g_agamma = primakoff.then_some(a.g_agamma);
     let g_ae = abc.then_some(a.g_ae);
     let e = emission(&a, g_agamma, g_ae)?;
@@ -118,7 +119,7 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     )?;
     folder.commit()?;
     print_totals(&e, a.distance_au);
-    say!("wrote {}", a.output.out.display());
+    say!("wrote {}", out.display());
     Ok(())
 }
 

@@ -91,7 +91,8 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         shard,
     };
     let control = resume::CliControl::new(job.cfg.photons, quiet);
-    let finished = job.run(&a.output.out, &settings, &super::invocation(), &control);
+    let out = a.output.scene_folder(&scene.path, "");
+    let finished = job.run(&out, &settings, &super::invocation(), &control);
     resume::finish(&scene, finished?, &control, quiet);
     Ok(())
 }

@@ -37,7 +37,7 @@ pub struct ViewArgs {
     pub max_depth: u32,
     /// Stop the X-rays after this many photons (default: run until the window
     /// closes).
-    #[arg(value_name = "N", long)]
+    #[arg(value_name = "N", long, value_parser = super::args::parse_count)]
     pub photons: Option<u64>,
     /// Show the sensors' flux on a log scale over N decades (default linear).
     #[arg(value_name = "N", long)]

@@ -65,7 +65,7 @@ fn remove_stale_staging(parent: &Path, prefix: &str) {
 }
 
 /// Entries of a results folder that belong to other traxer results and stay:
-/// nested results folders (`out/focus` inside `out`, as the defaults nest) and
+/// nested results folders (e.g. `out/focus` inside `out`) and
 /// the staging folders of runs writing them.
 fn kept_entries(dir: &Path) -> Vec<OsString> {
     let Ok(entries) = std::fs::read_dir(dir) else {

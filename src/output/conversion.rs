@@ -64,7 +64,7 @@ pub fn write_conversion(
             spec.name,
             summary.median_mm()
         ),
-        "depth below the gas entrance (mm)",
+        "depth below the gas entrance [mm]",
         "fraction of converted flux per mm",
         &[Series::line("", density)],
         (900, 560),

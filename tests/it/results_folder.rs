@@ -202,7 +202,7 @@ fn a_new_run_replaces_the_whole_folder_and_no_foreign_file() {
 
 #[test]
 fn results_nested_in_a_results_folder_are_kept() {
-    // The defaults nest: trace writes `out`, focus `out/focus`. A new trace
+    // Results nest: a trace in `out`, a focus scan in `out/focus`. A new trace
     // replaces its own files and keeps the focus scan.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
