@@ -7,6 +7,7 @@
 #
 # Usage: scripts/bench_ab.sh OLD_TRAXER NEW_TRAXER [PHOTONS] [ROUNDS]
 # (build the old binary from an earlier commit with its own CARGO_TARGET_DIR).
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 [ $# -ge 2 ] || { echo "usage: $0 OLD_TRAXER NEW_TRAXER [PHOTONS] [ROUNDS]" >&2; exit 2; }

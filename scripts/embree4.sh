@@ -11,6 +11,7 @@
 #     and libtbb), renamed to the soname libembree4.so.4 with patchelf.
 # Both are cached in $TRAXER_EMBREE4_CACHE (default ~/.cache/traxer-embree4).
 # Run by .ci/run after the main tests; usable by hand:  scripts/embree4.sh
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

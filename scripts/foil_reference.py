@@ -10,6 +10,11 @@
 Run:  python3 -m venv /tmp/ref && /tmp/ref/bin/pip install periodictable xraylib
       /tmp/ref/bin/python scripts/foil_reference.py > tests/data/foil_transmission.csv
 """
+import sys as _sys
+
+if __name__ == "__main__" and any(a in ("-h", "--help") for a in _sys.argv[1:]):
+    print(__doc__)
+    _sys.exit(0)
 import math
 
 import periodictable as pt

@@ -12,6 +12,11 @@ The gas density is the ideal gas law rho = p M / (R T), computed here on its own
 Run:  python3 -m venv /tmp/ref && /tmp/ref/bin/pip install periodictable xraylib
       /tmp/ref/bin/python scripts/gas_reference.py > tests/data/gas_absorption.csv
 """
+import sys as _sys
+
+if __name__ == "__main__" and any(a in ("-h", "--help") for a in _sys.argv[1:]):
+    print(__doc__)
+    _sys.exit(0)
 import math
 
 import periodictable as pt

@@ -6,6 +6,11 @@ Deterministic (fixed seed); standard library only.
 
     python3 scripts/make_spheres_scene.py > scenes/spheres.toml
 """
+import sys as _sys
+
+if __name__ == "__main__" and any(a in ("-h", "--help") for a in _sys.argv[1:]):
+    print(__doc__)
+    _sys.exit(0)
 import random
 
 rng = random.Random(2026)

@@ -10,6 +10,7 @@
 #   scripts/output_hashes.sh ./before-binary > before.txt
 #   scripts/output_hashes.sh target/release/traxer > after.txt
 #   diff before.txt after.txt
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 bin=$(realpath "${1:?usage: output_hashes.sh TRAXER_BINARY}")
 photons=${PHOTONS:-200000}

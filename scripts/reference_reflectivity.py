@@ -13,6 +13,11 @@ Run once (CI does not need Python):
     python3 -m venv /tmp/ref && /tmp/ref/bin/pip install periodictable==2.1.0 xraydb==4.5.8
     /tmp/ref/bin/python scripts/reference_reflectivity.py
 """
+import sys as _sys
+
+if __name__ == "__main__" and any(a in ("-h", "--help") for a in _sys.argv[1:]):
+    print(__doc__)
+    _sys.exit(0)
 import csv
 import math
 import os

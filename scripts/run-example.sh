@@ -6,6 +6,7 @@
 # sensor.png / sensor_log.png, sensor_eef.png (encircled energy with the 50/80/90 %
 # diameters), sensor_projections.csv, sensor.json and summary.json (HPD, 80 %, 90 %
 # in mm and arcsec, provenance, statistics). Extra arguments go to `traxer trace`.
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh

@@ -13,6 +13,11 @@ say why in the commit:
 kept by hand.) With scene names as arguments (e.g. `cast_axion_image`), only those
 are measured: paste their entries over the old ones.
 """
+import sys as _sys
+
+if __name__ == "__main__" and any(a in ("-h", "--help") for a in _sys.argv[1:]):
+    print(__doc__)
+    _sys.exit(0)
 import glob
 import json
 import os

@@ -2,6 +2,7 @@
 # Installs what traxer needs to build, if it is missing: Intel Embree (3.13 or 4.x),
 # libclang (for bindgen) and CMake (for NLopt), from the system's packages. Safe to run repeatedly.
 # Set EMBREE_DIR to use an Embree of your own instead.
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 

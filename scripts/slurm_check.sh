@@ -14,6 +14,7 @@
 # Needs root (packages, daemons). Stops the daemons it started. Exit codes: 0
 # bit-identical, 1 a failure of traxer or of the cluster scripts, 2 not root,
 # 77 Slurm cannot be installed or started here (skipped).
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 repo=$(pwd)

@@ -6,6 +6,7 @@
 #   data/solar/abc_b16_agss09met.csv            ABC, g_ae = 1e-13
 #   data/solar/abc_b16_agss09met_spectrum.csv   ABC at 1 AU per process
 # Usage: scripts/solar_table.sh [MODEL_FILE [OP_FOLDER]]
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 model="${1:-../shared/solar/SolarModel_B16-AGSS09met.dat}"

@@ -6,6 +6,7 @@
 # user does (`pip install ./python`: maturin, in the same target folder as the
 # binary, so the traxer library is not compiled twice), and tests it against the
 # release binary that `cargo test --release` built.
+case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
 venv=target/python-venv

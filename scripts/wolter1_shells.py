@@ -15,6 +15,11 @@ surface is placed with a translation.
 
 Usage: scripts/wolter1_shells.py F L r0 [r0 ...]
 """
+import sys as _sys
+
+if __name__ == "__main__" and any(a in ("-h", "--help") for a in _sys.argv[1:]):
+    print(__doc__)
+    _sys.exit(0)
 import math
 import sys
 

@@ -243,6 +243,16 @@ impl TraceResult {
         let sensors = PyDict::new(py);
         for (spec, image) in scene.sensors.iter().zip(&tally.images) {
             sensors.set_item(&spec.name, SensorImage::new(py, spec, image, absolute)?)?;
+            if image.total_counts() == 0 {
+                // As loud as the CLI's warning: an all-zero image is rarely meant.
+                let message = std::ffi::CString::new(format!(
+                    "no photon reached sensor `{}` ({emitted} photons traced): its images are empty. Check that the source points at the telescope (a sun's `direction` points towards the Sun, a beam's is its direction of travel) and where the sensor sits.",
+                    spec.name
+                ))
+                .unwrap_or_default();
+                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+                PyErr::warn(py, &category, &message, 1)?;
+            }
         }
         let result =
             tally

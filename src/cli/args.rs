@@ -128,7 +128,9 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
         Ok(x) if x.is_finite() && x >= 0.0 && x <= 2f64.powi(63) => {
             Err(format!("{s} is not a whole number of photons"))
         }
-        _ => Err(format!("expected a whole number such as 1000000 or 1e6, not `{s}`")),
+        _ => Err(format!(
+            "expected a whole number such as 1000000 or 1e6, not `{s}`"
+        )),
     }
 }
 

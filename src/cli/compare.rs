@@ -59,7 +59,10 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    let folder = traxer::run::results_folder(&a.output.scene_folder(&a.scene.scene, "_compare"), &COMPARE_FILES)?;
+    let folder = traxer::run::results_folder(
+        &a.output.scene_folder(&a.scene.scene, "_compare"),
+        &COMPARE_FILES,
+    )?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);

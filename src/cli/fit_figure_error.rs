@@ -155,30 +155,28 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         "stopped; the evaluations so far are in {}: run the same command with --resume to continue",
         study.record_path().display()
     ));
-    // The budget: every evaluation and the seed check trace `photons` photons
-    // (DIRECT-L may stop early; the bar then ends short of its length).
-    let budget = (a.global_evals as u64 + a.local_evals as u64 + a.check_seeds) * run.photons;
-    let bar = progress::bar(budget, "photons", quiet);
+    // Progress in evaluations (DIRECT-L may stop early; the bar then ends
+    // short of its length); the seed check counts as its traces finish.
+    let evaluations = a.global_evals as u64 + a.local_evals as u64 + a.check_seeds;
+    let bar = progress::bar(evaluations, "evaluations", quiet);
     let started = std::time::Instant::now();
-    let result = fit(
-        &mut scene,
-        &settings,
-        &replay,
-        &|n| bar.inc(n),
-        |e, best| {
-            if let Some(w) = study.point_done_at(e.index - 1, e) {
-                tell!("warning: {w}");
-            }
-            if !quiet && e.index > replay.len() {
-                bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
-            }
-        },
-    );
+    let result = fit(&mut scene, &settings, &replay, &|_| {}, |e, best| {
+        bar.inc(1);
+        if let Some(w) = study.point_done_at(e.index - 1, e) {
+            tell!("warning: {w}");
+        }
+        if !quiet && e.index > replay.len() {
+            bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
+        }
+    });
     let fit_seconds = started.elapsed().as_secs_f64();
     let result = result?;
     // Monte Carlo spread: the best parameters with other seeds (the fit saw one).
+    let traced = std::sync::atomic::AtomicU64::new(0);
     let spread = seed_spread(&mut scene, &settings, &result.best, a.check_seeds, &|n| {
-        bar.inc(n)
+        let before = traced.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        let checks_done = (before + n) / run.photons - before / run.photons;
+        bar.inc(checks_done);
     });
     bar.finish_and_clear();
     let spread = spread?;

@@ -149,7 +149,13 @@ fn open_study(
         ("photons".into(), cfg.photons.into()),
         ("seed".into(), cfg.seed.into()),
     ]);
-    let study = Study::open(&a.output.scene_folder(&a.scene.scene, "_focus"), "focus", &FOCUS_FILES, id.into(), a.resume)?;
+    let study = Study::open(
+        &a.output.scene_folder(&a.scene.scene, "_focus"),
+        "focus",
+        &FOCUS_FILES,
+        id.into(),
+        a.resume,
+    )?;
     super::signals::set_stop_message(format!(
         "stopped; the positions so far are in {}: run the same command with --resume to continue",
         study.record_path().display()

@@ -47,17 +47,19 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
     };
     let MergedRun { scene, finished } = job.run(&super::invocation())?;
     super::Warnings::default().show(&scene);
+    // Warnings show even with -q.
+    let (h, id) = (&finished.header, &finished.header.identity);
+    if !h.missing.is_empty() {
+        tell!(
+            "warning: a partial merge: {} of {} shards, {} of {} photons",
+            h.parts.len(),
+            id.shards,
+            h.photons,
+            id.total_photons
+        );
+    }
+    super::report::warn_empty_sensors(&scene, &finished.result);
     if !a.output.quiet.quiet {
-        let (h, id) = (&finished.header, &finished.header.identity);
-        if !h.missing.is_empty() {
-            tell!(
-                "warning: a partial merge: {} of {} shards, {} of {} photons",
-                h.parts.len(),
-                id.shards,
-                h.photons,
-                id.total_photons
-            );
-        }
         super::report::report(&scene, &finished.result);
         say!(
             "merged {} shards; wrote {} files to {}",

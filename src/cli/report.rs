@@ -4,6 +4,20 @@
 use traxer::analysis::FinishedImage;
 use traxer::trace::RunResult;
 
+/// A warning on stderr (shown even with `-q`) for each sensor no photon
+/// reached: its images are all zeros, which is rarely what was meant.
+pub fn warn_empty_sensors(scene: &traxer::scene::Scene, result: &RunResult) {
+    for (spec, img) in scene.sensors.iter().zip(&result.images) {
+        if img.total_counts() == 0 {
+            tell!(
+                "warning: NO PHOTON reached sensor `{}` ({} photons traced): its images are empty. Check that the source points at the telescope (a sun's `direction` points towards the Sun, a beam's is its direction of travel) and where the sensor sits.",
+                spec.name,
+                result.stats.photons_emitted
+            );
+        }
+    }
+}
+
 /// The run's statistics and each sensor's image quality on stdout.
 pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
     let s = &result.stats;
@@ -29,7 +43,7 @@ pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
                 img.total_flux() * k
             ),
             None => say!(
-                "  sensor {}: {} photons, flux {:.6e}",
+                "  sensor {}: {} photons, flux {:.6e} ph (sum of photon weights)",
                 spec.name,
                 img.total_counts(),
                 img.total_flux()

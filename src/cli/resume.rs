@@ -2,15 +2,15 @@
 //! that stop a checkpointing run gracefully, the report when it is done; and
 //! `traxer trace --resume DIR`.
 
+use super::progress::Bar;
 use super::signals::{checkpoint_on_signals, stop_requested};
-use indicatif::ProgressBar;
 use std::path::Path;
 use traxer::run::{open_stopped, Finished, Found, RunControl, RunSettings};
 use traxer::scene::Scene;
 
 /// A run's progress bar and the process's signals.
 pub struct CliControl {
-    bar: ProgressBar,
+    bar: Bar,
 }
 
 impl CliControl {
@@ -39,6 +39,7 @@ impl RunControl for CliControl {
 /// The end of a run on stdout: its report and where its files are.
 pub fn finish(scene: &Scene, finished: Finished, control: &CliControl, quiet: bool) {
     control.bar.finish_and_clear();
+    super::report::warn_empty_sensors(scene, &finished.result);
     if !quiet {
         super::report::report(scene, &finished.result);
         say!(
@@ -75,7 +76,7 @@ pub fn resume(
         );
     }
     let control = CliControl::new(photons, quiet);
-    control.bar.inc(traced);
+    control.bar.set_position(traced);
     let finished = run.run(settings, &super::invocation(), &control)?;
     finish(&run.scene, finished, &control, quiet);
     Ok(())

@@ -151,3 +151,39 @@ fn the_command_synopsis_in_the_docs_is_the_binarys() {
         }
     }
 }
+
+/// Every script answers `--help` with what it does, and does nothing else (a
+/// script regenerating docs or meshes must not start on `--help`).
+#[test]
+fn every_script_answers_help() {
+    let dir = crate::common::repo().join("scripts");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let runner = match path.extension().and_then(|e| e.to_str()) {
+            Some("sh") => "bash",
+            Some("py") => "python3",
+            _ => continue,
+        };
+        let out = std::process::Command::new(runner)
+            .arg(&path)
+            .arg("--help")
+            .env("PATH", std::env::var_os("PATH").unwrap_or_default())
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{}: --help failed: {}",
+            path.display(),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            text.trim().len() > 40,
+            "{}: --help says {text:?}",
+            path.display()
+        );
+        checked += 1;
+    }
+    assert!(checked >= 15);
+}

@@ -73,7 +73,13 @@ fn every_picture_has_axes_a_title_and_sensor_figures_a_colour_bar() {
             .args(["-n", "30000", "-q", "--out"])
             .arg(&out),
     );
-    for name in ["chip.png", "chip_log.png", "chip_grid.png", "chip_eef.png", "chip_conversion_depth.png"] {
+    for name in [
+        "chip.png",
+        "chip_log.png",
+        "chip_grid.png",
+        "chip_eef.png",
+        "chip_conversion_depth.png",
+    ] {
         assert_has_axes(&out.join(name));
     }
     // The sensor figures: a colour bar right of the image.
@@ -84,7 +90,10 @@ fn every_picture_has_axes_a_title_and_sensor_figures_a_colour_bar() {
             .map(|x| distinct_colours(&img, x, h / 4..3 * h / 4))
             .max()
             .unwrap();
-        assert!(best > 60, "{name}: no colour bar ({best} colours in a column)");
+        assert!(
+            best > 60,
+            "{name}: no colour bar ({best} colours in a column)"
+        );
     }
     let spec: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("chip.json")).unwrap()).unwrap();
@@ -106,7 +115,16 @@ fn every_picture_has_axes_a_title_and_sensor_figures_a_colour_bar() {
         traxer()
             .arg("effective-area")
             .arg(repo().join("scenes/llnl_effective_area.toml"))
-            .args(["--energies", "1,3,5", "--angles", "0,5,10", "-n", "4000", "-q", "--out"])
+            .args([
+                "--energies",
+                "1,3,5",
+                "--angles",
+                "0,5,10",
+                "-n",
+                "4000",
+                "-q",
+                "--out",
+            ])
             .arg(&ea),
     );
     for name in ["effective_area.png", "vignetting.png", "off_axis.png"] {
@@ -117,7 +135,16 @@ fn every_picture_has_axes_a_title_and_sensor_figures_a_colour_bar() {
         traxer()
             .arg("focus")
             .arg(repo().join("scenes/wolter1_parallel.toml"))
-            .args(["--var", "focus_shift", "--from", "-20", "--to", "20", "--steps", "4"])
+            .args([
+                "--var",
+                "focus_shift",
+                "--from",
+                "-20",
+                "--to",
+                "20",
+                "--steps",
+                "4",
+            ])
             .args(["-n", "3000", "-q", "--out"])
             .arg(&fo),
     );
@@ -125,7 +152,17 @@ fn every_picture_has_axes_a_title_and_sensor_figures_a_colour_bar() {
     let r = tmp.path().join("r.png");
     run_ok(
         traxer()
-            .args(["reflectivity", "--coating", "gold", "--energy", "1,3", "--angle", "0:2:0.05", "-q", "--plot"])
+            .args([
+                "reflectivity",
+                "--coating",
+                "gold",
+                "--energy",
+                "1,3",
+                "--angle",
+                "0:2:0.05",
+                "-q",
+                "--plot",
+            ])
             .arg(&r),
     );
     assert_has_axes(&r);
