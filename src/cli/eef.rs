@@ -1,4 +1,5 @@
-//! `traxer eef`: encircled energy, HPD, 80 % and 90 % diameters of any `.npy` image.
+//! `traxer eef`: encircled energy, HPD, 80 % and 90 % diameters of any `.npy`
+//! or FITS image.
 
 use super::InputError;
 use anyhow::Context;
@@ -6,18 +7,23 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::analysis::{analyse, ImageGeometry};
 use traxer::files::check_output_file;
-use traxer::output::{read_image, sidecar_path, write_eef_plot, write_sidecar, Provenance};
+use traxer::output::{
+    read_fits_image, read_image, sidecar_path, write_eef_plot, write_sidecar, FitsImage, Provenance,
+};
 
 /// Encircled-energy analysis of an image from a trace or from elsewhere.
 ///
 /// Reads a 2-D .npy image [iy][ix] (or 3-D [band][iy][ix], summed over bands), of
-/// any numeric type. The pixel pitch comes from --pixel-pitch or, for traxer's own
-/// images, from the JSON sidecar next to it (NAME.json). Prints the centroid and
-/// the 50/80/90 % diameters (mm, and arcsec with --focal-length) and writes the EEF
-/// plot with a sidecar (PLOT.json: provenance and the numbers).
+/// any numeric type, or a FITS image (.fits, .fit, .fts: the first image HDU).
+/// The pixel pitch comes from --pixel-pitch, else from a FITS header's WCS in
+/// mm, else, for traxer's own images (NAME.npy, NAME_grid.npy, class images),
+/// from the sensor's JSON next to it; the focal length likewise (FOCALLEN, the
+/// sensor's). Prints the centroid and the 50/80/90 % diameters (mm, and arcsec
+/// with a focal length) and writes the EEF plot with a sidecar (PLOT.json:
+/// provenance and the numbers).
 #[derive(clap::Args)]
 pub struct EefArgs {
-    /// The image (.npy).
+    /// The image (.npy or .fits).
     pub image: PathBuf,
     /// Focal length (mm) for diameters in arcseconds: 2·atan(r/f).
     #[arg(value_name = "MM", long)]
@@ -36,8 +42,9 @@ pub struct EefArgs {
 }
 
 pub fn run(a: EefArgs) -> anyhow::Result<()> {
-    let img = read_image(&a.image)?;
+    let img = read_any_image(&a.image)?;
     let (ny, nx, image) = (img.ny, img.nx, img.summed);
+    let focal_length = a.focal_length.or(img.focal_length_mm);
     if image.iter().any(|v| !v.is_finite() || *v < 0.0) {
         return Err(InputError(format!(
             "{}: pixel values must be finite and ≥ 0",
@@ -45,14 +52,14 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let pitch = pixel_pitch(&a)?;
+    let pitch = pixel_pitch(&a, img.pitch_mm, focal_length)?;
     let g = ImageGeometry {
         nx,
         ny,
         pitch,
         origin_mm: [-0.5 * nx as f64 * pitch[0], -0.5 * ny as f64 * pitch[1]],
     };
-    let Some((q, eef)) = analyse(&image, &g, a.focal_length) else {
+    let Some((q, eef)) = analyse(&image, &g, focal_length) else {
         return Err(InputError(format!("{}: the image holds no flux", a.image.display())).into());
     };
     let plot = a.plot.clone().unwrap_or_else(|| {
@@ -90,15 +97,39 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The pixel pitch (mm): given, or from the sidecar next to the image; checked
+/// The image, its pitch and focal length where the file or its sensor's JSON
+/// say them.
+fn read_any_image(path: &Path) -> Result<FitsImage, InputError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    if matches!(ext.as_deref(), Some("fits" | "fit" | "fts")) {
+        return read_fits_image(path).map_err(InputError);
+    }
+    let img = read_image(path).map_err(|e| InputError(e.to_string()))?;
+    let sensor = sensor_of(path);
+    Ok(FitsImage {
+        nx: img.nx,
+        ny: img.ny,
+        summed: img.summed,
+        pitch_mm: sensor.as_ref().map(|s| s.pitch_mm),
+        focal_length_mm: sensor.and_then(|s| s.focal_length_mm),
+    })
+}
+
+/// The pixel pitch (mm): given, or from the image's file or sensor; checked
 /// with the focal length.
-fn pixel_pitch(a: &EefArgs) -> Result<[f64; 2], InputError> {
+fn pixel_pitch(
+    a: &EefArgs,
+    found: Option<[f64; 2]>,
+    focal_length: Option<f64>,
+) -> Result<[f64; 2], InputError> {
     let pitch = match a.pixel_pitch.as_slice() {
         [p] => [*p, *p],
         [px, py] => [*px, *py],
-        [] => pitch_from_sidecar(&a.image).ok_or_else(|| {
+        [] => found.ok_or_else(|| {
             InputError(format!(
-                "{}: give --pixel-pitch (no traxer sidecar JSON next to it)",
+                "{}: give --pixel-pitch (neither a FITS WCS in mm nor a traxer sensor JSON beside it says it)",
                 a.image.display()
             ))
         })?,
@@ -109,7 +140,7 @@ fn pixel_pitch(a: &EefArgs) -> Result<[f64; 2], InputError> {
         }
     };
     if !pitch.iter().all(|p| p.is_finite() && *p > 0.0)
-        || a.focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0))
+        || focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0))
     {
         return Err(InputError(
             "pixel pitch and focal length must be positive (mm)".into(),
@@ -137,10 +168,64 @@ fn print_quality(q: &traxer::analysis::ImageQuality) {
     }
 }
 
-/// Pixel pitch from traxer's sidecar NAME.json next to NAME.npy.
-fn pitch_from_sidecar(image: &Path) -> Option<[f64; 2]> {
-    let text = std::fs::read_to_string(image.with_extension("json")).ok()?;
-    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-    let p = v.get("sensor")?.get("pixel_pitch_mm")?;
-    Some([p.get(0)?.as_f64()?, p.get(1)?.as_f64()?])
+/// What a traxer sensor JSON beside an image says about it.
+struct SensorInfo {
+    pitch_mm: [f64; 2],
+    focal_length_mm: Option<f64>,
+}
+
+/// The pitch and focal length of a traxer image, from the JSON of the sensor
+/// that lists the file among its files (NAME.json lists NAME.npy, its class
+/// images and, under pixel_grid, NAME_grid.npy with the grid's pitch).
+fn sensor_of(image: &Path) -> Option<SensorInfo> {
+    let name = image.file_name()?.to_string_lossy().into_owned();
+    let dir = image
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let lists = |files: Option<&serde_json::Value>| {
+        files.and_then(|f| f.as_object()).is_some_and(|f| {
+            f.values().any(|v| {
+                v.as_str() == Some(&name)
+                    || v.as_array()
+                        .is_some_and(|a| a.iter().any(|x| x.as_str() == Some(&name)))
+            })
+        })
+    };
+    for entry in std::fs::read_dir(dir).ok()?.flatten() {
+        let path = entry.path();
+        if path.extension().and_then(|e| e.to_str()) != Some("json") {
+            continue;
+        }
+        let Some(v) = std::fs::read_to_string(&path)
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        else {
+            continue;
+        };
+        let Some(sensor) = v.get("sensor") else {
+            continue;
+        };
+        let focal_length_mm = sensor
+            .get("image_quality")
+            .and_then(|q| q.get("focal_length_mm"))
+            .and_then(|f| f.as_f64());
+        let grid = sensor.get("pixel_grid").filter(|g| !g.is_null());
+        if let Some(g) = grid.filter(|g| lists(g.get("files"))) {
+            let p = g.get("pitch_mm")?.as_f64()?;
+            return Some(SensorInfo {
+                pitch_mm: [p, p],
+                focal_length_mm,
+            });
+        }
+        if lists(sensor.get("files")) {
+            let p = sensor.get("pixel_pitch_mm")?;
+            let pitch_mm = [p.get(0)?.as_f64()?, p.get(1)?.as_f64()?];
+            return Some(SensorInfo {
+                pitch_mm,
+                focal_length_mm,
+            });
+        }
+    }
+    None
 }

@@ -15,9 +15,12 @@
 //! corner at local (−size_x/2, −size_y/2), +x along the sensor's local x):
 //! - WCS (primary): `X`/`Y` in mm on the sensor, the pixel centres exactly
 //!   (CRPIX = 1 at the first pixel's centre, CDELT = pitch);
-//! - WCS `A`: `XANG`/`YANG` in arcsec, the plate scale 206264.806″ / f per mm at
-//!   the sensor's focal length f (the small-angle scale: atan(x/f) is smaller by
-//!   (x/f)²/3 relative, 7e-6 at the edge of a 14 mm sensor at 1.5 m); only when
+//! - WCS `A` ("FOCAL PLANE ANGLE"): `XANG`/`YANG` in arcsec, the plate scale
+//!   206264.806″ / f per mm at the sensor's focal length f (the small-angle
+//!   scale: atan(x/f) is smaller by (x/f)²/3 relative, 7e-6 at the edge of a
+//!   14 mm sensor at 1.5 m); WCS `S` ("SKY OFFSET"): `XSKY`/`YSKY`, minus those
+//!   angles, the offset on the sky (along the sensor's local axes) of a source
+//!   that images at the pixel, since the telescope inverts the image; only when
 //!   the sensor has a focal length;
 //! - energy-binned: axis 3 `ENERGY` in keV at the band centres;
 //! - BUNIT, E_MIN/E_MAX (keV), and the provenance as keywords (the whole record,
@@ -54,58 +57,20 @@ pub struct SensorFits<'a> {
 
 /// Writes a sensor's image as the FITS file `path`.
 pub fn write_sensor_fits(path: &Path, image: &SensorFits) -> std::io::Result<()> {
-    let tmp = tempfile::Builder::new().prefix("traxer-fits-").tempdir()?;
-    let tmp_file = tmp.path().join("image.fits");
-    fits_file(&tmp_file, image)
-        .map_err(|e| std::io::Error::other(format!("{}: writing FITS: {e}", path.display())))?;
-    let bytes = std::fs::read(&tmp_file)?;
-    atomic_write(path, &bytes)
-}
-
-fn fits_file(tmp_file: &Path, image: &SensorFits) -> fitsio::errors::Result<()> {
-    let SensorFits {
-        spec,
-        flux,
-        unit,
-        energy_kev,
-        provenance: prov,
-        json_name,
-    } = image;
-    let (nx, ny, bands) = (
-        spec.pixels[0] as usize,
-        spec.pixels[1] as usize,
-        spec.bands(),
-    );
+    let spec = image.spec;
+    let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
     // fitsio takes the dimensions slowest first, as numpy does.
     let dims: Vec<usize> = match spec.energy_bins {
-        Some(_) => vec![bands, ny, nx],
+        Some(_) => vec![spec.bands(), ny, nx],
         None => vec![ny, nx],
     };
-    let description = ImageDescription {
-        data_type: ImageType::Double,
-        dimensions: &dims,
-    };
-    let mut f = FitsFile::create(tmp_file)
-        .with_custom_primary(&description)
-        .open()?;
-    let hdu = f.primary_hdu()?;
-    hdu.write_image(&mut f, flux)?;
-
-    let mut keys = Keys::default();
-    keys.text("BUNIT", unit.bunit, unit.comment);
-    keys.text("DETNAME", &spec.name, "traxer sensor (object) name");
-    keys.float("E_MIN", energy_kev.0, "[keV] lowest energy in the image");
-    keys.float("E_MAX", energy_kev.1, "[keV] highest energy in the image");
     let pitch = spec.pitch();
     let first = [
         -0.5 * spec.size[0] + 0.5 * pitch[0],
         -0.5 * spec.size[1] + 0.5 * pitch[1],
     ];
-    let energy_axis = spec.energy_bins.map(|(lo, hi, n)| {
-        let width = (hi - lo) / n as f64;
-        (lo + 0.5 * width, width)
-    });
-    // The primary WCS: mm on the sensor.
+    let mut keys = Keys::default();
+    image_keys(&mut keys, image);
     for (i, name) in ["X", "Y"].iter().enumerate() {
         let axis = LinearAxis {
             ctype: name,
@@ -115,34 +80,147 @@ fn fits_file(tmp_file: &Path, image: &SensorFits) -> fitsio::errors::Result<()> 
         };
         keys.axis(i + 1, "", &axis, "position on the sensor (local axes)");
     }
-    // The alternative WCS: arcsec at the focal length.
-    if let Some(f_mm) = spec.focal_length {
-        keys.text("WCSNAMEA", "ANGLE", "field angle at the focal length");
-        let scale = ARCSEC_PER_RAD / f_mm;
-        for (i, name) in ["XANG", "YANG"].iter().enumerate() {
-            let axis = LinearAxis {
-                ctype: name,
-                unit: "arcsec",
-                first: first[i] * scale,
-                step: pitch[i] * scale,
-            };
-            keys.axis(i + 1, "A", &axis, "angle = position / focal length");
-        }
-        keys.float("FOCALLEN", f_mm, "[mm] focal length of the angular WCS");
-    }
-    if let Some((centre, width)) = energy_axis {
+    angular_axes(&mut keys, image, first, pitch);
+    if let Some((lo, hi, n)) = spec.energy_bins {
+        let width = (hi - lo) / n as f64;
         let axis = LinearAxis {
             ctype: "ENERGY",
             unit: "keV",
-            first: centre,
+            first: lo + 0.5 * width,
             step: width,
         };
-        keys.axis(3, "", &axis, "photon energy band");
-        if spec.focal_length.is_some() {
-            keys.axis(3, "A", &axis, "photon energy band");
+        for alt in ["", "A", "S"] {
+            if alt.is_empty() || spec.focal_length.is_some() {
+                keys.axis(3, alt, &axis, "photon energy band");
+            }
         }
     }
-    provenance_keys(&mut keys, prov, json_name);
+    provenance_keys(&mut keys, image.provenance, image.json_name);
+    write_fits(path, &dims, image.flux, keys)
+}
+
+/// Writes a sensor's image on its detector pixel grid (`NAME_grid.npy`'s
+/// array, summed over bands) as the FITS file `path`: axes in mm from the
+/// grid's centre along the grid's axes, and the angles as for the sensor.
+pub fn write_grid_fits(
+    path: &Path,
+    image: &SensorFits,
+    grid: &crate::sensor::PixelGrid,
+    flux: &[f64],
+) -> std::io::Result<()> {
+    let (gx, gy) = (grid.pixels[0] as usize, grid.pixels[1] as usize);
+    let p = grid.pitch_mm;
+    let first = [
+        -0.5 * gx as f64 * p + 0.5 * p,
+        -0.5 * gy as f64 * p + 0.5 * p,
+    ];
+    let mut keys = Keys::default();
+    image_keys(&mut keys, image);
+    for (i, name) in ["X", "Y"].iter().enumerate() {
+        let axis = LinearAxis {
+            ctype: name,
+            unit: "mm",
+            first: first[i],
+            step: p,
+        };
+        keys.axis(i + 1, "", &axis, "position from the grid's centre");
+    }
+    keys.float(
+        "GRIDROT",
+        grid.rotation_deg,
+        "[deg] grid axes from the sensor's, ccw",
+    );
+    keys.float("GRIDCX", grid.center_mm[0], "[mm] grid centre, sensor x");
+    keys.float("GRIDCY", grid.center_mm[1], "[mm] grid centre, sensor y");
+    angular_axes(&mut keys, image, first, [p, p]);
+    provenance_keys(&mut keys, image.provenance, image.json_name);
+    write_fits(path, &[gy, gx], flux, keys)
+}
+
+/// The cards every image carries: its unit, sensor and energies.
+fn image_keys(keys: &mut Keys, image: &SensorFits) {
+    keys.text("BUNIT", image.unit.bunit, image.unit.comment);
+    keys.text("DETNAME", &image.spec.name, "traxer sensor (object) name");
+    keys.float(
+        "E_MIN",
+        image.energy_kev.0,
+        "[keV] lowest energy in the image",
+    );
+    keys.float(
+        "E_MAX",
+        image.energy_kev.1,
+        "[keV] highest energy in the image",
+    );
+}
+
+/// With a focal length, two angular WCS: `A`, the focal-plane angle (position
+/// / focal length, along the image's axes), and `S`, the sky offset of the
+/// source that images there, which is minus the focal-plane angle: a focusing
+/// telescope inverts the image (a source 3′ towards +x on the sky lands 3′
+/// towards −x on the sensor).
+fn angular_axes(keys: &mut Keys, image: &SensorFits, first: [f64; 2], step: [f64; 2]) {
+    let Some(f_mm) = image.spec.focal_length else {
+        return;
+    };
+    let scale = ARCSEC_PER_RAD / f_mm;
+    keys.text("WCSNAMEA", "FOCAL PLANE ANGLE", "position / focal length");
+    for (i, name) in ["XANG", "YANG"].iter().enumerate() {
+        let axis = LinearAxis {
+            ctype: name,
+            unit: "arcsec",
+            first: first[i] * scale,
+            step: step[i] * scale,
+        };
+        keys.axis(i + 1, "A", &axis, "focal-plane angle = position / f");
+    }
+    keys.text(
+        "WCSNAMES",
+        "SKY OFFSET",
+        "source offset on the sky = -(angle A)",
+    );
+    for (i, name) in ["XSKY", "YSKY"].iter().enumerate() {
+        let axis = LinearAxis {
+            ctype: name,
+            unit: "arcsec",
+            first: -first[i] * scale,
+            step: -step[i] * scale,
+        };
+        keys.axis(
+            i + 1,
+            "S",
+            &axis,
+            "sky offset along the axis (image inverted)",
+        );
+    }
+    keys.float("FOCALLEN", f_mm, "[mm] focal length of the angular WCS");
+}
+
+/// Writes `data` of `dims` (slowest first) with `keys` as the FITS file `path`,
+/// atomically.
+fn write_fits(path: &Path, dims: &[usize], data: &[f64], keys: Keys) -> std::io::Result<()> {
+    let tmp = tempfile::Builder::new().prefix("traxer-fits-").tempdir()?;
+    let tmp_file = tmp.path().join("image.fits");
+    fits_file(&tmp_file, dims, data, keys)
+        .map_err(|e| std::io::Error::other(format!("{}: writing FITS: {e}", path.display())))?;
+    let bytes = without_primary_extname(std::fs::read(&tmp_file)?);
+    atomic_write(path, &bytes)
+}
+
+fn fits_file(
+    tmp_file: &Path,
+    dims: &[usize],
+    data: &[f64],
+    keys: Keys,
+) -> fitsio::errors::Result<()> {
+    let description = ImageDescription {
+        data_type: ImageType::Double,
+        dimensions: dims,
+    };
+    let mut f = FitsFile::create(tmp_file)
+        .with_custom_primary(&description)
+        .open()?;
+    let hdu = f.primary_hdu()?;
+    hdu.write_image(&mut f, data)?;
     for (name, value) in keys.0 {
         match value {
             Value::Text(v, c) => hdu.write_key(&mut f, &name, (v.as_str(), c.as_str()))?,
@@ -151,6 +229,28 @@ fn fits_file(tmp_file: &Path, image: &SensorFits) -> fitsio::errors::Result<()> 
         }
     }
     Ok(())
+}
+
+/// The file without the `EXTNAME = '_PRIMARY'` card the fitsio crate puts in
+/// a custom primary header (a primary HDU has no extension name; ds9 and
+/// astropy show it). The card is cut out and the header's padding after END
+/// grows by one card, so every offset after the header stays where it was.
+fn without_primary_extname(mut bytes: Vec<u8>) -> Vec<u8> {
+    const CARD: usize = 80;
+    let cards = bytes.len() / CARD;
+    let end = (0..cards).find(|&i| bytes[i * CARD..].starts_with(b"END     "));
+    let extname = (0..cards)
+        .take_while(|&i| end.is_none_or(|e| i < e))
+        .find(|&i| {
+            let card = &bytes[i * CARD..(i + 1) * CARD];
+            card.starts_with(b"EXTNAME =") && card.windows(10).any(|w| w == b"'_PRIMARY'")
+        });
+    if let (Some(x), Some(e)) = (extname, end) {
+        // Cards x+1 ..= e (END) move up one; the freed card becomes padding.
+        bytes.copy_within((x + 1) * CARD..(e + 1) * CARD, x * CARD);
+        bytes[e * CARD..(e + 1) * CARD].fill(b' ');
+    }
+    bytes
 }
 
 /// The run's provenance as keywords (FITS strings hold 68 characters: longer

@@ -16,6 +16,7 @@ mod eef_plot;
 mod effective_area;
 mod fit;
 mod fits;
+mod fits_read;
 mod focus;
 mod history;
 mod image_plot;
@@ -34,7 +35,8 @@ pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
 pub use effective_area::{write_effective_area, EFFECTIVE_AREA_FILES};
 pub use fit::{write_fit, FitReport, FIT_FILES};
-pub use fits::{write_sensor_fits, FluxUnit, SensorFits};
+pub use fits::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
+pub use fits_read::{read_fits_image, FitsImage};
 pub use focus::{plotted_diameter, write_focus, FOCUS_FILES};
 pub use history::{
     history_json, photon_list_npy, write_class_images, write_photon_list, PHOTON_LIST_FILES,

@@ -8,11 +8,11 @@ use super::{
     write_csv, write_image_figure, write_npy_f64, write_npy_u64, write_png, ImageFigure,
     Provenance, Scale,
 };
-use super::{write_sensor_fits, FluxUnit, SensorFits};
+use super::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
 use crate::analysis::{projections, FinishedImage, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
-use crate::sensor::{fits_file_name, sensor_file_names, SUMMARY_FILE};
+use crate::sensor::{fits_file_name, grid_fits_file_name, sensor_file_names, SUMMARY_FILE};
 use crate::source::Source;
 use crate::trace::RunResult;
 use serde_json::{json, Value};
@@ -31,13 +31,10 @@ pub fn run_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<Strin
         .flat_map(|s| s.file_names())
         .chain([SUMMARY_FILE.to_string()])
         .chain(list.map(String::from))
-        .chain(
-            scene
-                .sensors
-                .iter()
-                .filter(|_| fits)
-                .map(|s| fits_file_name(&s.name)),
-        )
+        .chain(scene.sensors.iter().filter(|_| fits).flat_map(|s| {
+            let grid = s.pixel_grid.map(|_| grid_fits_file_name(&s.name));
+            std::iter::once(fits_file_name(&s.name)).chain(grid)
+        }))
         .collect()
 }
 
@@ -120,6 +117,7 @@ fn write_sensor(
     let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
     write_npy_f64(&paths[0], &shape, flux)?;
     write_npy_u64(&paths[1], &shape, &image.counts)?;
+    let on_grid = finished.on_grid(spec);
     if run.fits {
         let path = dir.join(fits_file_name(&spec.name));
         let image = SensorFits {
@@ -132,6 +130,11 @@ fn write_sensor(
         };
         write_sensor_fits(&path, &image)?;
         written.push(path);
+        if let Some((g, r)) = &on_grid {
+            let path = dir.join(grid_fits_file_name(&spec.name));
+            write_grid_fits(&path, &image, g, &r.flux)?;
+            written.push(path);
+        }
     }
     let figure = |scale| sensor_figure(scene, spec, &finished, run.provenance, scale);
     write_image_figure(&paths[2], &figure(Scale::Linear))?;
@@ -147,7 +150,7 @@ fn write_sensor(
         )?;
     }
     write_projections(&paths[6], summed, geometry)?;
-    let grid = write_grid_files(dir, scene, spec, &finished, run.provenance, &mut written)?;
+    let grid = write_grid_files(dir, scene, spec, on_grid, &finished, run, &mut written)?;
     written.extend(write_class_images(
         dir,
         spec,
@@ -269,13 +272,15 @@ fn write_grid_files(
     dir: &Path,
     scene: &Scene,
     spec: &crate::sensor::SensorSpec,
+    on_grid: Option<(crate::sensor::PixelGrid, crate::sensor::Rebinned)>,
     finished: &FinishedImage,
-    provenance: &Provenance,
+    run: &RunJson,
     written: &mut Vec<PathBuf>,
 ) -> std::io::Result<Value> {
-    let Some((g, r)) = finished.on_grid(spec) else {
+    let Some((g, r)) = on_grid else {
         return Ok(Value::Null);
     };
+    let provenance = run.provenance;
     let g = &g;
     let names = crate::sensor::grid_file_names(&spec.name);
     let grid_paths = [
@@ -316,7 +321,10 @@ fn write_grid_files(
         "center_mm": g.center_mm,
         "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
         "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
-        "files": {"grid_npy": names[0], "grid_csv": names[1], "grid_png": names[2]},
+        "files": {
+            "grid_npy": names[0], "grid_csv": names[1], "grid_png": names[2],
+            "grid_fits": run.fits.then(|| grid_fits_file_name(&spec.name)),
+        },
     }))
 }
 

@@ -46,6 +46,12 @@ pub fn fits_file_name(name: &str) -> String {
     format!("{}.fits", file_stem(name))
 }
 
+/// The FITS file of a sensor's image on its detector pixel grid (`trace
+/// --fits`, sensors with a `pixel_grid`).
+pub fn grid_fits_file_name(name: &str) -> String {
+    format!("{}_grid.fits", file_stem(name))
+}
+
 /// The files of a sensor's image on its detector pixel grid: flux as `.npy` and
 /// as CSV for the limit code, and its figure.
 pub fn grid_file_names(name: &str) -> [String; 3] {
@@ -93,7 +99,7 @@ pub fn check_file_names(name: &str) -> Result<(), String> {
         .chain(conversion_file_names(name))
         .chain(grid_file_names(name))
         .chain(class_file_names(name))
-        .chain([fits_file_name(name)])
+        .chain([fits_file_name(name), grid_fits_file_name(name)])
         .map(|f| f.len() + TEMPORARY_NAME_EXTRA_BYTES)
         .max()
         .unwrap_or(0);

@@ -17,7 +17,7 @@ pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
     check_file_names, class_file_names, conversion_file_names, file_stem, fits_file_name,
-    grid_file_names, sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    grid_file_names, grid_fits_file_name, sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};
