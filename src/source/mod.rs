@@ -15,7 +15,7 @@ pub mod sun;
 pub use annulus::{AnnulusSector, ApertureDesc};
 pub use parallel::{ParallelBeam, ParallelDesc};
 pub use point::{PointDesc, PointSource};
-pub use spectrum::{EnergyDesc, Spectrum};
+pub use spectrum::{EnergyDesc, Spectrum, SpectrumTable};
 pub use sun::{SunDesc, SunSource};
 
 use crate::geometry::{within_world, WORLD_LIMIT_MM};
@@ -73,17 +73,19 @@ impl SourceDesc {
     /// relative to `dir`.
     pub fn build(&self, dir: &std::path::Path) -> Result<Source, InvalidSource> {
         Ok(match self {
-            SourceDesc::Parallel(p) => Source::Parallel(p.build()?),
-            SourceDesc::Point(p) => Source::Point(p.build()?),
+            SourceDesc::Parallel(p) => Source::Parallel(p.build(dir)?),
+            SourceDesc::Point(p) => Source::Point(p.build(dir)?),
             SourceDesc::Sun(s) => Source::Sun(s.build(dir)?),
         })
     }
 
-    /// The files it reads (relative to `dir`): a Sun's emission table file.
+    /// The files it reads (relative to `dir`): a Sun's emission table, a lab
+    /// source's energy table.
     pub fn files(&self, dir: &std::path::Path) -> Vec<std::path::PathBuf> {
         match self {
             SourceDesc::Sun(s) => s.emission_file(dir).into_iter().collect(),
-            _ => Vec::new(),
+            SourceDesc::Parallel(p) => p.energy.file(dir).into_iter().collect(),
+            SourceDesc::Point(p) => p.energy.file(dir).into_iter().collect(),
         }
     }
 }

@@ -52,7 +52,7 @@ impl ParallelBeam {
             self.axis,
             off_axis,
             self.off_axis_azimuth,
-            self.spectrum,
+            self.spectrum.clone(),
         )
     }
 
@@ -98,7 +98,7 @@ fn minus_z() -> [f64; 3] {
 
 impl ParallelDesc {
     /// The beam, or what is wrong with its parameters.
-    pub fn build(&self) -> Result<ParallelBeam, InvalidSource> {
+    pub fn build(&self, dir: &std::path::Path) -> Result<ParallelBeam, InvalidSource> {
         let p = self;
         if far_from_origin(&[p.aperture.center], &[p.aperture.radius]) {
             return Err(super::far_message());
@@ -124,7 +124,7 @@ impl ParallelDesc {
             axis,
             p.off_axis,
             p.off_axis_azimuth,
-            p.energy.spectrum()?,
+            p.energy.spectrum(dir)?,
         ))
     }
 }

@@ -93,7 +93,7 @@ pub struct PointDesc {
 
 impl PointDesc {
     /// The source, or what is wrong with its parameters.
-    pub fn build(&self) -> Result<PointSource, InvalidSource> {
+    pub fn build(&self, dir: &std::path::Path) -> Result<PointSource, InvalidSource> {
         let p = self;
         if far_from_origin(&[p.position, p.target.center], &[p.target.radius]) {
             return Err(super::far_message());
@@ -117,7 +117,7 @@ impl PointDesc {
             p.target.inner_radius,
             p.target.radius,
             p.target.azimuth,
-            p.energy.spectrum()?,
+            p.energy.spectrum(dir)?,
         ))
     }
 }
