@@ -166,7 +166,8 @@ fn a_lab_source_draws_its_energies_from_a_spectrum_table() {
     let fall = |e: f64| 3.0 * (5.5 - e) / 0.5;
     let up = |e: f64| 20.0 * (e - 6.3) / 0.1;
     let down = |e: f64| 20.0 * (6.5 - e) / 0.1;
-    let pieces: [(f64, f64, &dyn Fn(f64) -> f64); 4] = [
+    type Piece<'a> = (f64, f64, &'a dyn Fn(f64) -> f64);
+    let pieces: [Piece; 4] = [
         (1.0, 5.0, &ramp),
         (5.0, 5.5, &fall),
         (6.3, 6.4, &up),
