@@ -195,7 +195,7 @@ mod tests {
         let t = SpectrumTable::new("t".into(), vec![(1.0, 0.0), (2.0, 1.0), (3.0, 0.0)]).unwrap();
         for u in [0.0, 0.02, 0.125, 0.3, 0.5] {
             let e = t.quantile(u);
-            assert!((2.0 * (e - 1.0) * (e - 1.0) - u).abs() < 1e-12, "{u} → {e}");
+            assert!((0.5 * (e - 1.0) * (e - 1.0) - u).abs() < 1e-12, "{u} → {e}");
         }
         for u in [0.7, 0.875, 1.0] {
             let e = t.quantile(u);
