@@ -189,7 +189,8 @@ mod tests {
     use super::*;
 
     /// The quantile inverts the cumulative distribution of a piecewise-linear
-    /// density exactly: a triangle 1–2–3 keV has CDF 2(E−1)² below its peak.
+    /// density exactly: a triangle 1–2–3 keV of peak 1 has CDF (E−1)²/2 below
+    /// its peak and 1 − (3−E)²/2 above.
     #[test]
     fn quantiles_of_a_triangle_spectrum() {
         let t = SpectrumTable::new("t".into(), vec![(1.0, 0.0), (2.0, 1.0), (3.0, 0.0)]).unwrap();
@@ -200,7 +201,7 @@ mod tests {
         for u in [0.7, 0.875, 1.0] {
             let e = t.quantile(u);
             assert!(
-                (1.0 - 2.0 * (3.0 - e) * (3.0 - e) - u).abs() < 1e-12,
+                (1.0 - 0.5 * (3.0 - e) * (3.0 - e) - u).abs() < 1e-12,
                 "{u} → {e}"
             );
         }
