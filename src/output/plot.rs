@@ -77,18 +77,9 @@ impl Series {
     }
 }
 
-/// Draws `series` into a `width × height` PNG with axis labels and a legend.
-pub fn line_plot(
-    path: &Path,
-    title: &str,
-    x_label: &str,
-    y_label: &str,
-    series: &[Series],
-    size: (u32, u32),
-) -> std::io::Result<()> {
-    register_font();
-    let (w, h) = size;
-    let mut buf = vec![0u8; (w * h * 3) as usize];
+/// The x and y ranges of the series' finite points, widened to a unit when
+/// empty or a single value.
+fn data_ranges(series: &[Series]) -> ((f64, f64), (f64, f64)) {
     let finite = || {
         series
             .iter()
@@ -112,6 +103,22 @@ pub fn line_plot(
     } else if y0 >= y1 {
         (y0, y1) = (y0 - 0.5, y0 + 0.5);
     }
+    ((x0, x1), (y0, y1))
+}
+
+/// Draws `series` into a `width × height` PNG with axis labels and a legend.
+pub fn line_plot(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    size: (u32, u32),
+) -> std::io::Result<()> {
+    register_font();
+    let (w, h) = size;
+    let mut buf = vec![0u8; (w * h * 3) as usize];
+    let ((x0, x1), (y0, y1)) = data_ranges(series);
     let pad = 0.04 * (y1 - y0);
     let (mut y_lo, mut y_hi) = (y0 - pad, y1 + pad);
     let show_legend = series.len() > 1 || !series.first().is_some_and(|s| s.label.is_empty());

@@ -119,8 +119,7 @@ fn write_sensor(
     write_npy_u64(&paths[1], &shape, &image.counts)?;
     let on_grid = finished.on_grid(spec);
     if run.fits {
-        let path = dir.join(fits_file_name(&spec.name));
-        let image = SensorFits {
+        let fits = SensorFits {
             spec,
             flux,
             unit: flux_unit(absolute.is_some()),
@@ -128,13 +127,7 @@ fn write_sensor(
             provenance: run.provenance,
             json_name: &files[4],
         };
-        write_sensor_fits(&path, &image)?;
-        written.push(path);
-        if let Some((g, r)) = &on_grid {
-            let path = dir.join(grid_fits_file_name(&spec.name));
-            write_grid_fits(&path, &image, g, &r.flux)?;
-            written.push(path);
-        }
+        written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
     let figure = |scale| sensor_figure(scene, spec, &finished, run.provenance, scale);
     write_image_figure(&paths[2], &figure(Scale::Linear))?;
@@ -254,6 +247,24 @@ fn sensor_figure<'a>(
             crate::sensor::file_stem(&spec.name)
         ),
     }
+}
+
+/// A sensor's FITS files (`--fits`): its image and, with a pixel grid, the
+/// grid's image; returns their paths.
+fn write_fits_files(
+    dir: &Path,
+    fits: &SensorFits,
+    on_grid: Option<&(crate::sensor::PixelGrid, crate::sensor::Rebinned)>,
+) -> std::io::Result<Vec<PathBuf>> {
+    let path = dir.join(fits_file_name(&fits.spec.name));
+    write_sensor_fits(&path, fits)?;
+    let mut written = vec![path];
+    if let Some((g, r)) = on_grid {
+        let path = dir.join(grid_fits_file_name(&fits.spec.name));
+        write_grid_fits(&path, fits, g, &r.flux)?;
+        written.push(path);
+    }
+    Ok(written)
 }
 
 /// What a sensor's pixel values are, in words, for `NAME.json`.
