@@ -102,7 +102,7 @@ fn main() -> anyhow::Result<()> {
     line_plot(
         &png,
         "PANTER: encircled energy, perfect vs figure-error mirrors",
-        "diameter (arcsec)",
+        "diameter around the centroid [arcsec] (the EEF against 2r)",
         "fraction of flux",
         &eef_series,
         (900, 600),
