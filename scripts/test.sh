@@ -6,5 +6,8 @@ case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
+# Reflectivity tables built by the tests are kept in the build folder, not in
+# the user's cache (a CAST scene's tables are about 100 MB).
+export TRAXER_CACHE="${TRAXER_CACHE:-$PWD/target/traxer-cache}"
 cargo test --release "$@"
 ./scripts/test-python.sh
