@@ -79,8 +79,8 @@ impl RunArgs {
 /// Where results go and how much is said.
 #[derive(clap::Args, Clone, Debug)]
 pub struct OutputArgs {
-    /// Output folder, created if missing (default: out/NAME, NAME after the
-    /// scene file, e.g. out/wolter1_parallel, so that runs do not mix).
+    /// Output folder, created if missing (default: out/NAME after the scene
+    /// file, e.g. out/wolter1_parallel, and out/NAME/focus etc. for studies).
     #[arg(short, long, value_name = "DIR")]
     pub out: Option<PathBuf>,
     #[command(flatten)]
@@ -95,12 +95,18 @@ impl OutputArgs {
             .unwrap_or_else(|| PathBuf::from("out").join(name))
     }
 
-    /// The output folder named after `scene` (its file stem) and `suffix`.
-    pub fn scene_folder(&self, scene: &std::path::Path, suffix: &str) -> PathBuf {
+    /// The output folder named after `scene` (its file stem), with a study's
+    /// results nested in it (`study`: "focus", ...; "" for the trace itself):
+    /// out/wolter1_parallel, out/wolter1_parallel/focus. A new trace keeps the
+    /// studies nested in its folder.
+    pub fn scene_folder(&self, scene: &std::path::Path, study: &str) -> PathBuf {
         let stem = scene
             .file_stem()
             .map_or("run".into(), |s| s.to_string_lossy().into_owned());
-        self.folder(&format!("{stem}{suffix}"))
+        match study {
+            "" => self.folder(&stem),
+            study => self.folder(&format!("{stem}/{study}")),
+        }
     }
 }
 

@@ -140,7 +140,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let settings = fit_settings(&a, &scene, &run)?;
     let study: Study<Evaluation> = Study::open(
-        &a.output.scene_folder(&a.scene.scene, "_fit"),
+        &a.output.scene_folder(&a.scene.scene, "fit"),
         "fit",
         &FIT_FILES,
         identity(&scene, &settings),
@@ -191,7 +191,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         preset_name: &a.name,
         fit_seconds,
     };
-    let out = &a.output.scene_folder(&a.scene.scene, "_fit");
+    let out = &a.output.scene_folder(&a.scene.scene, "fit");
     let folder = study.folder;
     write_fit(folder.path(), &report, &provenance)
         .and_then(|_| folder.commit())

@@ -86,10 +86,12 @@ impl ReflectivityTable {
         if let Some(table) = path.as_deref().and_then(|p| read(p, coating)) {
             return Ok(table);
         }
+        // Energies as a person writes them (10, not 10.000000000000007).
+        let kev = |e: f64| format!("{}", (e * 1e6).round() / 1e6);
         let energies = if e_min == e_max {
-            format!("at {e_min} keV")
+            format!("at {} keV", kev(e_min))
         } else {
-            format!("for {e_min}–{e_max} keV")
+            format!("for {}–{} keV", kev(e_min), kev(e_max))
         };
         crate::progress::notice(&format!(
             "building the reflectivity table of coating `{}` {energies}{}",

@@ -235,3 +235,36 @@ fn results_nested_in_a_results_folder_are_kept() {
         leftovers(dir.path())
     );
 }
+
+#[test]
+fn without_out_results_go_to_out_scene_with_studies_nested_and_kept() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/wolter1_parallel.toml");
+    let run = |args: &[&str]| {
+        run_ok(
+            traxer()
+                .current_dir(dir.path())
+                .args(args)
+                .arg(&scene)
+                .arg("-q"),
+        );
+    };
+    run(&["trace", "-n", "2000"]);
+    run(&[
+        "focus",
+        "--var",
+        "focus_shift",
+        "--from=-2",
+        "--to=2",
+        "--steps=4",
+        "-n",
+        "3000",
+    ]);
+    let out = dir.path().join("out/wolter1_parallel");
+    assert!(out.join("sensor.npy").is_file());
+    let scan = std::fs::read(out.join("focus/focus.csv")).unwrap();
+    run(&["trace", "-n", "3000"]);
+    assert_eq!(std::fs::read(out.join("focus/focus.csv")).unwrap(), scan);
+    run(&["effective-area", "--energies", "1,2", "-n", "2000"]);
+    assert!(out.join("effective_area/effective_area.csv").is_file());
+}
