@@ -19,6 +19,7 @@ pub mod foil;
 pub mod gas;
 pub mod optical;
 pub mod parratt;
+pub mod roughness;
 pub mod table;
 pub mod table_cache;
 
