@@ -36,6 +36,9 @@ pub enum Material {
         reflectivity: Option<usize>,
         /// `None` for a perfect figure (exactly specular).
         figure_error: Option<crate::xray::figure_error::FigureError>,
+        /// Scatter from microroughness (indexes `Scene::roughness`); `None`
+        /// for a surface without it.
+        roughness: Option<usize>,
     },
     /// Stops the photon.
     Absorber,

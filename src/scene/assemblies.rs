@@ -53,6 +53,9 @@ pub struct LlnlTelescopeDesc {
     /// Figure errors of every mirror (preset name or inline parameters).
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
+    /// Microroughness scatter of every mirror (a PSD over a band); default none.
+    #[serde(default)]
+    pub roughness: Option<crate::xray::roughness::RoughnessDesc>,
     /// Where each shell's cone axis lies (see [`ShellAxes`]).
     #[serde(default)]
     pub shell_axes: ShellAxes,
@@ -164,6 +167,7 @@ fn part_material(
                         side: SideDesc::Front,
                         coating: Some(coating.clone()),
                         figure_error: t.figure_error.clone(),
+                        roughness: t.roughness,
                     }),
                     span: span.clone(),
                 });

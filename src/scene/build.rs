@@ -99,6 +99,7 @@ pub(super) fn build(
         objects,
         sensors: materials.sensors,
         foils: materials.foils,
+        roughness: materials.roughness,
         sources,
         max_interactions,
         reflectivity,

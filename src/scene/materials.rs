@@ -64,6 +64,10 @@ pub struct MirrorDesc {
     /// `[figure_errors]`, "none") or the parameters inline; default none.
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
+    /// Scatter from microroughness: a PSD over a band of spatial frequencies
+    /// (`xray::roughness`); default none.
+    #[serde(default)]
+    pub roughness: Option<crate::xray::roughness::RoughnessDesc>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -123,6 +127,8 @@ pub struct Materials {
     pub sensors: Vec<SensorSpec>,
     /// Foils in order of first use (`Material::Foil::foil` indexes this).
     pub foils: Vec<Foil>,
+    /// Roughness models in order of first use (`Material::Mirror::roughness`).
+    pub roughness: Vec<crate::xray::roughness::Roughness>,
 }
 
 impl Materials {
@@ -145,6 +151,7 @@ impl Materials {
                 side: SideDesc::Both,
                 coating: None,
                 figure_error: None,
+                roughness: None,
             })),
         );
         entries.insert(
@@ -170,6 +177,7 @@ impl Materials {
             coatings: Vec::new(),
             sensors: Vec::new(),
             foils: Vec::new(),
+            roughness: Vec::new(),
         }
     }
 
@@ -258,10 +266,24 @@ impl Materials {
                         },
                     },
                 };
+                let roughness = match &m.roughness {
+                    None => None,
+                    Some(d) => match self.roughness.iter().position(|r| r.desc == *d) {
+                        Some(i) => Some(i),
+                        None => match crate::xray::roughness::Roughness::new(*d) {
+                            Ok(r) => {
+                                self.roughness.push(r);
+                                Some(self.roughness.len() - 1)
+                            }
+                            Err(e) => return Some(Err(fail(e))),
+                        },
+                    },
+                };
                 Ok(Material::Mirror {
                     side: m.side.into(),
                     reflectivity,
                     figure_error,
+                    roughness,
                 })
             }
         })

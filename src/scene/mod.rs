@@ -62,6 +62,8 @@ pub struct Scene {
     pub sensors: Vec<SensorSpec>,
     /// Thin foils (windows, filters), indexed by `Material::Foil::foil`.
     pub foils: Vec<crate::xray::Foil>,
+    /// Mirror microroughness models, indexed by `Material::Mirror::roughness`.
+    pub roughness: Vec<crate::xray::roughness::Roughness>,
     pub sources: Vec<Source>,
     pub max_interactions: u32,
     /// Reflectivity tables of the coated mirrors' coatings (indexed by

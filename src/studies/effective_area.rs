@@ -189,6 +189,22 @@ pub fn sweep(
     mut on_angle: impl FnMut(&AngleResult),
 ) -> Result<AreaResult, StudyError> {
     check(s)?;
+    // A rough mirror scatters differently at each energy, so one path per
+    // photon cannot serve every energy of the sweep (issue 33: to come).
+    if let Some(o) = scene.objects.iter().find(|o| {
+        matches!(
+            o.material,
+            crate::material::Material::Mirror {
+                roughness: Some(_),
+                ..
+            }
+        )
+    }) {
+        return Err(StudyError::Input(format!(
+            "object `{}` has a mirror with roughness scatter, which depends on energy: the effective-area sweep traces each photon once for all its energies and does not handle it yet; trace the scene at each energy instead",
+            o.name
+        )));
+    }
     let base = beam(scene)?;
     let sensor = pick_sensor(scene, s.sensor.as_deref())?;
     let spec = &scene.sensors[sensor];

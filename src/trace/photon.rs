@@ -9,6 +9,7 @@ use crate::scene::Scene;
 use crate::sensor::conversion::ConversionRecord;
 use crate::source::Photon;
 use crate::xray::figure_error::Perturbed;
+use crate::xray::roughness::{to_grazing_angle, Scatter};
 use glam::DVec3;
 
 /// A photon recorded by a sensor.
@@ -89,18 +90,32 @@ pub fn trace_photon<H: QueryHook, A: Attenuation>(
                 side,
                 reflectivity,
                 figure_error,
+                roughness,
             } => {
                 let from_front = photon.dir.dot(hit.geometric_normal) < 0.0;
                 if !side.reflects(from_front) {
                     stats.absorbed_mirror_back += 1;
                     return None;
                 }
+                // Grazing angle between the ray and the (refined) surface.
+                let theta = match reflectivity.is_some() || roughness.is_some() {
+                    true => photon.dir.dot(hit.shading_normal).abs().min(1.0).asin(),
+                    false => 0.0,
+                };
                 if let Some(table) = reflectivity {
-                    // Grazing angle between the ray and the (refined) surface.
-                    let theta = photon.dir.dot(hit.shading_normal).abs().min(1.0).asin();
                     att.mirror(scene, table, &mut photon, theta);
                 }
                 let mut out = reflect(photon.dir, hit.shading_normal).normalize();
+                if let Some(r) = roughness {
+                    // Two draws, always: streams stay aligned across settings.
+                    let (u1, u2) = (rng.uniform(), rng.uniform());
+                    let e = photon.energy;
+                    if let Scatter::Scattered { theta_s } =
+                        scene.roughness[r].draw(e, theta, u1, u2)
+                    {
+                        out = to_grazing_angle(out, hit.shading_normal, theta_s);
+                    }
+                }
                 if let Some(fe) = &figure_error {
                     match fe.perturb(out, hit.shading_normal, rng) {
                         Perturbed::Direction(d) => out = d,

@@ -1,7 +1,9 @@
 //! Scatter from a mirror's microroughness, described by its power spectral
 //! density (PSD): the energy-dependent part of an imperfect mirror, beside the
 //! geometric figure errors (`figure_error`), which stay for the low spatial
-//! frequencies. Not yet used by the photon loop (issue 33 in progress).
+//! frequencies below the PSD's band. A mirror material's `roughness` selects
+//! it; the photon loop turns a scattered reflection to its new grazing angle
+//! ([`to_grazing_angle`]) before the figure error tilts it.
 //!
 //! Model (first-order vector perturbation theory in the smooth-surface limit,
 //! Church & Takacs; for grazing-incidence X-ray mirrors as in Spiga, A&A 468
@@ -203,6 +205,24 @@ impl Roughness {
             f
         }
     }
+}
+
+/// The reflected unit direction `reflected` turned in its plane of incidence
+/// (the plane of it and the surface normal `normal`) to the grazing angle
+/// `theta_s` from the surface, on the same side.
+#[inline]
+pub fn to_grazing_angle(reflected: glam::DVec3, normal: glam::DVec3, theta_s: f64) -> glam::DVec3 {
+    let n = if reflected.dot(normal) >= 0.0 {
+        normal
+    } else {
+        -normal
+    };
+    let along = reflected - n * reflected.dot(n);
+    let Some(t) = along.try_normalize() else {
+        return reflected;
+    };
+    let (s, c) = theta_s.sin_cos();
+    t * c + n * s
 }
 
 /// The grid cell of log a and the position in it.

@@ -32,6 +32,7 @@ mod quiet;
 mod rebin;
 mod render;
 mod results_folder;
+mod roughness;
 mod scenes;
 mod shards;
 mod solar;
