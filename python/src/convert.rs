@@ -51,6 +51,13 @@ pub fn defines(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<String>> {
 
 /// A Python value as TOML text for the variable `name`.
 fn toml_value(name: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
+    // A scene variable has no unit of its own: the scene file decides what a
+    // number means (mm, keV, degrees), so a Quantity is refused, not guessed.
+    if v.hasattr("unit").unwrap_or(false) && v.hasattr("to_value").unwrap_or(false) {
+        return Err(input(format!(
+            "defines: `{name}` = {v} is an astropy Quantity; scene variables take plain numbers in the units the scene file uses them in (mm, keV, degrees: see its [vars] comments), e.g. {{\"{name}\": q.to_value(\"mm\")}}"
+        )));
+    }
     if let Ok(b) = v.extract::<bool>() {
         return Ok(b.to_string());
     }

@@ -642,6 +642,9 @@ def test_astropy_quantities_are_converted_never_misread():
     assert sun.flux(distance_au=149_597_870.7 * u.km) == pytest.approx(sun.flux(), rel=1e-12)
     assert sun.flux(e_min_keV=2000 * u.eV, e_max_keV=7 * u.keV) == sun.flux(e_min_keV=2, e_max_keV=7)
     assert np.array_equal(sun.spectrum(2 * u.AU), sun.spectrum(2.0))
+    # A scene variable's unit is the scene's business: a Quantity is refused.
+    with pytest.raises(traxer.InputError, match="sensor_z.*Quantity"):
+        traxer.Scene(WOLTER, defines={"sensor_z": -1500 * u.mm})
     # g_aγ = 1e-13 MeV⁻¹ is 1e-10 GeV⁻¹.
     assert traxer.SolarEmission.builtin(g_agamma=1e-13 / u.MeV).flux() == pytest.approx(sun.flux(), rel=1e-12)
 
