@@ -71,15 +71,12 @@ pub fn write_sensor_fits(path: &Path, image: &SensorFits) -> std::io::Result<()>
     ];
     let mut keys = Keys::default();
     image_keys(&mut keys, image);
-    for (i, name) in ["X", "Y"].iter().enumerate() {
-        let axis = LinearAxis {
-            ctype: name,
-            unit: "mm",
-            first: first[i],
-            step: pitch[i],
-        };
-        keys.axis(i + 1, "", &axis, "position on the sensor (local axes)");
-    }
+    mm_axes(
+        &mut keys,
+        first,
+        pitch,
+        "position on the sensor (local axes)",
+    );
     angular_axes(&mut keys, image, first, pitch);
     if let Some((lo, hi, n)) = spec.energy_bins {
         let width = (hi - lo) / n as f64;
@@ -116,15 +113,7 @@ pub fn write_grid_fits(
     ];
     let mut keys = Keys::default();
     image_keys(&mut keys, image);
-    for (i, name) in ["X", "Y"].iter().enumerate() {
-        let axis = LinearAxis {
-            ctype: name,
-            unit: "mm",
-            first: first[i],
-            step: p,
-        };
-        keys.axis(i + 1, "", &axis, "position from the grid's centre");
-    }
+    mm_axes(&mut keys, first, [p, p], "position from the grid's centre");
     keys.float(
         "GRIDROT",
         grid.rotation_deg,
@@ -135,6 +124,20 @@ pub fn write_grid_fits(
     angular_axes(&mut keys, image, first, [p, p]);
     provenance_keys(&mut keys, image.provenance, image.json_name);
     write_fits(path, &[gy, gx], flux, keys)
+}
+
+/// The primary WCS: X and Y in mm, `first` the first pixel's centre, `step`
+/// the pitch.
+fn mm_axes(keys: &mut Keys, first: [f64; 2], step: [f64; 2], what: &str) {
+    for (i, name) in ["X", "Y"].iter().enumerate() {
+        let axis = LinearAxis {
+            ctype: name,
+            unit: "mm",
+            first: first[i],
+            step: step[i],
+        };
+        keys.axis(i + 1, "", &axis, what);
+    }
 }
 
 /// The cards every image carries: its unit, sensor and energies.
