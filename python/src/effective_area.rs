@@ -24,7 +24,8 @@ pub fn run(
     let scene = &loaded.scene;
     traxer::studies::require_sources(scene).map_err(lib)?;
     let bar = progress_bar(
-        s.photons.saturating_mul(s.angles_arcmin.len() as u64),
+        traxer::studies::effective_area::photons_per_angle(scene, &s)
+            .saturating_mul(s.angles_arcmin.len() as u64),
         progress,
     );
     let result = py.detach(|| sweep(scene, &s, &[], &|n| bar.inc(n), |_| {}));

@@ -8,7 +8,9 @@ use anyhow::Context;
 use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
-use traxer::studies::effective_area::{sweep, AngleResult, AreaResult, AreaSweep};
+use traxer::studies::effective_area::{
+    photons_per_angle, sweep, AngleResult, AreaResult, AreaSweep,
+};
 use traxer::trace::RunConfig;
 
 /// Effective area A_eff(E, θ) in cm² and off-axis image quality.
@@ -93,7 +95,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         study.record_path().display()
     ));
     let quiet = a.output.quiet.quiet;
-    let total = a.photons.saturating_mul(s.angles_arcmin.len() as u64);
+    let total = photons_per_angle(&scene, &s).saturating_mul(s.angles_arcmin.len() as u64);
     let bar = progress::bar(total, "photons", quiet);
     let result = sweep(&scene, &s, &replay, &|n| bar.inc(n), |angle| {
         if let Some(w) = study.point_done(angle) {

@@ -53,9 +53,10 @@ pub struct LlnlTelescopeDesc {
     /// Figure errors of every mirror (preset name or inline parameters).
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
-    /// Microroughness scatter of every mirror (a PSD over a band); default none.
+    /// Microroughness scatter of every mirror (a PSD over a band, or "none");
+    /// default none.
     #[serde(default)]
-    pub roughness: Option<crate::xray::roughness::RoughnessDesc>,
+    pub roughness: Option<crate::xray::roughness::RoughnessSpec>,
     /// Where each shell's cone axis lies (see [`ShellAxes`]).
     #[serde(default)]
     pub shell_axes: ShellAxes,
@@ -167,7 +168,7 @@ fn part_material(
                         side: SideDesc::Front,
                         coating: Some(coating.clone()),
                         figure_error: t.figure_error.clone(),
-                        roughness: t.roughness,
+                        roughness: t.roughness.clone(),
                     }),
                     span: span.clone(),
                 });

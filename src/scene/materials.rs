@@ -65,9 +65,9 @@ pub struct MirrorDesc {
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
     /// Scatter from microroughness: a PSD over a band of spatial frequencies
-    /// (`xray::roughness`); default none.
+    /// (`xray::roughness`), or "none"; default none.
     #[serde(default)]
-    pub roughness: Option<crate::xray::roughness::RoughnessDesc>,
+    pub roughness: Option<crate::xray::roughness::RoughnessSpec>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -266,11 +266,15 @@ impl Materials {
                         },
                     },
                 };
-                let roughness = match &m.roughness {
+                let desc = match m.roughness.as_ref().map(|r| r.resolve()).transpose() {
+                    Ok(d) => d.flatten(),
+                    Err(e) => return Some(Err(fail(format!("roughness: {e}")))),
+                };
+                let roughness = match desc {
                     None => None,
-                    Some(d) => match self.roughness.iter().position(|r| r.desc == *d) {
+                    Some(d) => match self.roughness.iter().position(|r| r.desc == d) {
                         Some(i) => Some(i),
-                        None => match crate::xray::roughness::Roughness::new(*d) {
+                        None => match crate::xray::roughness::Roughness::new(d) {
                             Ok(r) => {
                                 self.roughness.push(r);
                                 Some(self.roughness.len() - 1)

@@ -9,7 +9,10 @@
 //! every energy of the sweep is the product of R(E, θᵢ) and T(E, θⱼ) along that
 //! path. This is exact (the same estimator as tracing each energy on its own, with
 //! the same photons at every energy, so the curve is smooth) and costs one trace
-//! per angle instead of one per energy and angle.
+//! per angle instead of one per energy and angle. Mirrors with roughness scatter
+//! (`xray::roughness`) break the premise, as their scattering angles depend on
+//! energy: a scene with them is traced once per energy and angle instead
+//! ([`per_energy`]), with the same photons at every energy.
 //!
 //! A_eff(E) = A_beam · Σ w(E) / N, with A_beam the beam's cross-section through
 //! the aperture and the sum over photons recorded on the sensor (or within a
@@ -189,22 +192,6 @@ pub fn sweep(
     mut on_angle: impl FnMut(&AngleResult),
 ) -> Result<AreaResult, StudyError> {
     check(s)?;
-    // A rough mirror scatters differently at each energy, so one path per
-    // photon cannot serve every energy of the sweep (issue 33: to come).
-    if let Some(o) = scene.objects.iter().find(|o| {
-        matches!(
-            o.material,
-            crate::material::Material::Mirror {
-                roughness: Some(_),
-                ..
-            }
-        )
-    }) {
-        return Err(StudyError::Input(format!(
-            "object `{}` has a mirror with roughness scatter, which depends on energy: the effective-area sweep traces each photon once for all its energies and does not handle it yet; trace the scene at each energy instead",
-            o.name
-        )));
-    }
     let base = beam(scene)?;
     let sensor = pick_sensor(scene, s.sensor.as_deref())?;
     let spec = &scene.sensors[sensor];
@@ -238,8 +225,14 @@ pub fn sweep(
             Some(r) => r.clone(),
             None => {
                 let beam = base.tilted(angle / 60.0);
-                let hits = pool.install(|| trace_angle(scene, &beam, sensor, s, progress));
-                let result = pool.install(|| evaluate(scene, &tables, &beam, sensor, s, &hits));
+                let result = pool.install(|| match has_rough_mirrors(scene) {
+                    false => {
+                        let hits = trace_angle(scene, &beam, sensor, s, None, progress);
+                        let (result, image) = evaluate(scene, &tables, &beam, sensor, s, &hits);
+                        finish(scene, sensor, result, &image)
+                    }
+                    true => per_energy(scene, &tables, &beam, sensor, s, progress),
+                });
                 AngleResult {
                     off_axis_arcmin: angle,
                     ..result
@@ -265,6 +258,7 @@ fn trace_angle(
     beam: &ParallelBeam,
     sensor: usize,
     s: &AreaSweep,
+    energy: Option<f64>,
     progress: &dyn Progress,
 ) -> Hits {
     let chunks: Vec<Hits> = (0..s.photons.div_ceil(CHUNK))
@@ -279,7 +273,10 @@ fn trace_angle(
             let mut rec = Recorder(Vec::new());
             for i in photons.clone() {
                 let mut rng = PhotonRng::new(s.seed, i);
-                let photon = beam.emit(&mut rng);
+                let mut photon = beam.emit(&mut rng);
+                if let Some(e) = energy {
+                    photon.energy = e;
+                }
                 rec.0.clear();
                 let traced = trace_photon(scene, photon, &mut rng, &mut stats, &mut (), &mut rec);
                 if let Some((r, local, _)) = traced.filter(|t| t.0.sensor as usize == sensor) {
@@ -373,7 +370,8 @@ enum Factor {
     Foil(usize, f64),
 }
 
-/// The areas and the image of one angle from its recorded photons.
+/// The areas and the image of one angle from its recorded photons (the
+/// result's `quality` is left for [`finish`], from the image).
 fn evaluate(
     scene: &Scene,
     tables: &[ReflectivityTable],
@@ -381,7 +379,7 @@ fn evaluate(
     sensor: usize,
     s: &AreaSweep,
     hits: &Hits,
-) -> AngleResult {
+) -> (AngleResult, Vec<f64>) {
     let spec = &scene.sensors[sensor];
     let n_hits = hits.hits.len().max(1) as f64;
     let centre = hits.hits.iter().fold([0.0, 0.0], |c, h| {
@@ -463,14 +461,97 @@ fn evaluate(
         })
         .collect();
     let counted = hits.hits.iter().filter(|h| inside(h)).count();
-    let geometry = ImageGeometry::of_sensor(spec);
-    AngleResult {
+    let result = AngleResult {
         off_axis_arcmin: 0.0,
         points,
-        quality: analyse(&image, &geometry, spec.focal_length).map(|(q, _)| q),
+        quality: None,
         on_sensor: hits.hits.len() as u64,
         counted: counted as u64,
         centre_mm: centre,
         geometric_area_cm2: a_beam * counted as f64 / n,
+    };
+    (result, image)
+}
+
+/// `result` with the image quality of `image` (the mean weight over the
+/// sweep's energies per pixel).
+fn finish(scene: &Scene, sensor: usize, result: AngleResult, image: &[f64]) -> AngleResult {
+    let spec = &scene.sensors[sensor];
+    let geometry = ImageGeometry::of_sensor(spec);
+    AngleResult {
+        quality: analyse(image, &geometry, spec.focal_length).map(|(q, _)| q),
+        ..result
     }
+}
+
+/// Whether a mirror of the scene scatters from roughness: its photons' paths
+/// then depend on their energy.
+pub fn has_rough_mirrors(scene: &Scene) -> bool {
+    scene.objects.iter().any(|o| {
+        matches!(
+            o.material,
+            crate::material::Material::Mirror {
+                roughness: Some(_),
+                ..
+            }
+        )
+    })
+}
+
+/// How many photons a sweep traces per off-axis angle (for progress bars):
+/// `photons`, or `photons` at each energy with rough mirrors.
+pub fn photons_per_angle(scene: &Scene, s: &AreaSweep) -> u64 {
+    match has_rough_mirrors(scene) {
+        false => s.photons,
+        true => s.photons.saturating_mul(s.energies.len() as u64),
+    }
+}
+
+/// One angle of a scene with rough mirrors: a rough mirror scatters each
+/// energy its own way, so one path per photon cannot serve every energy. Each
+/// energy is traced on its own, photon i with the stream (seed, i) as at every
+/// energy (the same photons, so the curve stays smooth), at the cost of one
+/// trace per energy. The areas are each energy's (counted within the radius of
+/// that energy's centroid); the image is the mean over the energies, as
+/// without roughness; `on_sensor`, `counted` and the geometric area are the
+/// means over the energies.
+fn per_energy(
+    scene: &Scene,
+    tables: &[ReflectivityTable],
+    beam: &ParallelBeam,
+    sensor: usize,
+    s: &AreaSweep,
+    progress: &dyn Progress,
+) -> AngleResult {
+    let n_e = s.energies.len() as f64;
+    let mut image = vec![0.0; scene.sensors[sensor].pixel_count()];
+    let mut points = Vec::with_capacity(s.energies.len());
+    let (mut on_sensor, mut counted, mut geometric, mut centre) = (0u64, 0u64, 0.0, [0.0; 2]);
+    for &e in &s.energies {
+        let one = AreaSweep {
+            energies: vec![e],
+            ..s.clone()
+        };
+        let hits = trace_angle(scene, beam, sensor, &one, Some(e), progress);
+        let (r, img) = evaluate(scene, tables, beam, sensor, &one, &hits);
+        image.iter_mut().zip(&img).for_each(|(a, b)| *a += b / n_e);
+        points.extend(r.points);
+        on_sensor += r.on_sensor;
+        counted += r.counted;
+        geometric += r.geometric_area_cm2 / n_e;
+        centre = [
+            centre[0] + r.centre_mm[0] / n_e,
+            centre[1] + r.centre_mm[1] / n_e,
+        ];
+    }
+    let result = AngleResult {
+        off_axis_arcmin: 0.0,
+        points,
+        quality: None,
+        on_sensor: (on_sensor as f64 / n_e).round() as u64,
+        counted: (counted as f64 / n_e).round() as u64,
+        centre_mm: centre,
+        geometric_area_cm2: geometric,
+    };
+    finish(scene, sensor, result, &image)
 }

@@ -75,6 +75,28 @@ pub struct RoughnessDesc {
     pub band_per_um: [f64; 2],
 }
 
+/// How a scene gives a mirror's roughness: `"none"` (a smooth surface, so a
+/// scene variable can switch the scatter off) or the PSD inline.
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(untagged)]
+pub enum RoughnessSpec {
+    Named(String),
+    Inline(RoughnessDesc),
+}
+
+impl RoughnessSpec {
+    /// The PSD to scatter from; `None` for a smooth surface.
+    pub fn resolve(&self) -> Result<Option<RoughnessDesc>, String> {
+        match self {
+            RoughnessSpec::Inline(d) => Ok(Some(*d)),
+            RoughnessSpec::Named(n) if n == "none" => Ok(None),
+            RoughnessSpec::Named(n) => Err(format!(
+                "unknown roughness `{n}`: expected \"none\" or a PSD inline, {{ psd = {{ type = \"power_law\", k = ..., n = ... }}, band_per_um = [f1, f2] }}"
+            )),
+        }
+    }
+}
+
 /// Points of the log-spaced frequency grid the integrals are taken on.
 const F_POINTS: usize = 4097;
 /// The table's grid in log₁₀ a (a in µm): from 1e-6 to 1e8 µm covers λ of
