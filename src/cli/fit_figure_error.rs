@@ -8,8 +8,12 @@ use anyhow::Context;
 use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
+use traxer::scene::Scene;
 use traxer::studies::fit::{
-    fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, PARAMETERS,
+    fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, Spread, PARAMETERS,
+};
+use traxer::studies::fit_errors::{
+    parameter_errors, predict, sensitivity, ParameterErrors, Prediction,
 };
 use traxer::studies::{pick_sensor, Diameters};
 
@@ -61,6 +65,19 @@ pub struct FitFigureErrorArgs {
     /// Sensor to measure (default: the scene's only sensor).
     #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
+    /// Uncertainty (1σ) assumed for each target diameter, in per cent of it: the
+    /// fit error of the parameters and of the predictions (the measured numbers
+    /// come without one; it also stands for the model's misfit).
+    #[arg(value_name = "PCT", long, default_value_t = 2.0)]
+    pub target_error: f64,
+    /// A scene to predict with the fitted parameters (repeatable; loaded with the
+    /// same -D overrides): its diameters with their Monte Carlo and fit errors,
+    /// e.g. --predict scenes/panter_ti_ka.toml --predict scenes/panter_fe_ka.toml.
+    #[arg(value_name = "SCENE", long)]
+    pub predict: Vec<std::path::PathBuf>,
+    /// Seeds traced for each prediction (its Monte Carlo error).
+    #[arg(value_name = "N", long, default_value_t = 4)]
+    pub predict_seeds: u64,
     /// Name of the preset written to figure_error.toml.
     #[arg(value_name = "PRESET", long, default_value = "fitted")]
     pub name: String,
@@ -139,6 +156,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let run = a.run.config()?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let settings = fit_settings(&a, &scene, &run)?;
+    let mut predicted = prediction_scenes(&a)?;
     let study: Study<Evaluation> = Study::open(
         &a.output.scene_folder(&a.scene.scene, "fit"),
         "fit",
@@ -156,8 +174,8 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         study.record_path().display()
     ));
     // Progress in evaluations (DIRECT-L may stop early; the bar then ends
-    // short of its length); the seed check counts as its traces finish.
-    let evaluations = a.global_evals as u64 + a.local_evals as u64 + a.check_seeds;
+    // short of its length); the traces after the fit count as they finish.
+    let evaluations = evaluations_planned(&a, &settings, predicted.len());
     let bar = progress::bar(evaluations, "evaluations", quiet);
     let started = std::time::Instant::now();
     let result = fit(&mut scene, &settings, &replay, &|_| {}, |e, best| {
@@ -171,15 +189,9 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     });
     let fit_seconds = started.elapsed().as_secs_f64();
     let result = result?;
-    // Monte Carlo spread: the best parameters with other seeds (the fit saw one).
-    let traced = std::sync::atomic::AtomicU64::new(0);
-    let spread = seed_spread(&mut scene, &settings, &result.best, a.check_seeds, &|n| {
-        let before = traced.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-        let checks_done = (before + n) / run.photons - before / run.photons;
-        bar.inc(checks_done);
-    });
+    let after = after_fit(&a, (&mut scene, &mut predicted), &settings, &result, &bar);
     bar.finish_and_clear();
-    let spread = spread?;
+    let (spread, errors, predictions) = after?;
     let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .run(&run, result.threads);
@@ -190,6 +202,8 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         extra_seeds: a.check_seeds,
         preset_name: &a.name,
         fit_seconds,
+        errors: &errors,
+        predictions: &predictions,
     };
     let out = &a.output.scene_folder(&a.scene.scene, "fit");
     let folder = study.folder;
@@ -198,6 +212,107 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     print_result(&report, out);
     Ok(())
+}
+
+/// The evaluations the bar counts: the fit's budget, the seed check, the
+/// sensitivity (two traces per free parameter) and each prediction's seeds and
+/// sensitivity.
+fn evaluations_planned(a: &FitFigureErrorArgs, settings: &FitSettings, predictions: usize) -> u64 {
+    let b = &settings.bounds;
+    let free = (0..4).filter(|&i| b.upper[i] > b.lower[i]).count() as u64;
+    a.global_evals as u64
+        + a.local_evals as u64
+        + a.check_seeds
+        + 2 * free
+        + predictions as u64 * (a.predict_seeds.max(2) + 2 * free)
+}
+
+/// After the fit: the Monte Carlo spread of the best parameters over other
+/// seeds (the fit saw one), then the parameters' errors and the predictions;
+/// `bar` advances by one at every finished trace.
+fn after_fit(
+    a: &FitFigureErrorArgs,
+    (scene, predicted): (&mut Scene, &mut [(Scene, usize)]),
+    settings: &FitSettings,
+    result: &traxer::studies::fit::FitResult,
+    bar: &progress::Bar,
+) -> anyhow::Result<(Spread, ParameterErrors, Vec<Prediction>)> {
+    let photons = settings.run.photons;
+    let traced = std::sync::atomic::AtomicU64::new(0);
+    let per_trace = |n: u64| {
+        let before = traced.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
+        bar.inc((before + n) / photons - before / photons);
+    };
+    let spread = seed_spread(scene, settings, &result.best, a.check_seeds, &per_trace)?;
+    let (errors, predictions) = errors_and_predictions(
+        a,
+        scene,
+        predicted,
+        settings,
+        (&result.best, &spread),
+        &per_trace,
+    )?;
+    Ok((spread, errors, predictions))
+}
+
+/// The scenes of --predict, loaded with the fit's -D overrides, each with
+/// the sensor to measure (the --sensor name, or its only one).
+fn prediction_scenes(a: &FitFigureErrorArgs) -> anyhow::Result<Vec<(Scene, usize)>> {
+    if !(a.target_error.is_finite() && a.target_error > 0.0 && a.target_error < 100.0) {
+        return Err(InputError(format!(
+            "--target-error {}: expected a percentage between 0 and 100",
+            a.target_error
+        ))
+        .into());
+    }
+    a.predict
+        .iter()
+        .map(|path| {
+            let args = SceneArgs {
+                scene: path.clone(),
+                vars: a.scene.vars.clone(),
+            };
+            let (_, scene) = load_xray_scene(&args)?;
+            let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
+            if scene.sensors[sensor].focal_length.is_none() {
+                return Err(InputError(format!(
+                    "{}: sensor `{}` has no focal_length, which the diameters in arcseconds need",
+                    path.display(),
+                    scene.sensors[sensor].name
+                ))
+                .into());
+            }
+            Ok((scene, sensor))
+        })
+        .collect()
+}
+
+/// The fitted parameters' errors (from the fit scene's sensitivity, the seed
+/// spread and --target-error) and each --predict scene's diameters with theirs.
+fn errors_and_predictions(
+    a: &FitFigureErrorArgs,
+    scene: &mut Scene,
+    predicted: &mut [(Scene, usize)],
+    settings: &FitSettings,
+    (best, spread): (&Evaluation, &Spread),
+    progress: &dyn traxer::progress::Progress,
+) -> Result<(ParameterErrors, Vec<Prediction>), traxer::studies::StudyError> {
+    let p = &best.parameters;
+    let j = sensitivity(scene, settings, p, progress)?;
+    let mc_sd =
+        [spread.hpd.1, spread.d80.1, spread.d90.1].map(|v| if v.is_finite() { v } else { 0.0 });
+    let errors = parameter_errors(&j, p, mc_sd, &settings.target, a.target_error / 100.0)?;
+    let predictions = predicted
+        .iter_mut()
+        .map(|(s, sensor)| {
+            let here = FitSettings {
+                sensor: *sensor,
+                ..settings.clone()
+            };
+            predict(s, &here, p, &errors, a.predict_seeds, progress)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((errors, predictions))
 }
 
 /// The fit's settings from the command line, checked against the scene.
@@ -296,6 +411,24 @@ fn print_result(report: &FitReport, out: &std::path::Path) {
         "  HPD {:.1} ± {:.1}″ (target {}), 80 % {:.1} ± {:.1}″ (target {}), 90 % {:.1} ± {:.1}″ (target {}); mean ± sd over {} seeds",
         hpd.0, hpd.1, target.hpd, d80.0, d80.1, target.d80, d90.0, d90.1, target.d90, spread.seeds
     );
+    let e = report.errors;
+    for (i, name) in e.names.iter().enumerate() {
+        say!(
+            "  {name} = {:.4} ± {:.4} (Monte Carlo) ± {:.4} (fit, targets ± {} %)",
+            e.values[i],
+            e.monte_carlo[i],
+            e.fit[i],
+            e.target_fraction * 100.0
+        );
+    }
+    for p in report.predictions {
+        let d = &p.diameters;
+        say!(
+            "  predicted {}: HPD {:.1} ± {:.1} ± {:.1}″, 80 % {:.1} ± {:.1} ± {:.1}″, 90 % {:.1} ± {:.1} ± {:.1}″ (mean of {} seeds ± Monte Carlo ± fit)",
+            p.scene, d.hpd, p.monte_carlo[0], p.fit[0], d.d80, p.monte_carlo[1], p.fit[1],
+            d.d90, p.monte_carlo[2], p.fit[2], p.seeds
+        );
+    }
     say!(
         "wrote history.csv, fit.json, figure_error.toml to {}",
         out.display()

@@ -1,10 +1,12 @@
 //! The files of a figure-error fit: history.csv (every evaluation), fit.json (the
-//! best parameters, the seed check and the provenance) and figure_error.toml (the
+//! best parameters, the seed check, the parameters' errors, the predictions and
+//! the provenance) and figure_error.toml (the
 //! result as a preset for data/figure_errors.toml or a scene's [figure_errors]).
 
 use super::{write_csv, write_json, Provenance};
 use crate::files::atomic_write;
 use crate::studies::fit::{FitResult, FitSettings, Spread, PARAMETERS};
+use crate::studies::fit_errors::{ParameterErrors, Prediction};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -18,6 +20,10 @@ pub struct FitReport<'a> {
     /// Name of the preset in figure_error.toml.
     pub preset_name: &'a str,
     pub fit_seconds: f64,
+    /// The parameters' errors at the best point.
+    pub errors: &'a ParameterErrors,
+    /// The diameters predicted for other scenes with the best parameters.
+    pub predictions: &'a [Prediction],
 }
 
 impl FitReport<'_> {
@@ -137,6 +143,8 @@ pub fn write_fit(
                 "d80_mean_sd": [sp.d80.0, sp.d80.1],
                 "d90_mean_sd": [sp.d90.0, sp.d90.1],
             },
+            "parameter_errors": report.errors,
+            "predictions": report.predictions,
             "source": source,
         }),
     )?;

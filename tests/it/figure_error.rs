@@ -433,3 +433,79 @@ fn fitted_preset_reproduces_the_panter_al_ka_measurement() {
         );
     }
 }
+
+/// The fit's errors and predictions: predicting the fitted scene itself with
+/// the seeds of the seed check gives the seed check's mean, and its fit error
+/// is the assumed target error and the Monte Carlo spread carried through the
+/// parameters and back (J C Jᵀ = S for as many diameters as free parameters),
+/// √((0.03 t)² + sd²), to rounding; a second scene is predicted on its own
+/// sensor; a target error outside 0–100 % is refused before any tracing.
+#[test]
+fn fit_errors_carry_back_to_the_targets_and_predictions_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
+    let ti = crate::common::repo().join("scenes/panter_ti_ka.toml");
+    crate::common::run_ok(
+        crate::common::traxer()
+            .arg("fit-figure-error")
+            .arg(&scene)
+            .args(PANTER_AL_TARGETS)
+            .args(["-n", "40000", "--global-evals", "8", "--local-evals", "4"])
+            .args([
+                "--check-seeds",
+                "2",
+                "--predict-seeds",
+                "3",
+                "--target-error",
+                "3",
+            ])
+            .args(["-q", "-D", "coating=perfect", "--bound", "out_of_plane=0"])
+            .arg("--predict")
+            .arg(&scene)
+            .arg("--predict")
+            .arg(&ti)
+            .arg("-o")
+            .arg(dir.path()),
+    );
+    let fit: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join("fit.json")).unwrap()).unwrap();
+    let e = &fit["parameter_errors"];
+    assert_eq!(e["names"].as_array().unwrap().len(), 3, "{e}");
+    let own = &fit["predictions"][0];
+    let check = &fit["seed_check"];
+    let targets: [f64; 3] = [206.0, 397.0, 549.0];
+    for (k, key) in ["hpd", "d80", "d90"].iter().enumerate() {
+        let (mean, sd) = (
+            check[format!("{key}_mean_sd")][0].as_f64().unwrap(),
+            check[format!("{key}_mean_sd")][1].as_f64().unwrap(),
+        );
+        let predicted = own["diameters"][*key].as_f64().unwrap();
+        assert!(
+            (predicted - mean).abs() < 1e-9 * mean,
+            "{key}: {predicted} vs {mean}"
+        );
+        let fit_error = own["fit"][k].as_f64().unwrap();
+        let expect = ((0.03 * targets[k]).powi(2) + sd * sd).sqrt();
+        assert!(
+            (fit_error / expect - 1.0).abs() < 1e-6,
+            "{key}: fit error {fit_error} vs {expect}"
+        );
+    }
+    let other = &fit["predictions"][1];
+    assert!(other["scene"]
+        .as_str()
+        .unwrap()
+        .ends_with("panter_ti_ka.toml"));
+    assert!(other["diameters"]["hpd"].as_f64().unwrap() > 50.0);
+    assert!(other["fit"][0].as_f64().unwrap() > 0.0);
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("fit-figure-error")
+            .arg(&scene)
+            .args(PANTER_AL_TARGETS)
+            .args(["--target-error", "0", "-o"])
+            .arg(dir.path().join("x")),
+        2,
+    );
+    assert!(err.contains("--target-error"), "{err}");
+}
