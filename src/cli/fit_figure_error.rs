@@ -332,6 +332,15 @@ fn fit_settings(
     {
         return Err(InputError("the targets must be positive diameters (arcsec)".into()).into());
     }
+    // The name becomes a key of figure_error.toml: a dot would nest tables.
+    let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
+    if a.name.is_empty() || !a.name.chars().all(bare) {
+        return Err(InputError(format!(
+            "--name {:?}: a preset name is a bare TOML key: letters, digits, _ and - (e.g. llnl_panter_sigma_0p5)",
+            a.name
+        ))
+        .into());
+    }
     let bounds = parse_bounds(&a.bounds)?;
     let sensor = pick_sensor(scene, a.sensor.as_deref())?;
     if scene.sensors[sensor].focal_length.is_none() {

@@ -508,4 +508,15 @@ fn fit_errors_carry_back_to_the_targets_and_predictions_are_written() {
         2,
     );
     assert!(err.contains("--target-error"), "{err}");
+    // A dotted preset name would become nested TOML tables: refused up front.
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("fit-figure-error")
+            .arg(&scene)
+            .args(PANTER_AL_TARGETS)
+            .args(["--name", "sigma_0.5", "-o"])
+            .arg(dir.path().join("y")),
+        2,
+    );
+    assert!(err.contains("bare TOML key"), "{err}");
 }
