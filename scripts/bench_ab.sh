@@ -7,6 +7,10 @@
 #
 # Usage: scripts/bench_ab.sh OLD_TRAXER NEW_TRAXER [PHOTONS] [ROUNDS]
 # (build the old binary from an earlier commit with its own CARGO_TARGET_DIR).
+# Environment: ROWS=REGEX keeps only the rows whose scene matches it; NEW_DEFINE
+# adds one more -D NAME=VALUE to the new side only, so one binary can be compared
+# with itself and a scene variable, e.g. the roughness scatter on the PANTER rows:
+#   ROWS=panter NEW_DEFINE='roughness={ psd = ... }' scripts/bench_ab.sh T T
 case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next } NR > 1 { exit }' "$0"; exit 0 ;; esac
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,11 +29,16 @@ llnl_effective_area.toml|"
 printf '%-5s %-26s %-42s %10s %10s %7s %10s %6s\n' which scene variables "photons/s" "sensor/s" queries "raw/s" share
 for round in $(seq "$rounds"); do
   while IFS='|' read -r scene defines; do
+    [[ "$scene" =~ ${ROWS:-.} ]] || continue
     args=()
     for d in $defines; do args+=(-D "$d"); done
     for which in old new; do
-      bin=$old; [ "$which" = new ] && bin=$new
-      json=$("$bin" bench "scenes/$scene" "${args[@]}" -n "$photons" -q --json)
+      bin=$old; extra=()
+      if [ "$which" = new ]; then
+        bin=$new
+        [ -n "${NEW_DEFINE:-}" ] && extra=(-D "$NEW_DEFINE")
+      fi
+      json=$("$bin" bench "scenes/$scene" "${args[@]}" "${extra[@]}" -n "$photons" -q --json)
       python3 - "$which" "$scene" "$defines" "$json" <<'PY'
 import json, sys
 which, scene, defines, text = sys.argv[1:]

@@ -27,6 +27,8 @@ use traxer::studies::{pick_sensor, Diameters};
 /// history.csv, fit.json and figure_error.toml (a preset for data/figure_errors.toml
 /// or a scene's [figure_errors]) into --out; while it runs, fit_checkpoint.json
 /// records every evaluation, so that a stopped fit continues with --resume.
+/// After the fit: the parameters' errors (Monte Carlo, and for --target-error)
+/// and, for each --predict scene, its diameters with their errors (fit.json).
 /// Example (PANTER Al Kα):
 ///   traxer fit-figure-error scenes/panter_al_ka.toml --target-hpd 206 --target-c80 397 --target-c90 549
 #[derive(clap::Args)]
