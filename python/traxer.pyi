@@ -21,7 +21,7 @@ git_hash: str
 """The commit traxer was built from (with "-dirty" for local changes)."""
 
 _Path = Union[str, os.PathLike[str]]
-_Value = Union[bool, int, float, str, Sequence["_Value"]]
+_Value = Union[bool, int, float, str, Sequence["_Value"], Mapping[str, "_Value"]]
 # An astropy Quantity (astropy is optional): wherever a physical value is taken,
 # a Quantity is converted to the documented unit, and one of the wrong kind is
 # refused with InputError; plain numbers are in the unit the name says.
@@ -51,8 +51,9 @@ class Scene:
     """A scene file (TOML, see docs/scene-format.md), loaded and built for tracing.
 
     ``defines`` sets variables declared in the file's ``[vars]``, like the CLI's
-    ``-D name=value``: a dict ``{"name": value}`` (bool, number, string or list)
-    or a list of ``"name=value"`` strings. Raises ``FileNotFoundError`` if there is
+    ``-D name=value``: a dict ``{"name": value}`` (bool, number, string, list, or
+    a dict for an inline table such as a roughness PSD) or a list of
+    ``"name=value"`` strings. Raises ``FileNotFoundError`` if there is
     no such file, ``SceneError`` for a scene that cannot be loaded.
     """
 

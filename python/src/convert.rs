@@ -85,8 +85,31 @@ fn toml_value(name: &str, v: &Bound<'_, PyAny>) -> PyResult<String> {
             .collect::<PyResult<Vec<_>>>()?;
         return Ok(format!("[{}]", parts.join(", ")));
     }
+    if let Ok(map) = v.cast::<PyDict>() {
+        // An inline table, e.g. a mirror's roughness PSD or figure errors.
+        let bare = |k: &str| {
+            !k.is_empty()
+                && k.chars()
+                    .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+        };
+        let mut parts = Vec::new();
+        for (k, item) in map.iter() {
+            let key: String = k.extract().map_err(|_| {
+                input(format!(
+                    "defines: `{name}`: a table's keys are strings, not {k}"
+                ))
+            })?;
+            if !bare(&key) {
+                return Err(input(format!(
+                    "defines: `{name}`: key {key:?} is not a name (letters, digits, _ and -)"
+                )));
+            }
+            parts.push(format!("{key} = {}", toml_value(name, &item)?));
+        }
+        return Ok(format!("{{ {} }}", parts.join(", ")));
+    }
     Err(input(format!(
-        "defines: `{name}` = {v}: expected a bool, number, string or list of them"
+        "defines: `{name}` = {v}: expected a bool, number, string, or a list or dict of them"
     )))
 }
 

@@ -32,8 +32,9 @@ pub fn embree_version() -> PyResult<String> {
 /// Scene(path, defines=None)
 ///
 /// `defines` sets scene variables declared in the file's [vars], like the CLI's
-/// `-D name=value`: a dict {"name": value} (bool, number, string or list) or a
-/// list of "name=value" strings. A missing file raises `FileNotFoundError`; a
+/// `-D name=value`: a dict {"name": value} (bool, number, string, list, or a
+/// dict for an inline table such as a roughness PSD) or a list of "name=value"
+/// strings. A missing file raises `FileNotFoundError`; a
 /// scene that cannot be loaded raises `traxer.SceneError` with `file`, `line`,
 /// `key` and `message`.
 #[pyclass(module = "traxer", frozen)]

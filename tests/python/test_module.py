@@ -63,6 +63,13 @@ CASES = {
     "wolter": (WOLTER, ["off_axis=0.02", "coating=gold"], {"off_axis": 0.02, "coating": "gold"},
                150_000, 7, 50),
     "cast": (CAST, ["window_nm=150"], {"window_nm": 150.0}, 100_000, 3, 0),
+    # A dict is an inline table: the mirrors' roughness PSD.
+    "panter_rough": (
+        PANTER,
+        ['roughness={ psd = { type = "power_law", k = 0.02, n = 1.5 }, band_per_um = [0.001, 1.0] }'],
+        {"roughness": {"psd": {"type": "power_law", "k": 0.02, "n": 1.5}, "band_per_um": [1e-3, 1.0]}},
+        100_000, 5, 0,
+    ),
 }
 
 
