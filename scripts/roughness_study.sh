@@ -6,7 +6,8 @@
 # (`traxer fit-figure-error --predict`). Level 0 is today's model (figure errors
 # only). The roughness is a fractal PSD P(f) = k f^-1.5 over 1e-3–1 µm⁻¹ (periods
 # 1 µm – 1 mm), k set by its rms σ: σ² = ∫ P df = 61.25 k nm² (docs/telescope.md
-# says why this band and what is assumed).
+# says why this band and what is assumed). σ = 0.5 nm is the preset
+# slumped_glass_limit (data/roughness.toml), the published limit for this glass.
 #
 # Usage: scripts/roughness_study.sh [OUT_DIR] [SIGMA_NM...]
 #   default OUT_DIR out/roughness_study, SIGMAS 0 0.5 1.0

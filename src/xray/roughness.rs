@@ -75,13 +75,38 @@ pub struct RoughnessDesc {
     pub band_per_um: [f64; 2],
 }
 
-/// How a scene gives a mirror's roughness: `"none"` (a smooth surface, so a
-/// scene variable can switch the scatter off) or the PSD inline.
+/// How a scene gives a mirror's roughness: a preset of data/roughness.toml,
+/// `"none"` (a smooth surface, so a scene variable can switch the scatter off)
+/// or the PSD inline.
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(untagged)]
 pub enum RoughnessSpec {
     Named(String),
     Inline(RoughnessDesc),
+}
+
+const SHIPPED: &str = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/data/roughness.toml"));
+
+/// A preset of data/roughness.toml: the PSD, the σ it states (checked against
+/// the PSD by a test) and where its numbers come from.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RoughnessPreset {
+    pub psd: Psd,
+    pub band_per_um: [f64; 2],
+    pub sigma_nm: f64,
+    pub source: String,
+}
+
+/// The shipped presets by name.
+pub fn presets() -> std::collections::BTreeMap<String, RoughnessPreset> {
+    #[derive(Deserialize)]
+    struct File {
+        roughness: std::collections::BTreeMap<String, RoughnessPreset>,
+    }
+    toml::from_str::<File>(SHIPPED)
+        .expect("data/roughness.toml is valid (tested)")
+        .roughness
 }
 
 impl RoughnessSpec {
@@ -90,9 +115,19 @@ impl RoughnessSpec {
         match self {
             RoughnessSpec::Inline(d) => Ok(Some(*d)),
             RoughnessSpec::Named(n) if n == "none" => Ok(None),
-            RoughnessSpec::Named(n) => Err(format!(
-                "unknown roughness `{n}`: expected \"none\" or a PSD inline, {{ psd = {{ type = \"power_law\", k = ..., n = ... }}, band_per_um = [f1, f2] }}"
-            )),
+            RoughnessSpec::Named(n) => {
+                let all = presets();
+                match all.get(n) {
+                    Some(p) => Ok(Some(RoughnessDesc {
+                        psd: p.psd,
+                        band_per_um: p.band_per_um,
+                    })),
+                    None => Err(format!(
+                        "unknown roughness `{n}`: expected \"none\", a preset of data/roughness.toml ({}) or a PSD inline, {{ psd = {{ type = \"power_law\", k = ..., n = ... }}, band_per_um = [f1, f2] }}",
+                        all.keys().map(|k| k.as_str()).collect::<Vec<_>>().join(", ")
+                    )),
+                }
+            }
         }
     }
 }
@@ -339,6 +374,35 @@ mod tests {
             band_per_um: [1e-3, 1.0],
         })
         .unwrap()
+    }
+
+    /// Every shipped preset builds, and its PSD has the σ it states (for a
+    /// power law, against the closed form ∫ k f^-n df as well).
+    #[test]
+    fn shipped_presets_have_the_sigma_they_state() {
+        let all = presets();
+        assert!(all.contains_key("slumped_glass_limit"));
+        for (name, p) in all {
+            let r = Roughness::new(RoughnessDesc {
+                psd: p.psd,
+                band_per_um: p.band_per_um,
+            })
+            .unwrap();
+            let sigma = r.sigma2_nm2.sqrt();
+            assert!(
+                (sigma / p.sigma_nm - 1.0).abs() < 1e-4,
+                "{name}: σ {sigma} nm"
+            );
+            if let Psd::PowerLaw { k, n } = p.psd {
+                let [f1, f2] = p.band_per_um;
+                let exact = (k / (1.0 - n) * (f2.powf(1.0 - n) - f1.powf(1.0 - n))).sqrt();
+                assert!(
+                    (exact / p.sigma_nm - 1.0).abs() < 1e-4,
+                    "{name}: {exact} nm"
+                );
+            }
+            assert!(!p.source.is_empty());
+        }
     }
 
     /// σ² of a power law against its closed form ∫ k f^-n df.

@@ -249,4 +249,12 @@ fn roughness_none_is_smooth_and_a_variable_switches_it() {
         s.roughness.is_empty(),
         "the shipped PANTER scene is smooth by default"
     );
+    // The combined model: the roughness preset (σ = 0.5 nm) with its figure errors.
+    let combined = [
+        "roughness=slumped_glass_limit".to_string(),
+        "figure_error=llnl_panter_rough".to_string(),
+    ];
+    let s = traxer::scene::Scene::load(&crate::common::device(), &scene, &combined).unwrap();
+    assert_eq!(s.roughness.len(), 1);
+    assert!((s.roughness[0].sigma2_nm2.sqrt() - 0.5).abs() < 1e-4);
 }
