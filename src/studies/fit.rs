@@ -325,7 +325,8 @@ fn optimise<P: FnMut(&Evaluation, &Evaluation)>(
     Ok(())
 }
 
-fn field(f: &FigureError, i: usize) -> f64 {
+/// Parameter `i` (in [`PARAMETERS`] order) of `f`.
+pub(super) fn field(f: &FigureError, i: usize) -> f64 {
     [
         f.in_plane_narrow,
         f.in_plane_wide,

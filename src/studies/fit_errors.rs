@@ -23,7 +23,7 @@
 //! Data flow: `traxer fit-figure-error --predict SCENE` calls [`sensitivity`],
 //! [`parameter_errors`] and [`predict`] after the fit; `output::fit` writes them.
 
-use super::fit::{set_figure_error, FitSettings, PARAMETERS};
+use super::fit::{field as get, set_figure_error, FitSettings, PARAMETERS};
 use super::{measure_arcsec, Diameters, StudyError};
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -66,15 +66,6 @@ pub struct Prediction {
     /// From the parameters' covariance.
     pub fit: [f64; 3],
     pub seeds: u64,
-}
-
-fn get(f: &FigureError, i: usize) -> f64 {
-    [
-        f.in_plane_narrow,
-        f.in_plane_wide,
-        f.wide_fraction,
-        f.out_of_plane,
-    ][i]
 }
 
 fn with(f: &FigureError, i: usize, v: f64) -> FigureError {
