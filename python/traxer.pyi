@@ -274,6 +274,9 @@ class EffectiveArea:
     """Per angle: photons that reached the sensor."""
     counted: list[int]
     """Per angle: photons counted (within ``radius_mm`` if given)."""
+    counts: str
+    """What the area counts: X-rays reaching the sensor, or on a gas detector
+    X-rays converting in its gas (the trace's rate)."""
     aperture_cm2: float
     """The beam's cross-section on axis, cm²."""
     radius_mm: Optional[float]

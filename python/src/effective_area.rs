@@ -99,6 +99,10 @@ pub struct EffectiveArea {
     /// Per angle: photons counted (within `radius_mm` if given).
     #[pyo3(get)]
     pub counted: Vec<u64>,
+    /// What the area counts, in words: X-rays reaching the sensor, or on a
+    /// gas detector X-rays converting in its gas (the trace's rate).
+    #[pyo3(get)]
+    pub counts: String,
     /// The beam's cross-section on axis, cm².
     #[pyo3(get)]
     pub aperture_cm2: f64,
@@ -149,6 +153,7 @@ impl EffectiveArea {
             quality,
             on_sensor: r.angles.iter().map(|a| a.on_sensor).collect(),
             counted: r.angles.iter().map(|a| a.counted).collect(),
+            counts: r.counts.clone(),
             aperture_cm2: r.aperture_cm2,
             radius_mm: s.radius_mm,
             seconds: r.seconds,

@@ -9,10 +9,10 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use traxer::files::atomic_write;
 use traxer::source::sun::builtin::{
-    self, builtin_emission, model_emission, AxionEmission, EmissionPart, G_AGAMMA_REFERENCE_PER_GEV,
+    self, builtin_emission, model_emission, AxionEmission, EmissionPart,
 };
 use traxer::source::sun::opacity_project::OpacityTables;
-use traxer::source::sun::{abc::G_AE_REFERENCE, EmissionTable, SolarModel, AU_CM};
+use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 
 /// A solar axion emission table w(r, E) on a radius × energy grid.
 ///
@@ -46,26 +46,23 @@ impl From<AxionEmission> for SolarEmission {
     }
 }
 
-/// (g_aγ, g_ae) for the processes that `emission` names.
+/// (g_aγ, g_ae) for the processes that `emission` names, checked as the CLI and
+/// scenes check them (`builtin::checked_couplings`): a coupling for a process
+/// the emission lacks is refused, never ignored.
 fn couplings(
     emission: &str,
     g_agamma: Option<&Bound<'_, PyAny>>,
     g_ae: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<(Option<f64>, Option<f64>)> {
-    let g_agamma =
-        optional("g_agamma", g_agamma, Unit::PerGeV)?.unwrap_or(G_AGAMMA_REFERENCE_PER_GEV);
-    let g_ae = optional("g_ae", g_ae, Unit::Dimensionless)?.unwrap_or(G_AE_REFERENCE);
-    let (p, a) = builtin::parse_name(emission).ok_or_else(|| {
-        input(format!(
-            "emission={emission:?}: expected \"primakoff\", \"abc\" or \"primakoff+abc\""
-        ))
-    })?;
-    for (name, g) in [("g_agamma", g_agamma), ("g_ae", g_ae)] {
-        if !(g.is_finite() && g > 0.0) {
-            return Err(input(format!("{name}={g}: expected a positive coupling")));
-        }
-    }
-    Ok((p.then_some(g_agamma), a.then_some(g_ae)))
+    let g_agamma = optional("g_agamma", g_agamma, Unit::PerGeV)?;
+    let g_ae = optional("g_ae", g_ae, Unit::Dimensionless)?;
+    let names = builtin::CouplingNames {
+        assign: " = ",
+        emission: "emission",
+        g_agamma: "g_agamma",
+        g_ae: "g_ae",
+    };
+    builtin::checked_couplings(emission, g_agamma, g_ae, &names).map_err(input)
 }
 
 /// A distance from the Sun (AU, or a length Quantity) checked, in cm.

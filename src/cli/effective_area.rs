@@ -133,6 +133,7 @@ fn print_sweep(s: &AreaSweep, result: &AreaResult, out: &std::path::Path) {
         result.seconds,
         result.threads
     );
+    say!("  the area counts {}", result.counts);
     for ang in &result.angles {
         let (lo, hi) = (ang.points.first().unwrap(), ang.points.last().unwrap());
         let peak = ang

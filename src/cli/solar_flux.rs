@@ -9,10 +9,7 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::files::sha256_hex;
 use traxer::output::{write_solar_flux, Provenance, SolarFluxInfo, SOLAR_FLUX_FILES};
-use traxer::source::sun::abc::G_AE_REFERENCE;
-use traxer::source::sun::builtin::{
-    self, builtin_emission, model_emission, EmissionPart, G_AGAMMA_REFERENCE_PER_GEV,
-};
+use traxer::source::sun::builtin::{self, builtin_emission, model_emission, EmissionPart};
 use traxer::source::sun::opacity_project::OpacityTables;
 use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 
@@ -35,9 +32,10 @@ use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("out/solar")))]
 pub struct SolarFluxArgs {
-    /// primakoff, abc or primakoff+abc.
-    #[arg(value_name = "NAME", long, default_value = "primakoff")]
-    pub emission: String,
+    /// primakoff, abc or primakoff+abc [default: primakoff; with --table, the
+    /// table is the emission and --emission is refused].
+    #[arg(value_name = "NAME", long)]
+    pub emission: Option<String>,
     /// A standard solar model in the B16 format to compute the emission of.
     #[arg(value_name = "FILE", long, conflicts_with = "table")]
     pub model: Option<PathBuf>,
@@ -61,12 +59,14 @@ pub struct SolarFluxArgs {
     /// with abc].
     #[arg(value_name = "KEV_LIST", long, requires = "model")]
     pub energies: Option<String>,
-    /// The axion–photon coupling g_aγ in GeV⁻¹ (Primakoff).
-    #[arg(value_name = "G", long, default_value_t = G_AGAMMA_REFERENCE_PER_GEV)]
-    pub g_agamma: f64,
-    /// The axion–electron coupling g_ae (ABC).
-    #[arg(value_name = "G", long, default_value_t = G_AE_REFERENCE)]
-    pub g_ae: f64,
+    /// The axion–photon coupling g_aγ in GeV⁻¹ (Primakoff) [default: 1e-10];
+    /// refused when the emission has no Primakoff part or comes from --table.
+    #[arg(value_name = "G", long)]
+    pub g_agamma: Option<f64>,
+    /// The axion–electron coupling g_ae (ABC) [default: 1e-13]; refused when the
+    /// emission has no ABC part or comes from --table.
+    #[arg(value_name = "G", long)]
+    pub g_ae: Option<f64>,
     /// Sun–Earth distance for the spectrum, astronomical units.
     #[arg(value_name = "AU", long, default_value_t = 1.0)]
     pub distance_au: f64,
@@ -86,22 +86,9 @@ struct Emission {
 
 pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     traxer::source::sun::check_distance_au("--distance-au", a.distance_au).map_err(InputError)?;
-    for (name, g) in [("--g-agamma", a.g_agamma), ("--g-ae", a.g_ae)] {
-        if !(g.is_finite() && g > 0.0) {
-            return Err(InputError(format!("{name} {g}: expected a positive coupling")).into());
-        }
-    }
-    let Some((primakoff, abc)) = builtin::parse_name(&a.emission) else {
-        return Err(InputError(format!(
-            "--emission {}: expected primakoff, abc or primakoff+abc",
-            a.emission
-        ))
-        .into());
-    };
+    let (g_agamma, g_ae) = couplings(&a)?;
     let out = a.output.folder("solar");
     let folder = traxer::run::results_folder(&out, &SOLAR_FLUX_FILES)?;
-    let g_agamma = primakoff.then_some(a.g_agamma);
-    let g_ae = abc.then_some(a.g_ae);
     let e = emission(&a, g_agamma, g_ae)?;
     let info = SolarFluxInfo {
         description: &e.description,
@@ -121,6 +108,41 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     print_totals(&e, a.distance_au);
     say!("wrote {}", out.display());
     Ok(())
+}
+
+/// The couplings (g_aγ, g_ae) of the processes the emission has, checked
+/// before anything is read or written: a table carries its own coupling, so
+/// --emission, --g-agamma and --g-ae are refused with --table (a flux printed
+/// for a coupling the table was not computed for would be wrong); a coupling
+/// for a process the emission lacks is refused, never ignored.
+fn couplings(a: &SolarFluxArgs) -> anyhow::Result<(Option<f64>, Option<f64>)> {
+    if let Some(table) = &a.table {
+        let given: Vec<&str> = [
+            ("--emission", a.emission.is_some()),
+            ("--g-agamma", a.g_agamma.is_some()),
+            ("--g-ae", a.g_ae.is_some()),
+        ]
+        .into_iter()
+        .filter_map(|(n, g)| g.then_some(n))
+        .collect();
+        if !given.is_empty() {
+            return Err(InputError(format!(
+                "--table {}: {} cannot be used with a table: the table is the emission, computed for its own coupling (its fluxes are printed as they are); scale them yourself by (g/g_table)², or give --model or a built-in --emission instead",
+                table.display(),
+                given.join(" and ")
+            ))
+            .into());
+        }
+        return Ok((None, None));
+    }
+    let names = builtin::CouplingNames {
+        assign: " ",
+        emission: "--emission",
+        g_agamma: "--g-agamma",
+        g_ae: "--g-ae",
+    };
+    let emission = a.emission.as_deref().unwrap_or("primakoff");
+    Ok(builtin::checked_couplings(emission, a.g_agamma, a.g_ae, &names).map_err(InputError)?)
 }
 
 /// The total flux and each process's on stdout.
@@ -174,7 +196,7 @@ fn emission(
             parts: b.parts,
             description: b.description,
             coupling: b.coupling,
-            origin: json!({"builtin": a.emission}),
+            origin: json!({"builtin": a.emission.as_deref().unwrap_or("primakoff")}),
             csv,
         }
     })
@@ -241,7 +263,7 @@ fn from_model(
          Axions per volume, time and energy: w E²/(2π²) in natural units (see src/source/sun/).",
         how.join("; "),
         env!("CARGO_PKG_VERSION"),
-        a.emission,
+        a.emission.as_deref().unwrap_or("primakoff"),
         a.radii
     );
     Ok(Emission {

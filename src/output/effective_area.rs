@@ -101,10 +101,11 @@ pub fn write_effective_area(
         &json!({
             "provenance": provenance,
             "sensor": r.sensor,
+            "counts": r.counts,
             "radius_mm": radius_mm,
             "aperture_cm2": r.aperture_cm2,
             "photons_per_angle": provenance.photons,
-            "method": "each photon traced once per angle; its weight at every energy is the product of R(E, θ) and T(E, θ) along its path; area = beam cross-section × Σw / N, error = cross-section × s/√N",
+            "method": "each photon traced once per angle (once per energy and angle with rough mirrors or a gas detector); its weight at every energy is the product of R(E, θ) and T(E, θ) along its path; area = beam cross-section × Σw / N, error = cross-section × s/√N",
             "image_weights": "off-axis image quality from the image weighted by each photon's mean weight over the energies (a flat spectrum over them); the counting region's centre is the photons' centroid",
             "seconds": r.seconds,
             "threads": r.threads,
@@ -129,7 +130,13 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
             )
         })
         .collect();
-    let title = format!("effective area on {}", r.sensor);
+    let title = match r.counts.starts_with("X-rays converting") {
+        true => format!(
+            "effective area for X-rays converting in the gas of {}",
+            r.sensor
+        ),
+        false => format!("effective area on {}", r.sensor),
+    };
     line_plot(
         &paths[0],
         &title,

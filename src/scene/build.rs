@@ -84,6 +84,7 @@ pub(super) fn build(
     let sources = build_sources(at, &desc, dir, &inputs)?;
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
     check_foils(at, &materials.foils, &sources)?;
+    check_gas(at, &materials.sensors, &sources)?;
     let embree = embree
         .commit()
         .map_err(|e| at.whole(format!("Embree could not build the scene: {e}")))?;
@@ -193,6 +194,32 @@ fn check_foils(at: SceneText, foils: &[Foil], sources: &[Source]) -> Result<(), 
                 at.whole(format!(
                     "foil of `{}`: the sources emit energies it cannot describe: {err}",
                     f.material.name
+                ))
+            })?;
+        }
+    }
+    Ok(())
+}
+
+/// Every detector gas must know its photoabsorption at every energy the
+/// sources emit: outside the Henke tables it would convert nothing, and an
+/// all-zero image is not a result.
+fn check_gas(
+    at: SceneText,
+    sensors: &[crate::sensor::SensorSpec],
+    sources: &[Source],
+) -> Result<(), SceneError> {
+    let (e_min, e_max) = source_energy_range(sources);
+    if sources.is_empty() {
+        return Ok(());
+    }
+    for s in sensors {
+        let Some(gas) = &s.gas else { continue };
+        for e in [e_min, e_max] {
+            gas.attenuation_per_mm(e).map_err(|err| {
+                at.whole(format!(
+                    "sensor `{}`: the sources emit {e_min}–{e_max} keV, but its gas ({}) knows its photoabsorption only within the Henke tables: {err}; limit the sources' energies (e.g. energy_range of a sun source, or the band or table of a lab source)",
+                    s.name, gas.material.name
                 ))
             })?;
         }

@@ -87,6 +87,9 @@ pub struct AngleResult {
 #[derive(Clone, Debug)]
 pub struct AreaResult {
     pub sensor: String,
+    /// What the area counts, in words: X-rays reaching the sensor, or, on a gas
+    /// detector, X-rays converting in its gas (the trace's rate on that sensor).
+    pub counts: String,
     /// The beam's cross-section on axis (cm²).
     pub aperture_cm2: f64,
     pub angles: Vec<AngleResult>,
@@ -125,6 +128,9 @@ struct Hit {
     class: PathClass,
     start: u32,
     end: u32,
+    /// The gas's conversion probability at the traced energy (1 without gas;
+    /// with gas every energy is traced on its own, see [`per_energy_paths`]).
+    conversion: f64,
 }
 
 /// The photons one angle's trace put on the sensor.
@@ -154,6 +160,25 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     let bad = |m: String| Err(StudyError::Input(m));
     if s.energies.is_empty() || s.energies.iter().any(|e| !(0.03..=30.0).contains(e)) {
         return bad("energies must lie within 0.03–30 keV (the Henke tables)".into());
+    }
+    // A curve over unsorted or repeated energies is drawn as a Z and repeats
+    // rows of the table: refused, so that every row is one energy, in order.
+    if let Some(k) = (1..s.energies.len()).find(|&k| s.energies[k] <= s.energies[k - 1]) {
+        return bad(format!(
+            "energies must increase, each given once: {} keV (number {}) follows {} keV; give them sorted, without repeats",
+            s.energies[k],
+            k + 1,
+            s.energies[k - 1]
+        ));
+    }
+    if let Some(k) =
+        (1..s.angles_arcmin.len()).find(|&k| s.angles_arcmin[..k].contains(&s.angles_arcmin[k]))
+    {
+        return bad(format!(
+            "angles: {}′ is given twice (number {}); each off-axis angle once",
+            s.angles_arcmin[k],
+            k + 1
+        ));
     }
     if s.angles_arcmin.is_empty()
         || s.angles_arcmin
@@ -225,7 +250,7 @@ pub fn sweep(
             Some(r) => r.clone(),
             None => {
                 let beam = base.tilted(angle / 60.0);
-                let result = pool.install(|| match has_rough_mirrors(scene) {
+                let result = pool.install(|| match per_energy_paths(scene, sensor) {
                     false => {
                         let hits = trace_angle(scene, &beam, sensor, s, None, progress);
                         let (result, image) = evaluate(scene, &tables, &beam, sensor, s, &hits);
@@ -242,8 +267,16 @@ pub fn sweep(
         on_angle(&result);
         angles.push(result);
     }
+    let counts = match &spec.gas {
+        None => format!("X-rays reaching sensor `{}`", spec.name),
+        Some(g) => format!(
+            "X-rays converting in the gas of sensor `{}` ({} at {} mbar, {} mm): the area times the conversion probability, as a trace counts them",
+            spec.name, g.material.name, g.desc.pressure_mbar, g.desc.drift_mm
+        ),
+    };
     Ok(AreaResult {
         sensor: spec.name.clone(),
+        counts,
         aperture_cm2: base.tilted(0.0).cross_section() / 100.0,
         angles,
         seconds: start.elapsed().as_secs_f64(),
@@ -280,6 +313,11 @@ fn trace_angle(
                 rec.0.clear();
                 let traced = trace_photon(scene, photon, &mut rng, &mut stats, &mut (), &mut rec);
                 if let Some((r, local, _)) = traced.filter(|t| t.0.sensor as usize == sensor) {
+                    let conversion = match &r.conversion {
+                        Some(c) if c.entered > 0.0 => r.weight / c.entered,
+                        Some(_) => 0.0,
+                        None => 1.0,
+                    };
                     let start = out.steps.len() as u32;
                     out.steps.extend_from_slice(&rec.0);
                     out.hits.push(Hit {
@@ -289,6 +327,7 @@ fn trace_angle(
                         class: r.history.class(),
                         start,
                         end: out.steps.len() as u32,
+                        conversion,
                     });
                 }
             }
@@ -419,7 +458,7 @@ fn evaluate(
                 );
                 let mut mean = 0.0;
                 for (k, &e) in s.energies.iter().enumerate() {
-                    let w = factors.iter().fold(1.0, |w, f| match *f {
+                    let w = factors.iter().fold(h.conversion, |w, f| match *f {
                         Factor::Mirror(t, ref angle) => {
                             w * tables[t].at(&energy_cells[t][k], angle)
                         }
@@ -498,17 +537,28 @@ pub fn has_rough_mirrors(scene: &Scene) -> bool {
     })
 }
 
+/// Whether a photon's path (or where it is recorded) depends on its energy, so
+/// that each energy must be traced on its own: rough mirrors scatter each
+/// energy its own way, and a gas detector converts each energy at its own depth
+/// (where the photon is recorded, and whether within the sensor) with its own
+/// probability.
+pub fn per_energy_paths(scene: &Scene, sensor: usize) -> bool {
+    has_rough_mirrors(scene) || scene.sensors[sensor].gas.is_some()
+}
+
 /// How many photons a sweep traces per off-axis angle (for progress bars):
-/// `photons`, or `photons` at each energy with rough mirrors.
+/// `photons`, or `photons` at each energy with rough mirrors or a gas detector.
 pub fn photons_per_angle(scene: &Scene, s: &AreaSweep) -> u64 {
-    match has_rough_mirrors(scene) {
+    let sensor = pick_sensor(scene, s.sensor.as_deref()).unwrap_or(0);
+    match scene.sensors.get(sensor).is_some() && per_energy_paths(scene, sensor) {
         false => s.photons,
         true => s.photons.saturating_mul(s.energies.len() as u64),
     }
 }
 
-/// One angle of a scene with rough mirrors: a rough mirror scatters each
-/// energy its own way, so one path per photon cannot serve every energy. Each
+/// One angle of a scene with rough mirrors or a gas detector: a rough mirror
+/// scatters each energy its own way, and the gas converts each energy at its
+/// own depth and rate, so one path per photon cannot serve every energy. Each
 /// energy is traced on its own, photon i with the stream (seed, i) as at every
 /// energy (the same photons, so the curve stays smooth), at the cost of one
 /// trace per energy. The areas are each energy's (counted within the radius of

@@ -35,6 +35,7 @@ mod results_folder;
 mod roughness;
 mod scenes;
 mod shards;
+mod silently_wrong;
 mod solar;
 mod sources;
 mod streams;

@@ -127,6 +127,110 @@ pub fn parse_name(name: &str) -> Option<(bool, bool)> {
     }
 }
 
+/// The names of the built-in emissions, for messages.
+pub const BUILTIN_NAMES: &str = "\"primakoff\", \"abc\" or \"primakoff+abc\"";
+
+/// How a front end spells the emission and its two couplings (the scene's keys,
+/// the CLI's options, Python's arguments), so that its messages name what the
+/// user wrote.
+pub struct CouplingNames {
+    /// Between a name and its value: " = " in a scene, " " on the command line.
+    pub assign: &'static str,
+    pub emission: &'static str,
+    pub g_agamma: &'static str,
+    pub g_ae: &'static str,
+}
+
+/// The couplings of built-in emission `emission`, checked for every front end:
+/// a coupling given for a process the emission does not have is refused (never
+/// ignored), one not given takes the table's reference value, and one whose
+/// square would make the table's rates underflow to zero in double precision is
+/// refused by name (an emission of exactly zero is not what anyone asked for).
+/// Returns (g_aγ, g_ae), `None` for a process left out.
+pub fn checked_couplings(
+    emission: &str,
+    g_agamma: Option<f64>,
+    g_ae: Option<f64>,
+    names: &CouplingNames,
+) -> Result<(Option<f64>, Option<f64>), String> {
+    let Some((primakoff, abc)) = parse_name(emission) else {
+        return Err(unknown_emission(emission, names.emission, names.assign));
+    };
+    for (name, g) in [(names.g_agamma, g_agamma), (names.g_ae, g_ae)] {
+        if let Some(g) = g.filter(|g| !(g.is_finite() && *g > 0.0)) {
+            return Err(format!(
+                "{name}{}{g:e}: expected a positive coupling",
+                names.assign
+            ));
+        }
+    }
+    if g_agamma.is_some() && !primakoff {
+        return Err(format!(
+            "{} is the coupling of the Primakoff emission, but {}{}\"{emission}\" has none (use \"primakoff+abc\" for both)",
+            names.g_agamma, names.emission, names.assign
+        ));
+    }
+    if g_ae.is_some() && !abc {
+        return Err(format!(
+            "{} is the coupling of the ABC emission, but {}{}\"{emission}\" has none (use \"abc\" or \"primakoff+abc\")",
+            names.g_ae, names.emission, names.assign
+        ));
+    }
+    let g_agamma = primakoff.then(|| g_agamma.unwrap_or(G_AGAMMA_REFERENCE_PER_GEV));
+    let g_ae = abc.then(|| g_ae.unwrap_or(G_AE_REFERENCE));
+    if let Some(g) = g_agamma {
+        check_representable(
+            &format!("{}{}", names.g_agamma, names.assign),
+            g,
+            G_AGAMMA_REFERENCE_PER_GEV,
+            primakoff_table(),
+        )?;
+    }
+    if let Some(g) = g_ae {
+        check_representable(
+            &format!("{}{}", names.g_ae, names.assign),
+            g,
+            G_AE_REFERENCE,
+            abc_table(),
+        )?;
+    }
+    Ok((g_agamma, g_ae))
+}
+
+/// The message for an emission name that is none of the built-in ones.
+pub fn unknown_emission(emission: &str, key: &str, assign: &str) -> String {
+    let hint = match parse_name(&emission.to_lowercase()) {
+        Some(_) => format!(" (names are lower case: \"{}\")", emission.to_lowercase()),
+        None => String::new(),
+    };
+    format!("{key}{assign}\"{emission}\": expected {BUILTIN_NAMES}{hint}")
+}
+
+/// Refuses coupling `g` (reference `g_ref` of `table`) if scaling the table by
+/// (g/g_ref)² makes any of its non-zero rates zero or subnormal. `name` is
+/// what precedes the value in the message ("g_ae = ").
+fn check_representable(
+    name: &str,
+    g: f64,
+    g_ref: f64,
+    table: &EmissionTable,
+) -> Result<(), String> {
+    let smallest = table
+        .rates
+        .iter()
+        .copied()
+        .filter(|w| *w > 0.0)
+        .fold(f64::INFINITY, f64::min);
+    let factor = (g / g_ref).powi(2);
+    if smallest.is_finite() && !(smallest * factor >= f64::MIN_POSITIVE) {
+        let lowest = g_ref * (f64::MIN_POSITIVE / smallest).sqrt();
+        return Err(format!(
+            "{name}{g:e}: the emission scales as the coupling squared, ({g:e}/{g_ref:e})² = {factor:.3e}, and its rates would underflow to zero in double precision (the emission would come out zero, or with its weakest parts missing); give a coupling of at least {lowest:.1e}"
+        ));
+    }
+    Ok(())
+}
+
 /// One part of an emission: a name and its dΦ/dE at 1 AU on the emission's
 /// energies (cm⁻² s⁻¹ keV⁻¹), and (for radial profiles) its table.
 #[derive(Clone, Debug)]
@@ -182,6 +286,12 @@ pub fn compose(
     let mut parts = Vec::new();
     let mut what = Vec::new();
     let mut coupling = Vec::new();
+    if let Some((table, _, g)) = &primakoff {
+        check_representable("g_aγ = ", *g, G_AGAMMA_REFERENCE_PER_GEV, table)?;
+    }
+    if let Some((a, g)) = &abc {
+        check_representable("g_ae = ", *g, G_AE_REFERENCE, a.table)?;
+    }
     if let Some((table, description, g)) = primakoff {
         let mut t = table.scaled((g / G_AGAMMA_REFERENCE_PER_GEV).powi(2));
         if let Some((a, _)) = &abc {

@@ -139,35 +139,36 @@ impl SunDesc {
 
     /// The emission table (read relative to `dir`), what it is and its coupling.
     fn emission_table(&self, dir: &Path) -> Result<(EmissionTable, String, String), InvalidSource> {
-        let check = |name: &str, g: Option<f64>, unit: &str| match g {
-            Some(g) if !(g.is_finite() && g > 0.0) => Err(InvalidSource(format!(
-                "sun: {name} = {g}: expected a positive coupling{unit}"
-            ))),
-            _ => Ok(()),
-        };
-        check("g_agamma", self.g_agamma, " in GeV⁻¹ (e.g. 1e-12)")?;
-        check("g_ae", self.g_ae, " (e.g. 1e-13)")?;
-        if let Some((primakoff, abc)) = builtin::parse_name(&self.emission) {
+        if builtin::parse_name(&self.emission).is_some() {
             if self.coupling.is_some() {
                 return Err("sun: coupling describes an emission table file; a built-in emission takes g_agamma (Primakoff) and g_ae (ABC)".into());
             }
-            if self.g_agamma.is_some() && !primakoff {
-                return Err(format!("sun: g_agamma is the coupling of the Primakoff emission, but emission = \"{}\" (use \"primakoff+abc\" for both)", self.emission).into());
-            }
-            if self.g_ae.is_some() && !abc {
-                return Err(format!("sun: g_ae is the coupling of the ABC emission, but emission = \"{}\" (use \"abc\" or \"primakoff+abc\")", self.emission).into());
-            }
-            let g_agamma =
-                primakoff.then(|| self.g_agamma.unwrap_or(builtin::G_AGAMMA_REFERENCE_PER_GEV));
-            let g_ae = abc.then(|| self.g_ae.unwrap_or(builtin::G_AE_REFERENCE));
+            let names = builtin::CouplingNames {
+                assign: " = ",
+                emission: "emission",
+                g_agamma: "g_agamma",
+                g_ae: "g_ae",
+            };
+            let (g_agamma, g_ae) =
+                builtin::checked_couplings(&self.emission, self.g_agamma, self.g_ae, &names)
+                    .map_err(|e| InvalidSource(format!("sun: {e}")))?;
             let e = builtin::builtin_emission(g_agamma, g_ae)
                 .map_err(|e| InvalidSource(format!("sun: {e}")))?;
             return Ok((e.table, e.description, e.coupling));
         }
+        let path = dir.join(&self.emission);
+        if !path.is_file() {
+            // A misspelt built-in name ("ABC", "primakof") reads as a file name:
+            // say both what it is not and which names are built in.
+            return Err(InvalidSource(format!(
+                "sun: {}; nor is there an emission table file {}",
+                builtin::unknown_emission(&self.emission, "emission", " = "),
+                path.display()
+            )));
+        }
         if self.g_agamma.is_some() || self.g_ae.is_some() {
             return Err("sun: g_agamma and g_ae scale the built-in emissions (\"primakoff\", \"abc\", \"primakoff+abc\"); for an emission table file, give its coupling as text in coupling".into());
         }
-        let path = dir.join(&self.emission);
         let table = EmissionTable::read_csv(&path)
             .map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
         let coupling = self
