@@ -92,6 +92,7 @@ class Scene:
         progress: bool = False,
         out: Optional[_Path] = None,
         checkpoint_every: Optional[_Number] = None,
+        replace: bool = False,
     ) -> TraceResult:
         """Traces ``photons`` photons, as ``traxer trace SCENE --photons N --seed S``.
 
@@ -105,7 +106,9 @@ class Scene:
         ``out``: also write the results folder of ``traxer trace --out`` (the same
         files, bit for bit), all at once when the run ends. ``checkpoint_every``
         (seconds, needs ``out``): keep a checkpoint there; a run stopped by Ctrl-C
-        or killed is continued by ``traxer.resume(out)``.
+        or killed is continued by ``traxer.resume(out)``. A folder holding the
+        results of a run with other inputs (scene, variables, seed, photons) is
+        refused unless ``replace=True``.
         """
     def effective_area(
         self,
@@ -241,12 +244,14 @@ class TraceResult:
     def photons_traced(self) -> int:
         """Photons traced."""
     def __getitem__(self, sensor: str) -> SensorImage: ...
-    def save(self, folder: _Path, fits: bool = False) -> int:
+    def save(self, folder: _Path, fits: bool = False, replace: bool = False) -> int:
         """Writes the files of ``traxer trace`` into ``folder`` (created if
         needed): per sensor NAME.npy, NAME_counts.npy, PNGs, NAME.json, ...,
         summary.json, run_state.bin (for ``traxer merge``), the photon list if
         one was kept, and with ``fits=True`` each sensor's image as NAME.fits.
-        All files appear at once; returns the number of files written."""
+        All files appear at once; returns the number of files written. A
+        folder holding the results of a run with other inputs is refused unless
+        ``replace=True``."""
 
 class EffectiveArea:
     """The effective area of a telescope over energies and off-axis angles."""

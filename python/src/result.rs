@@ -350,9 +350,11 @@ impl TraceResult {
     /// sensor NAME.npy, NAME_counts.npy, PNGs, NAME.json, ..., summary.json,
     /// run_state.bin (for `traxer merge`), the photon list if one was kept, and
     /// with `fits=True` each sensor's image as NAME.fits. All files appear at once
-    /// (a folder of other files is refused). Returns the number of files written.
-    #[pyo3(signature = (folder, fits = false))]
-    fn save(&self, py: Python<'_>, folder: PathBuf, fits: bool) -> PyResult<usize> {
+    /// (a folder of other files is refused, and so is one holding the results of
+    /// a run with other inputs unless `replace=True`). Returns the number of
+    /// files written.
+    #[pyo3(signature = (folder, fits = false, replace = false))]
+    fn save(&self, py: Python<'_>, folder: PathBuf, fits: bool, replace: bool) -> PyResult<usize> {
         let scene = &self.loaded.scene;
         py.detach(|| {
             save_results(
@@ -363,6 +365,7 @@ impl TraceResult {
                 self.threads,
                 &self.provenance,
                 fits,
+                replace,
             )
         })
         .map_err(lib)

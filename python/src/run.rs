@@ -120,6 +120,7 @@ pub fn resume(
         threads: self::threads(threads)?,
         checkpoint_every: checkpoint_interval(Some(checkpoint_every))?,
         fits: false,
+        replace: false,
     };
     let invocation = Invocation::new([
         "python".to_string(),

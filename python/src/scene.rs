@@ -148,7 +148,9 @@ impl Scene {
     /// `checkpoint_every` (seconds; needs `out`) the run keeps a checkpoint there,
     /// and a run stopped by Ctrl-C or killed is continued by `traxer.resume(out)`
     /// (or `traxer trace --resume out`) to the result of an uninterrupted run.
-    #[pyo3(signature = (photons, seed = 1, threads = 0, photon_list = 0, progress = false, out = None, checkpoint_every = None))]
+    /// A folder holding the results of a run with other inputs (scene,
+    /// variables, seed, photons) is refused unless `replace=True`.
+    #[pyo3(signature = (photons, seed = 1, threads = 0, photon_list = 0, progress = false, out = None, checkpoint_every = None, replace = false))]
     #[allow(clippy::too_many_arguments)]
     fn trace(
         &self,
@@ -160,6 +162,7 @@ impl Scene {
         progress: bool,
         out: Option<PathBuf>,
         checkpoint_every: Option<&Bound<'_, PyAny>>,
+        replace: bool,
     ) -> PyResult<TraceResult> {
         let checkpoint_every = optional("checkpoint_every", checkpoint_every, Unit::Second)?;
         let photons = crate::convert::count("photons", photons, 1)?;
@@ -177,7 +180,9 @@ impl Scene {
         ]);
         let every = crate::run::checkpoint_interval(checkpoint_every)?;
         match out {
-            Some(out) => return self.trace_to_folder(py, cfg, &out, every, progress, &invocation),
+            Some(out) => {
+                return self.trace_to_folder(py, cfg, &out, every, progress, replace, &invocation)
+            }
             None if every.is_some() => return Err(input(
                 "checkpoint_every needs out=FOLDER: the checkpoint is kept in the results folder",
             )),
@@ -265,6 +270,7 @@ impl Scene {
         out: &std::path::Path,
         every: Option<std::time::Duration>,
         progress: bool,
+        replace: bool,
         invocation: &Invocation,
     ) -> PyResult<TraceResult> {
         let job = TraceJob {
@@ -277,6 +283,7 @@ impl Scene {
             threads: job.cfg.threads,
             checkpoint_every: every,
             fits: false,
+            replace,
         };
         let control = PyControl::new(job.cfg.photons, progress);
         let finished = py.detach(|| job.run(out, &settings, invocation, &control));

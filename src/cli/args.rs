@@ -95,18 +95,50 @@ impl OutputArgs {
             .unwrap_or_else(|| PathBuf::from("out").join(name))
     }
 
-    /// The output folder named after `scene` (its file stem), with a study's
-    /// results nested in it (`study`: "focus", ...; "" for the trace itself):
-    /// out/wolter1_parallel, out/wolter1_parallel/focus. A new trace keeps the
-    /// studies nested in its folder.
-    pub fn scene_folder(&self, scene: &std::path::Path, study: &str) -> PathBuf {
+    /// The output folder named after `scene` (its file stem) and its `-D`
+    /// overrides, with a study's results nested in it (`study`: "focus", ...;
+    /// "" for the trace itself): out/cast_axion_image,
+    /// out/cast_axion_image@offset_x=2 (a run with other variables is another
+    /// run, so it gets its own folder), out/cast_axion_image/focus. A new trace
+    /// keeps the studies nested in its folder.
+    pub fn scene_folder(&self, scene: &SceneArgs, study: &str) -> PathBuf {
         let stem = scene
+            .scene
             .file_stem()
             .map_or("run".into(), |s| s.to_string_lossy().into_owned());
+        let name = run_name(&stem, &scene.vars.define);
         match study {
-            "" => self.folder(&stem),
-            study => self.folder(&format!("{stem}/{study}")),
+            "" => self.folder(&name),
+            study => self.folder(&format!("{name}/{study}")),
         }
+    }
+}
+
+/// The default results folder's name for scene `stem` with the overrides
+/// `defines` ("NAME=VALUE"): the stem alone without overrides, else the stem,
+/// `@` and the overrides sorted by name and joined by commas, characters a
+/// file name should not hold replaced by `_` (offset_x=2,window_nm=0); when
+/// that grows beyond 100 characters (inline tables, long paths), the first 12
+/// hex digits of the overrides' SHA-256 stand for them.
+pub fn run_name(stem: &str, defines: &[String]) -> String {
+    if defines.is_empty() {
+        return stem.to_string();
+    }
+    let mut sorted: Vec<String> = defines.iter().map(|d| d.trim().to_string()).collect();
+    sorted.sort();
+    let joined = sorted.join(",");
+    let safe: String = joined
+        .chars()
+        .map(|c| match c {
+            'a'..='z' | 'A'..='Z' | '0'..='9' | '.' | '_' | '-' | '+' | '=' | ',' => c,
+            _ => '_',
+        })
+        .collect();
+    if safe.len() <= 100 {
+        format!("{stem}@{safe}")
+    } else {
+        let hash = traxer::files::sha256_hex(joined.as_bytes());
+        format!("{stem}@{}", &hash[..12])
     }
 }
 

@@ -59,10 +59,8 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    let folder = traxer::run::results_folder(
-        &a.output.scene_folder(&a.scene.scene, "compare"),
-        &COMPARE_FILES,
-    )?;
+    let folder =
+        traxer::run::results_folder(&a.output.scene_folder(&a.scene, "compare"), &COMPARE_FILES)?;
     let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);
@@ -106,7 +104,7 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
         ..main_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
     }
     .run(&cfg, threads);
-    let out = &a.output.scene_folder(&a.scene.scene, "compare");
+    let out = &a.output.scene_folder(&a.scene, "compare");
     write_compare(folder.path(), &rows, &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;

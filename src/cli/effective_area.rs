@@ -83,7 +83,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         ("radius_mm".into(), serde_json::json!(s.radius_mm)),
     ]);
     let study: Study<AngleResult> = Study::open(
-        &a.output.scene_folder(&a.scene.scene, "effective_area"),
+        &a.output.scene_folder(&a.scene, "effective_area"),
         "effective_area",
         &EFFECTIVE_AREA_FILES,
         id.into(),
@@ -111,7 +111,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
     let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
         .run(&cfg, result.threads);
-    let out = &a.output.scene_folder(&a.scene.scene, "effective_area");
+    let out = &a.output.scene_folder(&a.scene, "effective_area");
     let folder = study.folder;
     write_effective_area(folder.path(), &result, a.radius, &provenance)
         .and_then(|_| folder.commit())

@@ -160,7 +160,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let settings = fit_settings(&a, &scene, &run)?;
     let mut predicted = prediction_scenes(&a)?;
     let study: Study<Evaluation> = Study::open(
-        &a.output.scene_folder(&a.scene.scene, "fit"),
+        &a.output.scene_folder(&a.scene, "fit"),
         "fit",
         &FIT_FILES,
         identity(&scene, &settings),
@@ -207,7 +207,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         errors: &errors,
         predictions: &predictions,
     };
-    let out = &a.output.scene_folder(&a.scene.scene, "fit");
+    let out = &a.output.scene_folder(&a.scene, "fit");
     let folder = study.folder;
     write_fit(folder.path(), &report, &provenance)
         .and_then(|_| folder.commit())

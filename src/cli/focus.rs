@@ -129,7 +129,7 @@ fn write(
     }
     .run(cfg, scan.threads);
     provenance.variables.remove(&a.var);
-    let out = &a.output.scene_folder(&a.scene.scene, "focus");
+    let out = &a.output.scene_folder(&a.scene, "focus");
     write_focus(folder.path(), scan, &a.var, (a.from, a.to), &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))
@@ -150,7 +150,7 @@ fn open_study(
         ("seed".into(), cfg.seed.into()),
     ]);
     let study = Study::open(
-        &a.output.scene_folder(&a.scene.scene, "focus"),
+        &a.output.scene_folder(&a.scene, "focus"),
         "focus",
         &FOCUS_FILES,
         id.into(),
@@ -180,7 +180,7 @@ fn print_step(var: &str, step: &FocusStep, sensor: &str) {
 
 /// The best focus and the other fits on stdout; an error if the HPD fit failed.
 fn print_fits(a: &FocusArgs, scan: &FocusScan) -> anyhow::Result<()> {
-    let out = &a.output.scene_folder(&a.scene.scene, "focus");
+    let out = &a.output.scene_folder(&a.scene, "focus");
     let fits = &scan.fits;
     match &fits[0].1 {
         Ok(f) => {

@@ -53,6 +53,11 @@ pub struct TraceArgs {
     /// BUNIT, the energy range and the provenance.
     #[arg(long)]
     pub fits: bool,
+    /// Replace the results of a run with other inputs (scene, variables, seed,
+    /// photons, shards) in the results folder; without it such a folder is
+    /// refused and kept.
+    #[arg(long, conflicts_with = "resume")]
+    pub replace: bool,
 }
 
 pub fn run(a: TraceArgs) -> anyhow::Result<()> {
@@ -60,6 +65,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         threads: a.run.sampling.threads,
         checkpoint_every: checkpoint_interval(a.checkpoint_every)?,
         fits: a.fits,
+        replace: a.replace,
     };
     let quiet = a.output.quiet.quiet;
     if let Some(dir) = &a.resume {
@@ -91,7 +97,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
         shard,
     };
     let control = resume::CliControl::new(job.cfg.photons, quiet);
-    let out = a.output.scene_folder(&scene.path, "");
+    let out = a.output.scene_folder(&scene_args, "");
     let finished = job.run(&out, &settings, &super::invocation(), &control);
     resume::finish(&scene, finished?, &control, quiet);
     Ok(())

@@ -21,7 +21,9 @@ pub fn results_folder<S: AsRef<str>>(
 }
 
 /// Saves a finished run (its tally, in memory) into the results folder `out`,
-/// as `traxer trace` would have: `run_state.bin` and every result file.
+/// as `traxer trace` would have: `run_state.bin` and every result file. A
+/// folder holding a run of other inputs is refused unless `replace`.
+#[allow(clippy::too_many_arguments)]
 pub fn save_results(
     out: &Path,
     scene: &Scene,
@@ -30,9 +32,11 @@ pub fn save_results(
     threads: usize,
     provenance: &Provenance,
     fits: bool,
+    replace: bool,
 ) -> Result<usize, super::RunError> {
     let names = results_file_names(scene, header.identity.photon_list > 0, fits);
     let folder = results_folder(out, &names)?;
+    super::job::refuse_other_run(out, &header.identity, replace)?;
     Ok(write_results(folder, scene, header, tally, threads, provenance, fits)?.0)
 }
 

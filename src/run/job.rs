@@ -27,6 +27,9 @@ pub struct RunSettings {
     pub checkpoint_every: Option<Duration>,
     /// Also write each sensor's image as FITS.
     pub fits: bool,
+    /// Replace a finished run of other inputs in the results folder (without
+    /// it, such a folder is refused: see [`refuse_other_run`]).
+    pub replace: bool,
 }
 
 /// What a front end hears of a run and how it asks it to stop.
@@ -105,6 +108,7 @@ impl TraceJob<'_> {
         let folder = prepare_folder(out, self.scene, self.cfg.photon_list > 0, settings.fits)?;
         refuse_unfinished_run(out)?;
         let part = RunPart::new(self.scene, &self.cfg, self.shard);
+        refuse_other_run(out, &part.identity, settings.replace)?;
         let tally = Tally::new(self.scene);
         let run = Sitting {
             scene: self.scene,
@@ -148,6 +152,43 @@ pub fn refuse_unfinished_run(out: &Path) -> Result<(), InputError> {
         out.display(),
         path.display()
     )))
+}
+
+/// A run into `out` while it holds the results of a run with other inputs
+/// (scene file, the files it reads, variables, seed, photons, shards, photon
+/// list) would replace them without a word: refused unless `replace`, saying
+/// what differs and how to go on. A run of the same inputs gives the same results (traxer is
+/// deterministic), so replacing it loses nothing; nor does it matter which
+/// traxer build made it.
+pub fn refuse_other_run(
+    out: &Path,
+    identity: &super::RunIdentity,
+    replace: bool,
+) -> Result<(), InputError> {
+    const REPLACE: &str = "`traxer trace --replace`, or `replace=True` in Python";
+    let path = out.join(super::RUN_STATE_FILE);
+    if replace || !path.exists() {
+        return Ok(());
+    }
+    let Ok(then) = read_header(&path) else {
+        return Err(InputError(format!(
+            "{}: holds results whose run state {} cannot be read, so traxer cannot tell whether they are this run's; keep them and write elsewhere, or replace them with {REPLACE}",
+            out.display(),
+            path.display()
+        )));
+    };
+    let then = super::RunIdentity {
+        traxer_version: identity.traxer_version.clone(),
+        git_hash: identity.git_hash.clone(),
+        ..then.identity
+    };
+    match identity.difference(&then) {
+        None => Ok(()),
+        Some(diff) => Err(InputError(format!(
+            "{}: holds the results of a run with other inputs (the new run: {diff}); they are kept. Write this run elsewhere (another --out, or another -D, whose default folder is its own), or replace them with {REPLACE}",
+            out.display()
+        ))),
+    }
 }
 
 /// One sitting of a run: from a tally (empty, or a checkpoint's) to the end or

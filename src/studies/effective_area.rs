@@ -23,6 +23,7 @@
 //! `trace::trace_photon`, measures with `analysis`, and returns an
 //! [`AreaResult`] that `output::write_effective_area` writes.
 
+pub use super::area_sweep::{check, AreaSweep, MAX_SWEEP_POINTS};
 use super::{pick_sensor, StudyError};
 use crate::analysis::{analyse, ImageGeometry, ImageQuality};
 use crate::history::PathClass;
@@ -34,26 +35,6 @@ use crate::trace::{chunk_range, trace_photon, Attenuation, Statistics, CHUNK};
 use crate::xray::{AngleCell, EnergyCell, ReflectivityTable};
 use rayon::prelude::*;
 use std::time::Instant;
-
-/// What to sweep.
-#[derive(Clone, Debug)]
-pub struct AreaSweep {
-    /// Energies (keV).
-    pub energies: Vec<f64>,
-    /// Off-axis angles (arcminutes), tilting the beam in the source's
-    /// `off_axis_azimuth` direction.
-    pub angles_arcmin: Vec<f64>,
-    /// Photons per angle.
-    pub photons: u64,
-    pub seed: u64,
-    /// Worker threads (0 = one per core).
-    pub threads: usize,
-    /// The sensor to count on (default: the scene's only one).
-    pub sensor: Option<String>,
-    /// Count only within this radius (mm) of the image centre (the centroid of
-    /// the photons on the sensor at that angle).
-    pub radius_mm: Option<f64>,
-}
 
 /// The area at one energy and angle.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -148,60 +129,6 @@ fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
             scene.path.display()
         ))),
     }
-}
-
-/// The most energy × angle points a sweep may have (a few numbers each in
-/// memory and in the record: about 100 MB of record at most).
-pub const MAX_SWEEP_POINTS: u64 = 1_000_000;
-
-/// Checks the sweep's numbers (`sweep` does too; front ends call it first, before
-/// loading the scene).
-pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
-    let bad = |m: String| Err(StudyError::Input(m));
-    if s.energies.is_empty() || s.energies.iter().any(|e| !(0.03..=30.0).contains(e)) {
-        return bad("energies must lie within 0.03–30 keV (the Henke tables)".into());
-    }
-    // A curve over unsorted or repeated energies is drawn as a Z and repeats
-    // rows of the table: refused, so that every row is one energy, in order.
-    if let Some(k) = (1..s.energies.len()).find(|&k| s.energies[k] <= s.energies[k - 1]) {
-        return bad(format!(
-            "energies must increase, each given once: {} keV (number {}) follows {} keV; give them sorted, without repeats",
-            s.energies[k],
-            k + 1,
-            s.energies[k - 1]
-        ));
-    }
-    if let Some(k) =
-        (1..s.angles_arcmin.len()).find(|&k| s.angles_arcmin[..k].contains(&s.angles_arcmin[k]))
-    {
-        return bad(format!(
-            "angles: {}′ is given twice (number {}); each off-axis angle once",
-            s.angles_arcmin[k],
-            k + 1
-        ));
-    }
-    if s.angles_arcmin.is_empty()
-        || s.angles_arcmin
-            .iter()
-            .any(|a| !a.is_finite() || a.abs() >= 5400.0)
-    {
-        return bad("angles are off-axis angles in arcminutes, below 90°".into());
-    }
-    let points = s.energies.len() as u64 * s.angles_arcmin.len() as u64;
-    if points > MAX_SWEEP_POINTS {
-        return bad(format!(
-            "{} energies × {} angles = {points} points: at most {MAX_SWEEP_POINTS} (each point is kept in memory and in the sweep's record)",
-            s.energies.len(),
-            s.angles_arcmin.len()
-        ));
-    }
-    if s.photons < 2 {
-        return bad("photons must be at least 2 per angle".into());
-    }
-    if s.radius_mm.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
-        return bad("the counting radius must be a positive length (mm)".into());
-    }
-    Ok(())
 }
 
 /// Traces the sweep. `progress` hears of every chunk of photons.

@@ -5,6 +5,7 @@
 //! callback and returns plain results; `output` writes them and the binary
 //! prints them.
 
+mod area_sweep;
 pub mod compare;
 pub mod effective_area;
 pub mod fit;

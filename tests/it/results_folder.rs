@@ -30,11 +30,13 @@ fn leftovers(dir: &Path) -> Vec<PathBuf> {
     v
 }
 
+/// A trace into `out`, replacing what another run left there (these tests are
+/// about how a folder is replaced, not whether).
 fn trace(out: &Path, photons: &str, seed: &str) -> Command {
     let mut c = traxer();
     c.arg("trace")
         .arg(repo().join("scenes/panter_al_ka.toml"))
-        .args(["-n", photons, "-s", seed, "-q", "-o"])
+        .args(["-n", photons, "-s", seed, "-q", "--replace", "-o"])
         .arg(out);
     c
 }
@@ -92,7 +94,7 @@ fn a_run_that_fails_while_writing_leaves_the_previous_results() {
             .arg(env!("CARGO_BIN_EXE_traxer"))
             .args(["trace"])
             .arg(repo().join("scenes/panter_al_ka.toml"))
-            .args(["-n", "20000", "-s", "2", "-q", "-o"])
+            .args(["-n", "20000", "-s", "2", "-q", "--replace", "-o"])
             .arg(&out)
             .stderr(Stdio::null())
             .status()
@@ -169,7 +171,7 @@ fn a_new_run_replaces_the_whole_folder_and_no_foreign_file() {
             traxer()
                 .arg("trace")
                 .arg(&path)
-                .args(["-n", "100", "-q", "-o"])
+                .args(["-n", "100", "-q", "--replace", "-o"])
                 .arg(&out),
         );
     }
@@ -212,7 +214,7 @@ fn results_nested_in_a_results_folder_are_kept() {
             traxer()
                 .arg("trace")
                 .arg(&scene)
-                .args(["-n", "2000", "-s", seed, "-q", "-o"])
+                .args(["-n", "2000", "-s", seed, "-q", "--replace", "-o"])
                 .arg(&out),
         );
     };
@@ -263,7 +265,7 @@ fn without_out_results_go_to_out_scene_with_studies_nested_and_kept() {
     let out = dir.path().join("out/wolter1_parallel");
     assert!(out.join("sensor.npy").is_file());
     let scan = std::fs::read(out.join("focus/focus.csv")).unwrap();
-    run(&["trace", "-n", "3000"]);
+    run(&["trace", "-n", "3000", "--replace"]);
     assert_eq!(std::fs::read(out.join("focus/focus.csv")).unwrap(), scan);
     run(&["effective-area", "--energies", "1,2", "-n", "2000"]);
     assert!(out.join("effective_area/effective_area.csv").is_file());

@@ -666,10 +666,11 @@ fn shards_traced_with_two_emission_tables_or_an_edited_run_state_are_not_merged(
     );
     std::fs::rename(&moved, &scene).unwrap();
     // A run state whose shard list was edited (shard 1 posing as shard 2).
+    // (s2 holds the shard of the other table: replaced, as asked.)
     run_ok(&mut trace(
         &scene,
         &d("s2"),
-        &["-n", "20000", "--shard", "2/2"],
+        &["-n", "20000", "--shard", "2/2", "--replace"],
     ));
     run_ok(&mut merge(&["s1", "s2"]));
     std::fs::create_dir(d("fake")).unwrap();

@@ -236,3 +236,62 @@ fn scenes_refuse_an_underflowing_coupling_and_a_misspelt_emission_by_name() {
         assert!(err.contains(expect), "{name}: {err}");
     }
 }
+
+#[test]
+fn runs_with_other_inputs_never_replace_each_other_silently() {
+    // Before: `trace SCENE -D x=…` wrote into the default run's out/NAME, and a
+    // run with other photons or seed into the same --out replaced it unasked.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "gas.toml", GAS_SCENE);
+    let trace = |extra: &[&str]| {
+        let mut c = traxer();
+        c.current_dir(dir.path())
+            .arg("trace")
+            .arg(&scene)
+            .arg("-q")
+            .args(extra);
+        if !extra.contains(&"-n") {
+            c.args(["-n", "1000"]);
+        }
+        c
+    };
+    let flux = |folder: &str| {
+        json(&dir.path().join(folder).join("chip.json"))["sensor"]["total_flux"]
+            .as_f64()
+            .unwrap()
+    };
+    run_ok(&mut trace(&[]));
+    let first = flux("out/gas");
+    // Overrides: a folder of their own, named after them.
+    run_ok(&mut trace(&["-D", "energy=8"]));
+    assert!(flux("out/gas@energy=8") < first);
+    assert_eq!(flux("out/gas"), first, "the default run is kept");
+    // Other photons or seed into a folder of another run: refused, kept.
+    for (extra, says) in [
+        (&["-n", "2000"][..], "2000 photons, not 1000"),
+        (&["--seed", "7"][..], "seed 7, not 1"),
+        (
+            &["-D", "energy=5", "-o", "out/gas"][..],
+            "variable energy = 5",
+        ),
+    ] {
+        let err = run_fails(&mut trace(extra), 2);
+        assert!(
+            err.contains("other inputs") && err.contains(says),
+            "{extra:?}: {err}"
+        );
+        assert!(err.contains("--replace"), "{err}");
+        assert_eq!(flux("out/gas"), first, "{extra:?}: the folder is kept");
+    }
+    // The same inputs again: the same results, so nothing is lost.
+    run_ok(&mut trace(&[]));
+    // Asked to replace: replaced.
+    run_ok(&mut trace(&[
+        "-D",
+        "energy=8",
+        "-o",
+        "out/gas",
+        "--replace",
+    ]));
+    assert_eq!(flux("out/gas"), flux("out/gas@energy=8"));
+}
