@@ -52,7 +52,7 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         ))
         .into());
     }
-    let pitch = pixel_pitch(&a, img.pitch_mm, focal_length)?;
+    let pitch = pixel_pitch(&a, img.pitch_mm, &img.pitch_from, focal_length)?;
     let g = ImageGeometry {
         nx,
         ny,
@@ -113,6 +113,7 @@ fn read_any_image(path: &Path) -> Result<FitsImage, InputError> {
         ny: img.ny,
         summed: img.summed,
         pitch_mm: sensor.as_ref().map(|s| s.pitch_mm),
+        pitch_from: sensor.as_ref().map_or(String::new(), |s| s.from.clone()),
         focal_length_mm: sensor.and_then(|s| s.focal_length_mm),
     })
 }
@@ -122,6 +123,7 @@ fn read_any_image(path: &Path) -> Result<FitsImage, InputError> {
 fn pixel_pitch(
     a: &EefArgs,
     found: Option<[f64; 2]>,
+    found_in: &str,
     focal_length: Option<f64>,
 ) -> Result<[f64; 2], InputError> {
     let pitch = match a.pixel_pitch.as_slice() {
@@ -139,12 +141,20 @@ fn pixel_pitch(
             ))
         }
     };
-    if !pitch.iter().all(|p| p.is_finite() && *p > 0.0)
-        || focal_length.is_some_and(|f| !(f.is_finite() && f > 0.0))
-    {
-        return Err(InputError(
-            "pixel pitch and focal length must be positive (mm)".into(),
-        ));
+    if !pitch.iter().all(|p| p.is_finite() && *p > 0.0) {
+        let from = match a.pixel_pitch.is_empty() {
+            true => found_in.to_string(),
+            false => "--pixel-pitch".into(),
+        };
+        return Err(InputError(format!(
+            "{from}: pixel pitch {:e} × {:e} mm: expected positive lengths (mm); give --pixel-pitch",
+            pitch[0], pitch[1]
+        )));
+    }
+    if let Some(f) = focal_length.filter(|f| !(f.is_finite() && *f > 0.0)) {
+        return Err(InputError(format!(
+            "focal length {f:e} mm (--focal-length, or the image's FOCALLEN / sensor JSON): expected a positive length"
+        )));
     }
     Ok(pitch)
 }
@@ -171,6 +181,8 @@ fn print_quality(q: &traxer::analysis::ImageQuality) {
 /// What a traxer sensor JSON beside an image says about it.
 struct SensorInfo {
     pitch_mm: [f64; 2],
+    /// The JSON file and key the pitch comes from.
+    from: String,
     focal_length_mm: Option<f64>,
 }
 
@@ -215,6 +227,7 @@ fn sensor_of(image: &Path) -> Option<SensorInfo> {
             let p = g.get("pitch_mm")?.as_f64()?;
             return Some(SensorInfo {
                 pitch_mm: [p, p],
+                from: format!("{}: key sensor.pixel_grid.pitch_mm", path.display()),
                 focal_length_mm,
             });
         }
@@ -223,6 +236,7 @@ fn sensor_of(image: &Path) -> Option<SensorInfo> {
             let pitch_mm = [p.get(0)?.as_f64()?, p.get(1)?.as_f64()?];
             return Some(SensorInfo {
                 pitch_mm,
+                from: format!("{}: key sensor.pixel_pitch_mm", path.display()),
                 focal_length_mm,
             });
         }

@@ -19,6 +19,8 @@ pub struct FitsImage {
     pub summed: Vec<f64>,
     /// (x, y) pitch in mm, when the header has a WCS in mm.
     pub pitch_mm: Option<[f64; 2]>,
+    /// Where `pitch_mm` was read (file and key), for messages.
+    pub pitch_from: String,
     pub focal_length_mm: Option<f64>,
 }
 
@@ -48,6 +50,21 @@ pub fn read_fits_image(path: &Path) -> Result<FitsImage, String> {
                 ))
             }
         };
+        // A header can claim any size: check it against the file before
+        // allocating (a few bytes of header must not ask for terabytes).
+        let elements = shape
+            .iter()
+            .try_fold(1u64, |n, &k| n.checked_mul(k as u64))
+            .unwrap_or(u64::MAX);
+        let bytes = elements.saturating_mul(bytes_per_value(&hdu.info));
+        let size = std::fs::metadata(&plain).map_or(0, |m| m.len());
+        if bytes > size {
+            let dims: Vec<String> = shape.iter().rev().map(|k| k.to_string()).collect();
+            return Err(format!(
+                "{shown}: HDU {i}'s header (NAXISn) claims an image of {} values, {bytes} bytes, but the file holds only {size} bytes: truncated or damaged",
+                dims.join(" × ")
+            ));
+        }
         let data: Vec<f64> = hdu
             .read_image(&mut f)
             .map_err(|e| format!("{shown}: HDU {i}: {e}"))?;
@@ -66,8 +83,23 @@ pub fn read_fits_image(path: &Path) -> Result<FitsImage, String> {
             ny,
             summed: crate::sensor::sum_bands(&data, nx * ny),
             pitch_mm,
+            pitch_from: format!("{shown}: HDU {i}'s header keys CDELT1/CDELT2"),
             focal_length_mm,
         });
     }
     Err(format!("{shown}: no image HDU with data"))
+}
+
+/// Bytes per pixel value of an image HDU (BITPIX / 8).
+fn bytes_per_value(info: &HduInfo) -> u64 {
+    use fitsio::images::ImageType::*;
+    match info {
+        HduInfo::ImageInfo { image_type, .. } => match image_type {
+            UnsignedByte | Byte => 1,
+            Short | UnsignedShort => 2,
+            Long | UnsignedLong | Float => 4,
+            LongLong | Double => 8,
+        },
+        _ => 1,
+    }
 }

@@ -77,4 +77,3 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     }
     Ok(())
 }
-

@@ -295,3 +295,78 @@ fn runs_with_other_inputs_never_replace_each_other_silently() {
     ]));
     assert_eq!(flux("out/gas"), flux("out/gas@energy=8"));
 }
+
+/// A FITS file of 80-character cards `cards` and `data` (big-endian, padded to
+/// 2880-byte blocks, as the standard asks).
+fn fits_bytes(cards: &[String], data: &[u8]) -> Vec<u8> {
+    let mut out = Vec::new();
+    for c in cards.iter().map(String::as_str).chain(["END"]) {
+        out.extend(format!("{c:<80}").bytes());
+    }
+    out.resize(out.len().div_ceil(2880) * 2880, b' ');
+    out.extend_from_slice(data);
+    out.resize(out.len().div_ceil(2880) * 2880, 0);
+    out
+}
+
+fn card(key: &str, value: &str) -> String {
+    format!("{key:<8}= {value:>20}")
+}
+
+#[test]
+fn eef_checks_a_fits_headers_sizes_before_allocating_and_names_a_zero_pitch() {
+    // Before: a header claiming 10^5 × 10^5 float64 values (80 GB) was
+    // allocated before anything was checked: SIGABRT.
+    let dir = tempfile::tempdir().unwrap();
+    let huge = fits_bytes(
+        &[
+            card("SIMPLE", "T"),
+            card("BITPIX", "-64"),
+            card("NAXIS", "2"),
+            card("NAXIS1", "100000"),
+            card("NAXIS2", "100000"),
+        ],
+        &[0; 64],
+    );
+    let path = dir.path().join("huge.fits");
+    std::fs::write(&path, huge).unwrap();
+    let err = run_fails(
+        traxer()
+            .arg("eef")
+            .arg(&path)
+            .args(["--pixel-pitch", "0.1"]),
+        2,
+    );
+    assert!(
+        err.contains("huge.fits") && err.contains("100000 × 100000") && err.contains("truncated"),
+        "{err}"
+    );
+    // A pitch of zero in the header: the file and the key are named.
+    let data: Vec<u8> = (0..16).flat_map(|_| 1.0f64.to_be_bytes()).collect();
+    let zero = fits_bytes(
+        &[
+            card("SIMPLE", "T"),
+            card("BITPIX", "-64"),
+            card("NAXIS", "2"),
+            card("NAXIS1", "4"),
+            card("NAXIS2", "4"),
+            card("CDELT1", "0.0"),
+            card("CDELT2", "0.1"),
+            card("CUNIT1", "'mm      '"),
+            card("CUNIT2", "'mm      '"),
+        ],
+        &data,
+    );
+    let path = dir.path().join("zero.fits");
+    std::fs::write(&path, zero).unwrap();
+    let err = run_fails(traxer().arg("eef").arg(&path), 2);
+    assert!(err.contains("zero.fits") && err.contains("CDELT1"), "{err}");
+    // With the pitch given, the same file is measured.
+    run_ok(
+        traxer()
+            .arg("eef")
+            .arg(&path)
+            .args(["--pixel-pitch", "0.1", "-q", "--plot"])
+            .arg(dir.path().join("p.png")),
+    );
+}
