@@ -22,4 +22,4 @@ fi
 "$venv/bin/python" -m pip install -q --disable-pip-version-check -r tests/python/requirements.txt
 [ -x target/release/traxer ] || cargo build --release
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps ./python
-TRAXER="$PWD/target/release/traxer" "$venv/bin/python" -m pytest -q tests/python "$@"
+TRAXER="$PWD/target/release/traxer" "$venv/bin/python" -m pytest -q -rs tests/python "$@"

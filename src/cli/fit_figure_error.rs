@@ -246,7 +246,7 @@ fn after_fit(
         bar.inc((before + n) / photons - before / photons);
     };
     let spread = seed_spread(scene, settings, &result.best, a.check_seeds, &per_trace)?;
-    let (errors, predictions) = errors_and_predictions(
+    let (mut errors, predictions) = errors_and_predictions(
         a,
         scene,
         predicted,
@@ -254,6 +254,10 @@ fn after_fit(
         (&result.best, &spread),
         &per_trace,
     )?;
+    let free: Vec<usize> = (0..4)
+        .filter(|&i| settings.bounds.upper[i] > settings.bounds.lower[i])
+        .collect();
+    errors.assess(&free, &settings.bounds, &result.history);
     Ok((spread, errors, predictions))
 }
 
@@ -423,14 +427,11 @@ fn print_result(report: &FitReport, out: &std::path::Path) {
         hpd.0, hpd.1, target.hpd, d80.0, d80.1, target.d80, d90.0, d90.1, target.d90, spread.seeds
     );
     let e = report.errors;
-    for (i, name) in e.names.iter().enumerate() {
-        say!(
-            "  {name} = {:.4} ± {:.4} (Monte Carlo) ± {:.4} (fit, targets ± {} %)",
-            e.values[i],
-            e.monte_carlo[i],
-            e.fit[i],
-            e.target_fraction * 100.0
-        );
+    for i in 0..e.names.len() {
+        say!("  {}", e.quoted(i));
+    }
+    for d in &e.degenerate {
+        say!("  {d}");
     }
     for p in report.predictions {
         let d = &p.diameters;

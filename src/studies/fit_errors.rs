@@ -23,7 +23,7 @@
 //! Data flow: `traxer fit-figure-error --predict SCENE` calls [`sensitivity`],
 //! [`parameter_errors`] and [`predict`] after the fit; `output::fit` writes them.
 
-use super::fit::{field as get, set_figure_error, FitSettings, PARAMETERS};
+use super::fit::{field as get, set_figure_error, Bounds, Evaluation, FitSettings, PARAMETERS};
 use super::{measure_arcsec, Diameters, StudyError};
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -52,6 +52,120 @@ pub struct ParameterErrors {
     pub covariance: Vec<Vec<f64>>,
     /// The assumed uncertainty of each target, as a fraction of it.
     pub target_fraction: f64,
+    /// The correlation coefficients of the combined covariance (free × free).
+    pub correlation: Vec<Vec<f64>>,
+    /// Per free parameter, what the targets say about it, in words: whether
+    /// its error leaves it constrained, and whether the fit moved it at all
+    /// (see [`ParameterErrors::assess`]); empty until assessed.
+    pub verdicts: Vec<String>,
+    /// Pairs of free parameters the targets cannot tell apart (|ρ| ≥ 0.9).
+    pub degenerate: Vec<String>,
+}
+
+/// A parameter whose combined 1σ error reaches this share of its search range
+/// is unconstrained: its value is where the optimiser stopped, not a
+/// measurement.
+pub const UNCONSTRAINED_RANGE_SHARE: f64 = 0.5;
+/// A parameter whose combined 1σ error reaches this share of its value is
+/// poorly constrained.
+pub const POOR_RELATIVE_ERROR: f64 = 0.5;
+/// Two parameters correlated at least this strongly are degenerate: the
+/// targets fix a combination of them, not each.
+pub const DEGENERATE_CORRELATION: f64 = 0.9;
+
+impl ParameterErrors {
+    /// The combined 1σ error of free parameter `k`.
+    pub fn total(&self, k: usize) -> f64 {
+        self.covariance[k][k].max(0.0).sqrt()
+    }
+
+    /// Says what the fit determined: each parameter is unconstrained (its
+    /// error spans at least half its search range in `bounds`), poorly
+    /// constrained (an error of at least half its value) or constrained; one
+    /// the local stage never moved from the global search's grid point is
+    /// said to be so (a grid sample is not a minimum); and strongly correlated
+    /// pairs are named as degenerate. `history`: the fit's evaluations.
+    pub fn assess(&mut self, free: &[usize], bounds: &Bounds, history: &[Evaluation]) {
+        let k = self.names.len();
+        let best_of = |stage: &str| {
+            history
+                .iter()
+                .filter(|e| e.stage == stage && e.diameters.is_some())
+                .min_by(|a, b| a.error.total_cmp(&b.error))
+        };
+        let (global, local) = (best_of("global"), best_of("local"));
+        self.verdicts = (0..k)
+            .map(|r| {
+                let i = free[r];
+                let (lo, hi) = (bounds.lower[i], bounds.upper[i]);
+                let (v, s) = (self.values[r], self.total(r));
+                let mut verdict = if s >= UNCONSTRAINED_RANGE_SHARE * (hi - lo) {
+                    format!(
+                        "unconstrained: its 1σ error ±{} spans {:.0} % of its search range {lo}–{hi}; the value is where the optimiser stopped, not a measurement",
+                        significant(s),
+                        100.0 * s / (hi - lo)
+                    )
+                } else if s >= POOR_RELATIVE_ERROR * v.abs() {
+                    format!(
+                        "poorly constrained: ±{:.0} % (1σ)",
+                        100.0 * s / v.abs().max(f64::MIN_POSITIVE)
+                    )
+                } else {
+                    format!("constrained: ±{:.1} % (1σ)", 100.0 * s / v.abs())
+                };
+                if let (Some(g), Some(l)) = (global, local) {
+                    let (gv, lv) = (get(&g.parameters, i), get(&l.parameters, i));
+                    if gv.to_bits() == lv.to_bits() && gv.to_bits() == v.to_bits() {
+                        verdict.push_str(&format!(
+                            "; the local fit never moved it from {} (a point of the global search's grid)",
+                            significant(v)
+                        ));
+                    }
+                }
+                verdict
+            })
+            .collect();
+        self.degenerate = Vec::new();
+        for a in 0..k {
+            for b in a + 1..k {
+                let rho = self.correlation[a][b];
+                if rho.abs() >= DEGENERATE_CORRELATION {
+                    self.degenerate.push(format!(
+                        "{} and {} are degenerate (correlation {rho:+.2}): the targets fix a combination of the two, not each",
+                        self.names[a], self.names[b]
+                    ));
+                }
+            }
+        }
+    }
+
+    /// Parameter `k` as a physicist should quote it: value and errors to the
+    /// precision of the combined error, with its verdict.
+    pub fn quoted(&self, k: usize) -> String {
+        let digits = decimals(self.total(k));
+        format!(
+            "{} = {:.digits$} ± {:.digits$} (Monte Carlo) ± {:.digits$} (fit, targets ± {} %) — {}",
+            self.names[k],
+            self.values[k],
+            self.monte_carlo[k],
+            self.fit[k],
+            self.target_fraction * 100.0,
+            self.verdicts.get(k).map_or("not assessed", String::as_str)
+        )
+    }
+}
+
+/// Decimal places that show `error` with two significant digits.
+fn decimals(error: f64) -> usize {
+    if !(error.is_finite() && error > 0.0) {
+        return 4;
+    }
+    (1.0 - error.log10().floor()).clamp(0.0, 12.0) as usize
+}
+
+/// `x` with two significant digits.
+fn significant(x: f64) -> String {
+    format!("{:.*}", decimals(x), x)
 }
 
 /// What the fitted model predicts for another scene, with its errors (1σ).
@@ -191,15 +305,26 @@ pub fn parameter_errors(
     let mc = covariance(j, mc_var).ok_or_else(singular)?;
     let fit = covariance(j, fit_var).ok_or_else(singular)?;
     let k = j.free.len();
+    let total: Vec<Vec<f64>> = (0..k)
+        .map(|r| (0..k).map(|c| mc[r][c] + fit[r][c]).collect())
+        .collect();
+    let correlation = (0..k)
+        .map(|r| {
+            (0..k)
+                .map(|c| total[r][c] / (total[r][r] * total[c][c]).sqrt())
+                .collect()
+        })
+        .collect();
     Ok(ParameterErrors {
         names: j.free.iter().map(|&i| PARAMETERS[i]).collect(),
         values: j.free.iter().map(|&i| get(best, i)).collect(),
         monte_carlo: (0..k).map(|i| mc[i][i].sqrt()).collect(),
         fit: (0..k).map(|i| fit[i][i].sqrt()).collect(),
-        covariance: (0..k)
-            .map(|r| (0..k).map(|c| mc[r][c] + fit[r][c]).collect())
-            .collect(),
+        covariance: total,
         target_fraction,
+        correlation,
+        verdicts: Vec::new(),
+        degenerate: Vec::new(),
     })
 }
 
@@ -276,6 +401,68 @@ mod tests {
             }
         }
         assert!(invert(vec![vec![1.0, 2.0], vec![2.0, 4.0]]).is_none());
+    }
+
+    /// A parameter with an error beyond half its range is called unconstrained,
+    /// one with an error beyond half its value poorly constrained, one the
+    /// local stage left at the global grid's point is said to be so, and two
+    /// parameters the targets see only together are degenerate.
+    #[test]
+    fn unconstrained_and_degenerate_parameters_are_named() {
+        // Rows: narrow moves HPD alone; wide and fraction move 80 % and 90 %
+        // almost alike (a near-degenerate pair).
+        let j = Sensitivity {
+            free: vec![0, 1, 2],
+            steps: vec![1.0; 3],
+            rows: vec![[2.0, 0.0, 0.0], [0.0, 0.10, 0.1001], [0.0, 100.0, 100.2]],
+        };
+        let best = FigureError {
+            in_plane_narrow: 50.0,
+            in_plane_wide: 500.0,
+            wide_fraction: 0.1,
+            out_of_plane: 0.0,
+        };
+        let target = Diameters {
+            hpd: 200.0,
+            d80: 400.0,
+            d90: 500.0,
+        };
+        let mut e = parameter_errors(&j, &best, [0.1; 3], &target, 0.01).unwrap();
+        let eval = |stage: &str, p: FigureError, error: f64| Evaluation {
+            index: 0,
+            parameters: p,
+            diameters: Some(target.clone()),
+            error,
+            stage: stage.into(),
+        };
+        let history = [
+            eval("global", best, 0.1),
+            eval(
+                "local",
+                FigureError {
+                    in_plane_narrow: 51.0,
+                    ..best
+                },
+                0.2,
+            ),
+            eval("local", best, 0.05),
+        ];
+        e.assess(&[0, 1, 2], &Bounds::default(), &history);
+        assert!(
+            e.verdicts[0].starts_with("constrained"),
+            "{}",
+            e.verdicts[0]
+        );
+        assert!(
+            e.verdicts[1].starts_with("unconstrained"),
+            "{}",
+            e.verdicts[1]
+        );
+        assert!(e.verdicts[2].contains("constrained"), "{}", e.verdicts[2]);
+        assert!(e.verdicts[2].contains("never moved"), "{}", e.verdicts[2]);
+        assert_eq!(e.degenerate.len(), 1, "{:?}", e.degenerate);
+        assert!(e.degenerate[0].starts_with("in_plane_wide and wide_fraction"));
+        assert!(e.quoted(0).contains("50.0 ±"), "{}", e.quoted(0));
     }
 
     /// With as many diameters as parameters, the covariance is J⁻¹ S J⁻ᵀ: for a
