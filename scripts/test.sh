@@ -22,7 +22,7 @@ cargo test --release "$@" || failed+=("Rust tests (cargo test --release)")
 shared_rust=$(grep -c '^fn shared_solar_' tests/it/solar.rs || true)
 if [ -d ../shared/solar ]; then
   if [ $# -eq 0 ]; then
-    cargo test --release --test it -- --ignored shared_solar_ ||
+    cargo test --release -- --ignored shared_solar_ ||
       failed+=("Rust tests that need ../shared/solar/")
   fi
 else
