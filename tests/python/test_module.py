@@ -680,3 +680,32 @@ def test_reflectivity_tables_are_cached_between_builds(tmp_path, monkeypatch, ca
     second = traxer.Scene(WOLTER, defines={"coating": "gold"}).trace(5000, seed=2)
     assert "building" not in capsys.readouterr().err
     assert first["sensor"].flux.tobytes() == second["sensor"].flux.tobytes()
+
+
+def test_couplings_an_emission_lacks_or_that_underflow_are_refused_by_name():
+    """Before: builtin("primakoff", g_ae=...) ignored g_ae, and g_ae=1e-200 gave
+    an emission of exactly zero without a word (issue 39)."""
+    with pytest.raises(traxer.InputError, match="g_ae is the coupling of the ABC emission"):
+        traxer.SolarEmission.builtin("primakoff", g_ae=1e-12)
+    with pytest.raises(traxer.InputError, match="g_agamma is the coupling of the Primakoff"):
+        traxer.SolarEmission.builtin("abc", g_agamma=1e-11)
+    with pytest.raises(traxer.InputError, match=r"g_ae = 1e-200: .*underflow"):
+        traxer.SolarEmission.builtin("abc", g_ae=1e-200)
+    with pytest.raises(traxer.InputError, match='lower case: "abc"'):
+        traxer.SolarEmission.builtin("ABC")
+
+
+def test_save_refuses_a_folder_of_another_run_unless_asked_to_replace(tmp_path):
+    """A results folder never silently takes the results of a run with other
+    inputs: save() refuses it, naming the difference, unless replace=True."""
+    scene = traxer.Scene(REPO / "scenes" / "wolter1_parallel.toml")
+    first = scene.trace(1000, seed=1)
+    first.save(tmp_path / "run")
+    flux = np.load(tmp_path / "run" / "sensor.npy").sum()
+    other = scene.trace(1000, seed=2)
+    with pytest.raises(traxer.InputError, match="seed 2, not 1"):
+        other.save(tmp_path / "run")
+    assert np.load(tmp_path / "run" / "sensor.npy").sum() == flux
+    first.save(tmp_path / "run")  # the same run again: nothing lost
+    other.save(tmp_path / "run", replace=True)
+    assert np.load(tmp_path / "run" / "sensor.npy").sum() != flux
