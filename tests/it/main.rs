@@ -4,6 +4,7 @@
 mod analysis;
 mod common;
 mod determinism;
+mod doc_numbers;
 mod docs;
 mod effective_area;
 mod embree_parity;
