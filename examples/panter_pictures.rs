@@ -38,7 +38,7 @@ fn main() -> anyhow::Result<()> {
             let provenance = Provenance::new(&invocation, Some(device.info().version))
                 .scene(&scene)
                 .run(&cfg, result.threads);
-            write_run(&dir, &scene, &result, &provenance, false)?;
+            write_run(&dir, &scene, &result, &provenance, None)?;
             let spec = &scene.sensors[0];
             let (q, eef) = analyse(
                 &result.images[0].flux_summed(spec),

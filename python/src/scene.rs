@@ -181,7 +181,13 @@ impl Scene {
         let every = crate::run::checkpoint_interval(checkpoint_every)?;
         match out {
             Some(out) => {
-                return self.trace_to_folder(py, cfg, &out, every, progress, replace, &invocation)
+                return self.trace_to_folder(
+                    py,
+                    (cfg, &out),
+                    (every, replace),
+                    progress,
+                    &invocation,
+                )
             }
             None if every.is_some() => return Err(input(
                 "checkpoint_every needs out=FOLDER: the checkpoint is kept in the results folder",
@@ -262,15 +268,15 @@ impl Scene {
 }
 
 impl Scene {
-    /// `trace` into the results folder `out` (`traxer::run::TraceJob`).
+    /// `trace` into the results folder `out` (`traxer::run::TraceJob`), keeping
+    /// a checkpoint there every `every` and replacing a run of other inputs
+    /// only if `replace`.
     fn trace_to_folder(
         &self,
         py: Python<'_>,
-        cfg: RunConfig,
-        out: &std::path::Path,
-        every: Option<std::time::Duration>,
+        (cfg, out): (RunConfig, &std::path::Path),
+        (every, replace): (Option<std::time::Duration>, bool),
         progress: bool,
-        replace: bool,
         invocation: &Invocation,
     ) -> PyResult<TraceResult> {
         let job = TraceJob {

@@ -8,6 +8,7 @@
 //! `traxer eef` calls it on any `.npy` image; `traxer focus` on a sweep of
 //! sensor positions, whose diameters [`focus::fit_defocus`] fits.
 
+pub mod centre;
 pub mod eef;
 mod finished;
 pub mod focus;

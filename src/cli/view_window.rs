@@ -326,7 +326,7 @@ fn save(
     for (p, c) in png.pixels_mut().zip(frame) {
         *p = image::Rgb([(c >> 16) as u8, (c >> 8) as u8, *c as u8]);
     }
-    write_run(folder.path(), scene, &result, &provenance, false)
+    write_run(folder.path(), scene, &result, &provenance, None)
         .and_then(|_| write_rgb_png(&folder.path().join("frame.png"), &png))
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot save into {}", dir.display()))?;

@@ -18,10 +18,11 @@
 //! - WCS `A` ("FOCAL PLANE ANGLE"): `XANG`/`YANG` in arcsec, the plate scale
 //!   206264.806″ / f per mm at the sensor's focal length f (the small-angle
 //!   scale: atan(x/f) is smaller by (x/f)²/3 relative, 7e-6 at the edge of a
-//!   14 mm sensor at 1.5 m); WCS `S` ("SKY OFFSET"): `XSKY`/`YSKY`, minus those
-//!   angles, the offset on the sky (along the sensor's local axes) of a source
-//!   that images at the pixel, since the telescope inverts the image; only when
-//!   the sensor has a focal length;
+//!   14 mm sensor at 1.5 m) — a definition, not the sky; only when the sensor
+//!   has a focal length;
+//! - WCS `S` ("HELIOPROJECTIVE"), for a Sun scene: `HPLN-TAN`/`HPLT-TAN` in
+//!   arcsec from the Sun's centre, from the map `studies::sky` measures by
+//!   tracing (see [`sky_axes`]);
 //! - energy-binned: axis 3 `ENERGY` in keV at the band centres;
 //! - BUNIT, E_MIN/E_MAX (keV), and the provenance as keywords (the whole record,
 //!   with the command line and the variables, is in `NAME.json`).
@@ -29,6 +30,7 @@
 use super::Provenance;
 use crate::files::atomic_write;
 use crate::sensor::SensorSpec;
+use crate::studies::sky::SkyCalibration;
 use fitsio::images::{ImageDescription, ImageType};
 use fitsio::FitsFile;
 use std::path::Path;
@@ -53,6 +55,8 @@ pub struct SensorFits<'a> {
     pub provenance: &'a Provenance,
     /// The sensor's JSON file, which holds the whole provenance record.
     pub json_name: &'a str,
+    /// Where the sky images on the sensor (a Sun scene), for the WCS `S`.
+    pub sky: Option<&'a SkyCalibration>,
 }
 
 /// Writes a sensor's image as the FITS file `path`.
@@ -78,6 +82,11 @@ pub fn write_sensor_fits(path: &Path, image: &SensorFits) -> std::io::Result<()>
         "position on the sensor (local axes)",
     );
     angular_axes(&mut keys, image, first, pitch);
+    let frame = PixelFrame {
+        origin: first,
+        m: [[pitch[0], 0.0], [0.0, pitch[1]]],
+    };
+    sky_axes(&mut keys, image, &frame);
     if let Some((lo, hi, n)) = spec.energy_bins {
         let width = (hi - lo) / n as f64;
         let axis = LinearAxis {
@@ -87,7 +96,10 @@ pub fn write_sensor_fits(path: &Path, image: &SensorFits) -> std::io::Result<()>
             step: width,
         };
         for alt in ["", "A", "S"] {
-            if alt.is_empty() || spec.focal_length.is_some() {
+            if alt.is_empty()
+                || (alt == "A" && spec.focal_length.is_some())
+                || (alt == "S" && image.sky.is_some())
+            {
                 keys.axis(3, alt, &axis, "photon energy band");
             }
         }
@@ -122,6 +134,16 @@ pub fn write_grid_fits(
     keys.float("GRIDCX", grid.center_mm[0], "[mm] grid centre, sensor x");
     keys.float("GRIDCY", grid.center_mm[1], "[mm] grid centre, sensor y");
     angular_axes(&mut keys, image, first, [p, p]);
+    // Grid pixel → sensor-local: the grid's centre plus its turned axes.
+    let (s, c) = grid.rotation_deg.to_radians().sin_cos();
+    let frame = PixelFrame {
+        origin: [
+            grid.center_mm[0] + c * first[0] - s * first[1],
+            grid.center_mm[1] + s * first[0] + c * first[1],
+        ],
+        m: [[c * p, -s * p], [s * p, c * p]],
+    };
+    sky_axes(&mut keys, image, &frame);
     provenance_keys(&mut keys, image.provenance, image.json_name);
     write_fits(path, &[gy, gx], flux, keys)
 }
@@ -156,11 +178,9 @@ fn image_keys(keys: &mut Keys, image: &SensorFits) {
     );
 }
 
-/// With a focal length, two angular WCS: `A`, the focal-plane angle (position
-/// / focal length, along the image's axes), and `S`, the sky offset of the
-/// source that images there, which is minus the focal-plane angle: a focusing
-/// telescope inverts the image (a source 3′ towards +x on the sky lands 3′
-/// towards −x on the sensor).
+/// With a focal length, the angular WCS `A`: the focal-plane angle (position /
+/// focal length, along the image's axes). It is a definition, not the sky: a
+/// real telescope's plate scale differs from f·θ (see [`sky_axes`]).
 fn angular_axes(keys: &mut Keys, image: &SensorFits, first: [f64; 2], step: [f64; 2]) {
     let Some(f_mm) = image.spec.focal_length else {
         return;
@@ -176,26 +196,115 @@ fn angular_axes(keys: &mut Keys, image: &SensorFits, first: [f64; 2], step: [f64
         };
         keys.axis(i + 1, "A", &axis, "focal-plane angle = position / f");
     }
+    keys.float("FOCALLEN", f_mm, "[mm] focal length of the angular WCS");
+}
+
+/// FITS pixel (1-based) to sensor-local mm: local = origin + m · (p − 1).
+struct PixelFrame {
+    origin: [f64; 2],
+    m: [[f64; 2]; 2],
+}
+
+/// The inverse of a 2 × 2 matrix (the callers' matrices are checked regular).
+fn inverse(a: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    [
+        [a[1][1] / det, -a[0][1] / det],
+        [-a[1][0] / det, a[0][0] / det],
+    ]
+}
+
+fn product(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
+    [0, 1].map(|r| [0, 1].map(|c| a[r][0] * b[0][c] + a[r][1] * b[1][c]))
+}
+
+/// For a Sun scene, the WCS `S`: helioprojective coordinates (HPLN, HPLT, in
+/// arcsec from the Sun's centre, gnomonic) from the map measured by tracing
+/// (`studies::sky`): the reference pixel is where the Sun's centre images,
+/// and CDELT·PC = J⁻¹·(pixel → mm), J the measured mm per arcsec, so the plate
+/// scale, the detector's turn and the image's inversion are all in it. HPLN
+/// runs along the scene's `offset_arcmin[0]` axis and HPLT along
+/// `offset_arcmin[1]` (a right-handed sky, as seen from the detector): where
+/// solar west and north lie depends on the day and hour of an observation,
+/// which a scene does not have.
+fn sky_axes(keys: &mut Keys, image: &SensorFits, frame: &PixelFrame) {
+    let Some(sky) = image.sky else {
+        return;
+    };
+    let to_sky = inverse(sky.mm_per_arcsec);
+    let cd = product(to_sky, frame.m);
+    let m_inv = inverse(frame.m);
+    let d = [
+        sky.centre_mm[0] - frame.origin[0],
+        sky.centre_mm[1] - frame.origin[1],
+    ];
+    let crpix = [0, 1].map(|r| 1.0 + m_inv[r][0] * d[0] + m_inv[r][1] * d[1]);
     keys.text(
         "WCSNAMES",
-        "SKY OFFSET",
-        "source offset on the sky = -(angle A)",
+        "HELIOPROJECTIVE",
+        "sky from the Sun's centre, measured by tracing",
     );
-    for (i, name) in ["XSKY", "YSKY"].iter().enumerate() {
-        let axis = LinearAxis {
-            ctype: name,
-            unit: "arcsec",
-            first: -first[i] * scale,
-            step: -step[i] * scale,
-        };
-        keys.axis(
-            i + 1,
-            "S",
-            &axis,
-            "sky offset along the axis (image inverted)",
+    for (i, (ctype, what)) in [
+        ("HPLN-TAN", "along the scene's offset_arcmin[0] axis"),
+        ("HPLT-TAN", "along the scene's offset_arcmin[1] axis"),
+    ]
+    .iter()
+    .enumerate()
+    {
+        let k = i + 1;
+        let cdelt = cd[i][0].hypot(cd[i][1]);
+        keys.text(&format!("CTYPE{k}S"), ctype, what);
+        keys.text(&format!("CUNIT{k}S"), "arcsec", "");
+        keys.float(
+            &format!("CRPIX{k}S"),
+            crpix[i],
+            "where the Sun's centre images",
         );
+        keys.float(&format!("CRVAL{k}S"), 0.0, "[arcsec] the Sun's centre");
+        keys.float(&format!("CDELT{k}S"), cdelt, "[arcsec] per pixel");
+        for (j, value) in cd[i].iter().enumerate() {
+            keys.float(
+                &format!("PC{k}_{}S", j + 1),
+                value / cdelt,
+                "measured scale, turn and inversion",
+            );
+        }
     }
-    keys.float("FOCALLEN", f_mm, "[mm] focal length of the angular WCS");
+    keys.float(
+        "DSUN_OBS",
+        sky.sun_distance_mm / 1000.0,
+        "[m] distance from the Sun's centre",
+    );
+    keys.float(
+        "SKYSCALE",
+        sky.plate_scale_mm_per_arcmin(),
+        "[mm/arcmin] measured plate scale (WCS S)",
+    );
+    keys.float(
+        "SKYSCERR",
+        sky.plate_scale_error(),
+        "[mm/arcmin] its 1 sigma statistical error",
+    );
+    keys.float(
+        "SKYROT",
+        sky.rotation_deg(),
+        "[deg] image of the sky's +HPLN, ccw from x",
+    );
+    keys.float(
+        "SKYCERR",
+        sky.centre_error_mm[0].hypot(sky.centre_error_mm[1]),
+        "[mm] 1 sigma error of the Sun centre's image",
+    );
+    keys.float(
+        "SKYSTEP",
+        sky.step_arcmin,
+        "[arcmin] pointing step of the measurement",
+    );
+    keys.int(
+        "SKYPHOT",
+        sky.photons_per_pointing as i64,
+        "photons traced per pointing",
+    );
 }
 
 /// Writes `data` of `dims` (slowest first) with `keys` as the FITS file `path`,

@@ -14,6 +14,7 @@ use crate::files::atomic_write;
 use crate::scene::Scene;
 use crate::sensor::{fits_file_name, grid_fits_file_name, sensor_file_names, SUMMARY_FILE};
 use crate::source::Source;
+use crate::studies::sky::SkyCalibration;
 use crate::trace::RunResult;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -39,13 +40,14 @@ pub fn run_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<Strin
 }
 
 /// Writes every output of a run into `dir` (created if needed), with each sensor's
-/// image as FITS too if `fits`; returns the paths.
+/// image as FITS too if `fits` is given: per sensor, where the sky images on it
+/// (`studies::sky`, for a Sun scene; `None` otherwise); returns the paths.
 pub fn write_run(
     dir: &Path,
     scene: &Scene,
     result: &RunResult,
     provenance: &Provenance,
-    fits: bool,
+    fits: Option<&[Option<SkyCalibration>]>,
 ) -> std::io::Result<Vec<PathBuf>> {
     crate::files::create_dir_all(dir)?;
     let mut written = Vec::new();
@@ -55,12 +57,13 @@ pub fn write_run(
     // A Sun makes images in axions per second (it is then the only source).
     let absolute = scene.rate_per_unit_weight(photons);
     let mut sensor_summaries = Vec::new();
-    for (spec, image) in scene.sensors.iter().zip(&result.images) {
+    for (k, (spec, image)) in scene.sensors.iter().zip(&result.images).enumerate() {
         let run = RunJson {
             provenance,
             sources: &sources,
             stats: &stats,
-            fits,
+            fits: fits.is_some(),
+            sky: fits.and_then(|f| f.get(k)).and_then(Option::as_ref),
         };
         let (summary, files) = write_sensor(dir, scene, spec, image, absolute, &run)?;
         sensor_summaries.push(summary);
@@ -94,6 +97,8 @@ struct RunJson<'a> {
     stats: &'a Value,
     /// Also write the image as FITS.
     fits: bool,
+    /// Where the sky images on this sensor (FITS WCS `S`), for a Sun scene.
+    sky: Option<&'a SkyCalibration>,
 }
 
 /// Writes one sensor's files (flux and counts `.npy`, PNGs, EEF plot,
@@ -126,6 +131,7 @@ fn write_sensor(
             energy_kev: image_energy_range(scene, spec),
             provenance: run.provenance,
             json_name: &files[4],
+            sky: run.sky,
         };
         written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
@@ -168,6 +174,13 @@ fn write_sensor(
         "image_quality": finished.image_quality(),
         "total_counts": image.total_counts(),
         "pixel_grid": grid,
+        "sky_wcs": run.sky.map(|c| json!({
+            "what": "where the sky images on this sensor, measured by tracing the scene's Sun at its offset and ±step along each axis (the FITS WCS S, helioprojective: HPLN along the scene's offset_arcmin[0] axis, HPLT along offset_arcmin[1], origin at the Sun's centre); errors are 1σ statistical (even vs odd photon chunks)",
+            "calibration": c,
+            "plate_scale_mm_per_arcmin": c.plate_scale_mm_per_arcmin(),
+            "plate_scale_error_mm_per_arcmin": c.plate_scale_error(),
+            "rotation_deg": c.rotation_deg(),
+        })),
         "conversion": conversion,
         "history": history_json(scene, image, absolute.unwrap_or(1.0)),
         "files": {

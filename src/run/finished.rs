@@ -69,7 +69,21 @@ pub fn write_results(
     };
     write_state(&folder.path().join(RUN_STATE_FILE), header.clone(), &tally).map_err(failed)?;
     let result = tally.into_result(header.identity.photon_list, header.seconds, threads);
-    let files = write_run(folder.path(), scene, &result, provenance, fits).map_err(failed)?;
+    // FITS carries the sky's frame, measured by tracing (a Sun scene only).
+    let sky: Vec<_> = match fits {
+        true => (0..scene.sensors.len())
+            .map(|k| crate::studies::sky::calibrate(scene, k))
+            .collect(),
+        false => Vec::new(),
+    };
+    let files = write_run(
+        folder.path(),
+        scene,
+        &result,
+        provenance,
+        fits.then_some(&sky[..]),
+    )
+    .map_err(failed)?;
     folder.commit().map_err(failed)?;
     Ok((files.len() + 1, result))
 }

@@ -431,7 +431,7 @@ mod tests {
         let eval = |stage: &str, p: FigureError, error: f64| Evaluation {
             index: 0,
             parameters: p,
-            diameters: Some(target.clone()),
+            diameters: Some(target),
             error,
             stage: stage.into(),
         };

@@ -12,6 +12,7 @@ pub mod fit;
 pub mod fit_errors;
 pub mod focus;
 mod measure;
+pub mod sky;
 
 pub use measure::{measure_arcsec, pick_sensor, trace_and_measure, Diameters, Measured};
 

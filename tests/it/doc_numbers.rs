@@ -151,12 +151,35 @@ fn the_readme_printouts_and_the_strongback_numbers_come_out_of_their_commands() 
         assert_quoted("README.md", &line);
     }
     let cast = stdout(
-        &["trace", "scenes/cast_axion_image.toml", "-n", "1e6"],
+        &[
+            "trace",
+            "scenes/cast_axion_image.toml",
+            "-n",
+            "1e6",
+            "--fits",
+        ],
         &dir.path().join("cast"),
     );
     for line in printout(&cast) {
         assert_quoted("README.md", &line);
     }
+    // The sky WCS's measured plate scale and turn.
+    let sky: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("cast/chip.json")).unwrap())
+            .unwrap();
+    let sky = &sky["sensor"]["sky_wcs"];
+    let f = |k: &str| sky[k].as_f64().unwrap();
+    assert_quoted(
+        "README.md",
+        &format!(
+            "{:.4} ± {:.4} mm per arcmin ({:.0} % of f·θ), the image turned by {:.1}°",
+            f("plate_scale_mm_per_arcmin"),
+            f("plate_scale_error_mm_per_arcmin"),
+            100.0 * f("plate_scale_mm_per_arcmin") / (1500.0 * std::f64::consts::PI / 180.0 / 60.0),
+            f("rotation_deg")
+        )
+        .replace('-', "−"),
+    );
     // The strongback as built: what the README and docs/cast.md say it changes.
     stdout(
         &[

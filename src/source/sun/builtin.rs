@@ -222,7 +222,8 @@ fn check_representable(
         .filter(|w| *w > 0.0)
         .fold(f64::INFINITY, f64::min);
     let factor = (g / g_ref).powi(2);
-    if smallest.is_finite() && !(smallest * factor >= f64::MIN_POSITIVE) {
+    // (NaN never comes here: g is checked finite and positive.)
+    if smallest.is_finite() && smallest * factor < f64::MIN_POSITIVE {
         let lowest = g_ref * (f64::MIN_POSITIVE / smallest).sqrt();
         return Err(format!(
             "{name}{g:e}: the emission scales as the coupling squared, ({g:e}/{g_ref:e})² = {factor:.3e}, and its rates would underflow to zero in double precision (the emission would come out zero, or with its weakest parts missing); give a coupling of at least {lowest:.1e}"

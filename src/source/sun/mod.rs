@@ -217,9 +217,7 @@ impl SunDesc {
                 "sun: the emission table emits nothing between {e_min} and {e_max} keV"
             ))
         })?;
-        let (e1, e2) = frame(axis);
-        let [ox, oy] = p.offset_arcmin.map(|a| (a / 60.0).to_radians().tan());
-        let toward_sun = (axis + e1 * ox + e2 * oy).normalize();
+        let toward_sun = toward_sun(axis, p.offset_arcmin);
         let distance_mm = p.distance_au * AU_CM * 10.0;
         let nearest = distance_mm - R_SUN_MM - p.target.radius;
         Ok(SunSource {
@@ -243,7 +241,26 @@ impl SunDesc {
     }
 }
 
+/// The unit vector towards the Sun's centre offset by `offset_arcmin` along the
+/// target frame's e1 and e2 from `axis`.
+fn toward_sun(axis: DVec3, offset_arcmin: [f64; 2]) -> DVec3 {
+    let (e1, e2) = frame(axis);
+    let [ox, oy] = offset_arcmin.map(|a| (a / 60.0).to_radians().tan());
+    (axis + e1 * ox + e2 * oy).normalize()
+}
+
 impl SunSource {
+    /// The same Sun with its centre offset by `offset_arcmin` instead (along
+    /// e1 and e2, as the scene's `offset_arcmin`): for measuring where the sky
+    /// images.
+    pub fn with_offset(&self, offset_arcmin: [f64; 2]) -> SunSource {
+        SunSource {
+            toward_sun: toward_sun(self.target_normal, offset_arcmin),
+            offset_arcmin,
+            ..self.clone()
+        }
+    }
+
     #[inline]
     pub fn emit(&self, rng: &mut PhotonRng) -> Photon {
         let (r, energy) = self.sampler.sample(rng);
