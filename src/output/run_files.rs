@@ -174,13 +174,7 @@ fn write_sensor(
         "image_quality": finished.image_quality(),
         "total_counts": image.total_counts(),
         "pixel_grid": grid,
-        "sky_wcs": run.sky.map(|c| json!({
-            "what": "where the sky images on this sensor, measured by tracing the scene's Sun at its offset and ±step along each axis (the FITS WCS S, helioprojective: HPLN along the scene's offset_arcmin[0] axis, HPLT along offset_arcmin[1], origin at the Sun's centre); errors are 1σ statistical (even vs odd photon chunks)",
-            "calibration": c,
-            "plate_scale_mm_per_arcmin": c.plate_scale_mm_per_arcmin(),
-            "plate_scale_error_mm_per_arcmin": c.plate_scale_error(),
-            "rotation_deg": c.rotation_deg(),
-        })),
+        "sky_wcs": run.sky.map(sky_wcs_json),
         "conversion": conversion,
         "history": history_json(scene, image, absolute.unwrap_or(1.0)),
         "files": {
@@ -278,6 +272,17 @@ fn write_fits_files(
         written.push(path);
     }
     Ok(written)
+}
+
+/// Where the sky images on a sensor, for `NAME.json` (the FITS WCS `S`).
+fn sky_wcs_json(c: &SkyCalibration) -> Value {
+    json!({
+        "what": "where the sky images on this sensor, measured by tracing the scene's Sun at its offset and ±step along each axis (the FITS WCS S, helioprojective: HPLN along the scene's offset_arcmin[0] axis, HPLT along offset_arcmin[1], origin at the Sun's centre); errors are 1σ statistical (even vs odd photon chunks)",
+        "calibration": c,
+        "plate_scale_mm_per_arcmin": c.plate_scale_mm_per_arcmin(),
+        "plate_scale_error_mm_per_arcmin": c.plate_scale_error(),
+        "rotation_deg": c.rotation_deg(),
+    })
 }
 
 /// What a sensor's pixel values are, in words, for `NAME.json`.
