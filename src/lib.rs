@@ -47,6 +47,7 @@ pub mod scene;
 pub mod sensor;
 pub mod source;
 pub mod studies;
+pub mod text;
 pub mod trace;
 pub mod xray;
 

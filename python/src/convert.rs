@@ -11,7 +11,7 @@ use pyo3::types::{IntoPyDict, PyDict, PyList, PyString, PyTuple};
 
 /// Checks a thread count: 0 (one per core) to `traxer::run::MAX_THREADS`.
 pub fn threads(n: usize) -> PyResult<usize> {
-    traxer::run::check_threads(n).map_err(|e| input(e.0))
+    traxer::run::check_threads(n, traxer::run::FrontEnd::Python).map_err(|e| input(e.0))
 }
 
 /// Scene variables as the CLI's `-D name=value`: from a mapping {name: value} or

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use std::time::Instant;
 use traxer::embree::Device;
 use traxer::output::Provenance;
-use traxer::run::{Invocation, RunPart, RunSettings, Shard, TraceJob};
+use traxer::run::{FrontEnd, Invocation, RunPart, RunSettings, Shard, TraceJob};
 use traxer::trace::{run_part, Flow, RunConfig, Tally};
 
 /// A scene and the Embree device it was built on (the device must outlive it).
@@ -166,8 +166,8 @@ impl Scene {
     ) -> PyResult<TraceResult> {
         let checkpoint_every = optional("checkpoint_every", checkpoint_every, Unit::Second)?;
         let photons = crate::convert::count("photons", photons, 1)?;
-        let cfg =
-            traxer::run::run_config(photons, seed, threads, photon_list).map_err(|e| input(e.0))?;
+        let cfg = traxer::run::run_config(photons, seed, threads, photon_list, FrontEnd::Python)
+            .map_err(|e| input(e.0))?;
         let scene = &self.loaded.scene;
         traxer::studies::require_sources(scene).map_err(lib)?;
         let invocation = Invocation::new([

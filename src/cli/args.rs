@@ -72,7 +72,13 @@ pub struct RunArgs {
 impl RunArgs {
     /// The library's run configuration, checked.
     pub fn config(&self) -> Result<RunConfig, InputError> {
-        traxer::run::run_config(self.photons, self.sampling.seed, self.sampling.threads, 0)
+        traxer::run::run_config(
+            self.photons,
+            self.sampling.seed,
+            self.sampling.threads,
+            0,
+            traxer::run::FrontEnd::Cli,
+        )
     }
 }
 

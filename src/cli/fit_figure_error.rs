@@ -278,8 +278,11 @@ fn prediction_scenes(a: &FitFigureErrorArgs) -> anyhow::Result<Vec<(Scene, usize
                 scene: path.clone(),
                 vars: a.scene.vars.clone(),
             };
-            let (_, scene) = load_xray_scene(&args)?;
-            let sensor = pick_sensor(&scene, a.sensor.as_deref())?;
+            let (_, scene) = load_xray_scene(&args)
+                .map_err(|e| e.context(format!("--predict {}", path.display())))?;
+            let sensor = pick_sensor(&scene, a.sensor.as_deref())
+                .map_err(|e| InputError(format!("--predict {}: {e}", path.display())))?;
+            check_predictable(&scene, sensor, path)?;
             if scene.sensors[sensor].focal_length.is_none() {
                 return Err(InputError(format!(
                     "{}: sensor `{}` has no focal_length, which the diameters in arcseconds need",
@@ -291,6 +294,36 @@ fn prediction_scenes(a: &FitFigureErrorArgs) -> anyhow::Result<Vec<(Scene, usize
             Ok((scene, sensor))
         })
         .collect()
+}
+
+/// Photons of the trial trace that checks a --predict scene before the fit.
+const TRIAL_PHOTONS: u64 = 20_000;
+
+/// Refuses, before the fit runs, a --predict scene whose diameters the fitted
+/// figure errors cannot predict: one without a mirror for them to act on, or
+/// one where no photon of a short trial trace reaches the sensor.
+fn check_predictable(scene: &Scene, sensor: usize, path: &std::path::Path) -> anyhow::Result<()> {
+    let mirrors = scene
+        .objects
+        .iter()
+        .any(|o| matches!(o.material, traxer::material::Material::Mirror { .. }));
+    if !mirrors {
+        return Err(InputError(format!(
+            "--predict {}: the scene has no mirror for the fitted figure errors to act on",
+            path.display()
+        ))
+        .into());
+    }
+    let trial = traxer::trace::run(scene, &traxer::trace::RunConfig::new(TRIAL_PHOTONS, 1))?;
+    if trial.images[sensor].total_flux() <= 0.0 {
+        return Err(InputError(format!(
+            "--predict {}: no photon of a {TRIAL_PHOTONS}-photon trial trace reaches sensor `{}`, so its diameters cannot be predicted (check the sensor's place and the sources)",
+            path.display(),
+            scene.sensors[sensor].name
+        ))
+        .into());
+    }
+    Ok(())
 }
 
 /// The fitted parameters' errors (from the fit scene's sensitivity, the seed
@@ -315,7 +348,12 @@ fn errors_and_predictions(
                 sensor: *sensor,
                 ..settings.clone()
             };
-            predict(s, &here, p, &errors, a.predict_seeds, progress)
+            predict(s, &here, p, &errors, a.predict_seeds, progress).map_err(|e| match e {
+                traxer::studies::StudyError::Input(m) => traxer::studies::StudyError::Input(
+                    format!("--predict {}: {m}", s.path.display()),
+                ),
+                other => other,
+            })
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok((errors, predictions))

@@ -78,7 +78,7 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     };
     cfg.first_photon = shard.range().start;
     cfg.photons = shard.photons();
-    cfg.photon_list = traxer::run::check_photon_list(a.photon_list)?;
+    cfg.photon_list = traxer::run::check_photon_list(a.photon_list, traxer::run::FrontEnd::Cli)?;
     let scene_args = SceneArgs {
         scene: a
             .scene
@@ -109,7 +109,8 @@ fn checkpoint_interval(s: Option<f64>) -> Result<Option<Duration>, InputError> {
         None => Ok(None),
         Some(v) if (0.0..1e9).contains(&v) => Ok(Some(Duration::from_secs_f64(v))),
         Some(v) => Err(InputError(format!(
-            "--checkpoint-every {v}: expected seconds between checkpoints, 0 or more"
+            "--checkpoint-every {}: expected seconds between checkpoints, 0 or more",
+            traxer::text::number(v)
         ))),
     }
 }

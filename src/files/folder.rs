@@ -84,6 +84,18 @@ fn kept_entries(dir: &Path) -> Vec<OsString> {
         .collect()
 }
 
+/// Whether `dir` is a folder that another running traxer holds (its exclusive
+/// lock, taken by [`OutputFolder::prepare`]).
+fn held_by_a_running_traxer(dir: &Path) -> bool {
+    dir.is_dir()
+        && File::open(dir).is_ok_and(|f| {
+            matches!(
+                rustix::fs::flock(&f, rustix::fs::FlockOperation::NonBlockingLockShared),
+                Err(rustix::io::Errno::WOULDBLOCK)
+            )
+        })
+}
+
 /// Whether `file` is a temporary file [`super::atomic_write`] makes for one of
 /// `names` (`.NAME.XXXXXX.tmp`): files written straight into a results folder
 /// (a run's checkpoint) leave one behind when the process is killed mid-write.
@@ -165,6 +177,19 @@ impl OutputFolder {
             Err(_) => false,
         };
         let foreign = foreign_files(target, names).map_err(|e| fail(target, e.to_string()))?;
+        // A folder inside that a running traxer holds (a study writing its first
+        // results there) is not foreign: it is busy, and this run would swap the
+        // folder that holds it.
+        let busy: Vec<&String> = foreign
+            .iter()
+            .filter(|n| held_by_a_running_traxer(&target.join(n)))
+            .collect();
+        if let Some(first) = busy.first() {
+            return Err(fail(
+                &target.join(first),
+                "a traxer run or study is writing its results here right now: wait for it to finish, then run again (this run would replace the folder that holds it)",
+            ));
+        }
         // Only if the lock was had: otherwise the file may be a live run's.
         if foreign.is_empty() && locked {
             remove_stale_temporaries(target, names);

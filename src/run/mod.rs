@@ -53,42 +53,65 @@ pub const MAX_PHOTON_LIST: usize = 20_000_000;
 /// More worker threads than this is a typo, not a machine.
 pub const MAX_THREADS: usize = 1024;
 
+/// Which front end asks, so that a message names a setting as its user wrote
+/// it: `--photon-list 5` on the command line, `photon_list=5` in Python.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FrontEnd {
+    Cli,
+    Python,
+}
+
+impl FrontEnd {
+    /// Setting `python_name` (its CLI option is the same with dashes) = `value`.
+    pub fn setting(self, python_name: &str, value: impl std::fmt::Display) -> String {
+        match self {
+            FrontEnd::Cli => format!("--{} {value}", python_name.replace('_', "-")),
+            FrontEnd::Python => format!("{python_name}={value}"),
+        }
+    }
+}
+
 /// The one validated run configuration of every front end: at least one photon,
 /// 0 (one per core) to [`MAX_THREADS`] threads, a photon list of at most
-/// [`MAX_PHOTON_LIST`]. Messages name the setting as `name=value`, which both
-/// the CLI's options and Python's arguments read.
+/// [`MAX_PHOTON_LIST`]. Messages name the setting as `front` spells it.
 pub fn run_config(
     photons: u64,
     seed: u64,
     threads: usize,
     photon_list: usize,
+    front: FrontEnd,
 ) -> Result<RunConfig, InputError> {
     if photons == 0 {
-        return Err(InputError("photons must be at least 1".into()));
+        return Err(InputError(format!(
+            "{}: photons must be at least 1",
+            front.setting("photons", photons)
+        )));
     }
-    check_threads(threads)?;
+    check_threads(threads, front)?;
     Ok(RunConfig {
         threads,
-        photon_list: check_photon_list(photon_list)?,
+        photon_list: check_photon_list(photon_list, front)?,
         ..RunConfig::new(photons, seed)
     })
 }
 
 /// A thread count checked: 0 (one per core) to [`MAX_THREADS`].
-pub fn check_threads(threads: usize) -> Result<usize, InputError> {
+pub fn check_threads(threads: usize, front: FrontEnd) -> Result<usize, InputError> {
     if threads > MAX_THREADS {
         return Err(InputError(format!(
-            "threads={threads}: expected 0 (one per core) to {MAX_THREADS} worker threads"
+            "{}: expected 0 (one per core) to {MAX_THREADS} worker threads",
+            front.setting("threads", threads)
         )));
     }
     Ok(threads)
 }
 
 /// The number of photons to list (`--photon-list`, `photon_list=`), checked.
-pub fn check_photon_list(n: usize) -> Result<usize, InputError> {
+pub fn check_photon_list(n: usize, front: FrontEnd) -> Result<usize, InputError> {
     if n > MAX_PHOTON_LIST {
         return Err(InputError(format!(
-            "photon_list={n}: at most {MAX_PHOTON_LIST} photons are listed"
+            "{}: at most {MAX_PHOTON_LIST} photons are listed",
+            front.setting("photon_list", n)
         )));
     }
     Ok(n)

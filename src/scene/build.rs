@@ -218,8 +218,11 @@ fn check_gas(
         for e in [e_min, e_max] {
             gas.attenuation_per_mm(e).map_err(|err| {
                 at.whole(format!(
-                    "sensor `{}`: the sources emit {e_min}–{e_max} keV, but its gas ({}) knows its photoabsorption only within the Henke tables: {err}; limit the sources' energies (e.g. energy_range of a sun source, or the band or table of a lab source)",
-                    s.name, gas.material.name
+                    "sensor `{}`: the sources emit {}–{} keV, but its gas ({}) knows its photoabsorption only within the Henke tables: {err}; limit the sources' energies (e.g. energy_range of a sun source, or the band or table of a lab source)",
+                    s.name,
+                    crate::text::number(e_min),
+                    crate::text::number(e_max),
+                    gas.material.name
                 ))
             })?;
         }

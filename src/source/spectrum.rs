@@ -179,7 +179,19 @@ fn read_table(path: &Path, name: &str) -> Result<SpectrumTable, String> {
                 )),
             }
         };
-        points.push((value(ce, "energy")?, value(cd, "density")?));
+        let point = (value(ce, "energy")?, value(cd, "density")?);
+        // Checked here, where the file's line is known (the table's own check
+        // can only count rows).
+        if let Some(&(before, _)) = points.last() {
+            if point.0 <= before {
+                return Err(format!(
+                    "line {}: energies must increase ({} keV after {before} keV)",
+                    i + 1,
+                    point.0
+                ));
+            }
+        }
+        points.push(point);
     }
     SpectrumTable::new(name.to_string(), points)
 }

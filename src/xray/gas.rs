@@ -253,13 +253,21 @@ fn exact_attenuation_per_mm(
 fn mass_fractions(
     mixture: &BTreeMap<String, f64>,
 ) -> Result<(Vec<(String, f64)>, f64), InvalidGas> {
-    let total: f64 = mixture.values().sum();
-    if mixture.is_empty()
-        || mixture.values().any(|x| !(x.is_finite() && *x > 0.0))
-        || (total - 1.0).abs() > 0.02
-    {
+    if mixture.is_empty() {
+        return Err(InvalidGas::from(
+            "mixture is empty: give each gas's fraction by volume, e.g. { Ar = 0.977, C4H10 = 0.023 }",
+        ));
+    }
+    if let Some((gas, x)) = mixture.iter().find(|(_, x)| !(x.is_finite() && **x > 0.0)) {
         return Err(InvalidGas::from(format!(
-            "mixture: fractions by volume must be positive and sum to 1 (they sum to {total})"
+            "mixture: {gas} = {}: a part's fraction by volume must be positive (leave out a gas that is not in the mixture)",
+            crate::text::number(*x)
+        )));
+    }
+    let total: f64 = mixture.values().sum();
+    if (total - 1.0).abs() > 0.02 {
+        return Err(InvalidGas::from(format!(
+            "mixture: fractions by volume must sum to 1 (they sum to {total:.6}; within 2 % they are normalised)"
         )));
     }
     let mut molar = Vec::new();

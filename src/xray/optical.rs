@@ -24,7 +24,7 @@ pub struct OpticalMaterial {
 
 /// An energy outside the tables.
 #[derive(Debug, thiserror::Error, PartialEq)]
-#[error("{energy_kev} keV is outside the Henke tables' range {HENKE_MIN_KEV}–{HENKE_MAX_KEV} keV")]
+#[error("{} keV is outside the Henke tables' range {HENKE_MIN_KEV}–{HENKE_MAX_KEV} keV", crate::text::number(*.energy_kev))]
 pub struct EnergyOutOfRange {
     pub energy_kev: f64,
 }

@@ -78,11 +78,36 @@ pub struct RoughnessDesc {
 /// How a scene gives a mirror's roughness: a preset of data/roughness.toml,
 /// `"none"` (a smooth surface, so a scene variable can switch the scatter off)
 /// or the PSD inline.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum RoughnessSpec {
     Named(String),
     Inline(RoughnessDesc),
+}
+
+/// The forms `roughness` takes, for messages.
+pub const ROUGHNESS_FORMS: &str = "a preset name of data/roughness.toml (e.g. \"slumped_glass_limit\"), \"none\", or a table { psd = { type = \"power_law\", k = …, n = … } or { type = \"k_correlation\", a = …, b = …, c = … }, band_per_um = [f1, f2] }";
+
+impl<'de> Deserialize<'de> for RoughnessSpec {
+    /// A string is a preset's name; a table is the PSD inline, whose own
+    /// mistakes (a missing key, a misspelt PSD type) are named with the forms
+    /// accepted, instead of serde's "did not match any variant".
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        use serde::de::Error;
+        match toml::Value::deserialize(d)? {
+            toml::Value::String(name) => Ok(RoughnessSpec::Named(name)),
+            table @ toml::Value::Table(_) => RoughnessDesc::deserialize(table)
+                .map(RoughnessSpec::Inline)
+                .map_err(|e| {
+                    D::Error::custom(format!(
+                        "roughness: {}; expected {ROUGHNESS_FORMS}",
+                        e.message().trim_end()
+                    ))
+                }),
+            other => Err(D::Error::custom(format!(
+                "roughness = {other}: expected {ROUGHNESS_FORMS}"
+            ))),
+        }
+    }
 }
 
 const SHIPPED: &str = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/data/roughness.toml"));

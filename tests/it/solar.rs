@@ -684,3 +684,26 @@ fn degenerate_solar_models_and_overflowing_couplings_are_refused_not_panicked() 
     let err = run_fails(traxer().arg("trace").arg(&scene).arg("-o").arg(&out), 2);
     assert!(err.contains("overflows") && err.contains("s.toml"), "{err}");
 }
+
+#[test]
+#[ignore = "needs ../shared/solar/: scripts/test.sh runs it (`-- --ignored shared_solar_`) where it is, and CI fails without it"]
+fn shared_solar_a_radius_outside_the_opacity_project_grid_is_named() {
+    // Before: the OP grid point was named, not the radius of the model that
+    // needed it.
+    let (model, op) = (
+        model_path().expect("../shared/solar/ is not here"),
+        op_dir().expect("../shared/solar/op is not here"),
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .args(["solar-flux", "--emission", "abc", "--model"])
+            .arg(&model)
+            .arg("--opacities")
+            .arg(&op)
+            .args(["--radii", "0.1,0.5,0.95", "--energies", "1,2,3", "-q", "-o"])
+            .arg(dir.path().join("o")),
+        2,
+    );
+    assert!(err.contains("r = 0.95"), "{err}");
+}

@@ -125,7 +125,12 @@ impl AbcPlasma {
                 other_z2 += s.charge * s.charge * n;
             }
         }
-        let cell = op.cell(shell.temperature_k, n_e_cm3)?;
+        let cell = op.cell(shell.temperature_k, n_e_cm3).map_err(|e| {
+            SolarDataError(format!(
+                "the solar model's shell at r = {:.4} R_sun: {}",
+                shell.radius, e.0
+            ))
+        })?;
         let metals_z2: f64 = metals
             .iter()
             .map(|&(k, n)| op.mean_charge2(&cell, k) * n)

@@ -159,8 +159,9 @@ pub fn checked_couplings(
     for (name, g) in [(names.g_agamma, g_agamma), (names.g_ae, g_ae)] {
         if let Some(g) = g.filter(|g| !(g.is_finite() && *g > 0.0)) {
             return Err(format!(
-                "{name}{}{g:e}: expected a positive coupling",
-                names.assign
+                "{name}{}{}: expected a positive coupling",
+                names.assign,
+                crate::text::number(g)
             ));
         }
     }

@@ -55,7 +55,7 @@ pub fn check_distance_au(what: &str, au: f64) -> Result<(), String> {
     if au.is_finite() && (lo..=hi).contains(&au) {
         Ok(())
     } else {
-        Err(format!("{what} {au}: expected a distance from the Sun in astronomical units, {lo} to {hi} (the Earth is at 0.983 to 1.017)"))
+        Err(format!("{what} {}: expected a distance from the Sun in astronomical units, {lo} to {hi} (the Earth is at 0.983 to 1.017)", crate::text::number(au)))
     }
 }
 
