@@ -63,7 +63,10 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
             });
             continue;
         }
-        let (part, had_normals) = model_mesh(path, &model)?;
+        let (part, had_normals, folded) = model_mesh(path, &model)?;
+        if let Some(note) = folded_note(&model.name, &folded) {
+            report.notes.push(note);
+        }
         report.normals_from_file &= had_normals;
         let mut piece = MeshPart {
             name: model.name.clone(),
@@ -105,15 +108,38 @@ fn check_text(path: &Path, bytes: &[u8]) -> Result<Option<String>, MeshError> {
     }))
 }
 
-/// One OBJ object as a checked mesh, and whether the file gave its normals.
-fn model_mesh(path: &Path, model: &tobj::Model) -> Result<(TriangleMesh, bool), MeshError> {
+/// The note for an object's quads that are not flat, split along their better
+/// diagonal: how many, which faces and how far folded.
+fn folded_note(object: &str, folded: &[(usize, f64)]) -> Option<String> {
+    let most = folded
+        .iter()
+        .map(|f| f.1)
+        .fold(None, |m: Option<f64>, f| Some(m.map_or(f, |m| m.max(f))))?;
+    let listed: Vec<String> = folded
+        .iter()
+        .take(5)
+        .map(|(face, fold)| format!("{face} ({fold:.1}°)"))
+        .collect();
+    Some(format!(
+        "object '{object}': {} quad(s) not flat enough to triangulate in one plane were split along the diagonal that folds them least (faces {}{}; the most folded by {most:.1}° between its two triangles)",
+        folded.len(),
+        listed.join(", "),
+        if folded.len() > 5 { ", ..." } else { "" }
+    ))
+}
+
+/// One OBJ object as a checked mesh, whether the file gave its normals, and
+/// its quads split along their better diagonal (face number, fold in degrees).
+type ModelMesh = (TriangleMesh, bool, Vec<(usize, f64)>);
+
+fn model_mesh(path: &Path, model: &tobj::Model) -> Result<ModelMesh, MeshError> {
     let m = &model.mesh;
     let positions: Vec<DVec3> = m
         .positions
         .chunks_exact(3)
         .map(|p| DVec3::new(p[0], p[1], p[2]))
         .collect();
-    let triangles = faces_to_triangles(&m.indices, &m.face_arities, &positions)
+    let (triangles, folded) = faces_to_triangles(&m.indices, &m.face_arities, &positions)
         .map_err(|why| MeshError::invalid(path, format!("object '{}': {why}", model.name)))?;
     let mut part = TriangleMesh {
         positions,
@@ -148,7 +174,7 @@ fn model_mesh(path: &Path, model: &tobj::Model) -> Result<(TriangleMesh, bool), 
     } else {
         part.computed_normals()
     });
-    Ok((part, had_normals))
+    Ok((part, had_normals, folded))
 }
 
 /// The file without its line elements (`l ...`, with any `\` continuation
@@ -174,18 +200,21 @@ fn without_line_elements(text: &[u8]) -> (Vec<u8>, usize) {
 
 /// Triangles of the faces given as `indices` with `arities` corners each (no
 /// arities: all triangles); polygons with their true area (`polygon`), or the
-/// face that cannot be triangulated and why.
+/// face that cannot be triangulated and why. Also the quads that are not flat
+/// and were split along their better diagonal: (face number, fold in degrees).
 fn faces_to_triangles(
     indices: &[u32],
     arities: &[u32],
     positions: &[DVec3],
-) -> Result<Vec<[u32; 3]>, String> {
+) -> Result<(Vec<[u32; 3]>, Vec<(usize, f64)>), String> {
     if arities.is_empty() {
-        return Ok(indices
+        let triangles = indices
             .chunks_exact(3)
             .map(|c| [c[0], c[1], c[2]])
-            .collect());
+            .collect();
+        return Ok((triangles, Vec::new()));
     }
+    let mut folded = Vec::new();
     let mut out = Vec::with_capacity(indices.len());
     let mut start = 0;
     for (number, &a) in arities.iter().enumerate() {
@@ -199,7 +228,7 @@ fn faces_to_triangles(
             .iter()
             .map(|&k| positions.get(k as usize).copied().unwrap_or(DVec3::ZERO))
             .collect();
-        let triangles = super::polygon::triangulate(&corners).map_err(|why| {
+        let triangulation = super::polygon::triangulate(&corners).map_err(|why| {
             let c = corners[0];
             format!(
                 "face {} ({} corners, the first at ({}, {}, {})): {why}",
@@ -210,9 +239,17 @@ fn faces_to_triangles(
                 c.z
             )
         })?;
-        out.extend(triangles.into_iter().map(|t| t.map(|i| face[i])));
+        if let Some(fold) = triangulation.folded_deg {
+            folded.push((number + 1, fold));
+        }
+        out.extend(
+            triangulation
+                .triangles
+                .into_iter()
+                .map(|t| t.map(|i| face[i])),
+        );
     }
-    Ok(out)
+    Ok((out, folded))
 }
 
 /// The first line (1-based, with its text cut to 80 characters) of the kind an

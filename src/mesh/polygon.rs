@@ -7,6 +7,14 @@
 //! bridged holes); the triangles' area is then checked against the polygon's own
 //! (shoelace) area, and a face that cannot be covered exactly — one that crosses
 //! itself — is refused with the reason, never filled silently.
+//!
+//! Real exporters also write quads that are not flat (the quads of a
+//! subdivision control cage, folded at a crease): projected onto one plane such
+//! a quad can look like a bow tie although it is a fine surface. A quad that
+//! fails the projection is therefore split along the diagonal that folds it
+//! least (its two triangles' normals closest), and reported; only a quad whose
+//! two triangles would lie back to back along either diagonal (folded by more
+//! than [`MAX_FOLD_DEG`], as a flat bow tie is, by 180°) is refused.
 
 use glam::{DVec2, DVec3};
 
@@ -14,10 +22,59 @@ use glam::{DVec2, DVec3};
 /// rounding only (a wrongly covered face differs by a whole piece of its area).
 const AREA_TOLERANCE: f64 = 1e-9;
 
+/// The most a non-flat quad may be folded along the diagonal it is split at:
+/// beyond it the two triangles nearly lie on each other, which is a face that
+/// crosses itself (a flat bow tie is folded by 180° along both diagonals).
+pub const MAX_FOLD_DEG: f64 = 175.0;
+
+/// A face's triangles (indices into its corners, wound like the polygon).
+#[derive(Debug, PartialEq)]
+pub struct Triangulation {
+    pub triangles: Vec<[usize; 3]>,
+    /// For a quad that is not flat and was split along its better diagonal:
+    /// the angle between its two triangles' normals, degrees.
+    pub folded_deg: Option<f64>,
+}
+
+/// The triangles covering face `corners` (see [`triangulate_polygon`]), or, for
+/// a quad whose projection crosses itself because it is not flat, its split
+/// along the diagonal that folds it least, reported in `folded_deg`.
+pub fn triangulate(corners: &[DVec3]) -> Result<Triangulation, String> {
+    match triangulate_polygon(corners) {
+        Ok(triangles) => Ok(Triangulation {
+            triangles,
+            folded_deg: None,
+        }),
+        Err(why) if corners.len() == 4 => match split_quad(corners) {
+            Some((triangles, fold)) if fold <= MAX_FOLD_DEG => Ok(Triangulation {
+                triangles: triangles.to_vec(),
+                folded_deg: Some(fold),
+            }),
+            _ => Err(why),
+        },
+        Err(why) => Err(why),
+    }
+}
+
+/// A quad's two triangles along the diagonal that folds it least (0–2 or
+/// 1–3, wound like the quad) and that fold in degrees; `None` if a triangle
+/// has no area along both.
+fn split_quad(c: &[DVec3]) -> Option<([[usize; 3]; 2], f64)> {
+    [[[0, 1, 2], [0, 2, 3]], [[0, 1, 3], [1, 2, 3]]]
+        .into_iter()
+        .filter_map(|pair| {
+            let normal = |[a, b, d]: [usize; 3]| (c[b] - c[a]).cross(c[d] - c[a]).try_normalize();
+            let (n1, n2) = (normal(pair[0])?, normal(pair[1])?);
+            Some((pair, n1.dot(n2).clamp(-1.0, 1.0).acos().to_degrees()))
+        })
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+}
+
 /// Triangles (indices into `corners`, wound like the polygon) covering the
-/// polygon `corners` (3 or more, in order), or why it cannot be covered. A face
-/// whose corners all lie on a line has no area and no triangles.
-pub fn triangulate(corners: &[DVec3]) -> Result<Vec<[usize; 3]>, String> {
+/// polygon `corners` (3 or more, in order) projected onto its own plane, or
+/// why it cannot be covered. A face whose corners all lie on a line has no
+/// area and no triangles.
+pub fn triangulate_polygon(corners: &[DVec3]) -> Result<Vec<[usize; 3]>, String> {
     let n = corners.len();
     if n < 3 {
         return Ok(Vec::new());
@@ -133,7 +190,7 @@ mod tests {
             .iter()
             .map(|&(x, y)| DVec3::new(x, y, 0.0))
             .collect();
-        let t = triangulate(&l).unwrap();
+        let t = triangulate(&l).unwrap().triangles;
         assert_eq!(t.len(), 4);
         assert!((area(&l, &t) - 3.0).abs() < 1e-12);
         for &[a, b, c] in &t {
@@ -160,7 +217,7 @@ mod tests {
         .iter()
         .map(|&(x, y)| DVec3::new(x, y, 5.0))
         .collect();
-        let t = triangulate(&ring).unwrap();
+        let t = triangulate(&ring).unwrap().triangles;
         assert!((area(&ring, &t) - 12.0).abs() < 1e-9, "{}", area(&ring, &t));
         // A fan from corner 0 would have covered the hole.
         let centre = DVec3::new(2.0, 2.0, 5.0);
@@ -182,6 +239,57 @@ mod tests {
             .unwrap_err()
             .contains("crosses itself"));
         let line: Vec<DVec3> = (0..5).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
-        assert!(triangulate(&line).unwrap().is_empty());
+        assert!(triangulate(&line).unwrap().triangles.is_empty());
+    }
+
+    #[test]
+    fn a_quad_that_is_not_flat_is_split_along_its_better_diagonal_and_a_flat_bow_tie_is_not() {
+        // A quad that is not flat (its corner 3 sits just beyond edge 0–1 when
+        // seen along its mean normal): projected, it crosses itself by a sliver,
+        // yet split along 1–3 it is two triangles folded by 4°.
+        let folded: Vec<DVec3> = [
+            (-0.8, -0.6, 0.7),
+            (0.0, -0.8, -0.7),
+            (0.1, 0.2, -0.8),
+            (-0.4, -0.7, 0.0),
+        ]
+        .iter()
+        .map(|&(x, y, z)| DVec3::new(x, y, z))
+        .collect();
+        assert!(
+            triangulate_polygon(&folded).is_err(),
+            "the projection crosses itself"
+        );
+        let t = triangulate(&folded).unwrap();
+        let fold = t.folded_deg.expect("reported as folded");
+        assert!((fold - 4.03).abs() < 0.01, "{fold}");
+        // Two triangles sharing one diagonal, every corner used, none flat.
+        assert_eq!(t.triangles.len(), 2);
+        let shared: Vec<usize> = t.triangles[0]
+            .iter()
+            .copied()
+            .filter(|i| t.triangles[1].contains(i))
+            .collect();
+        assert_eq!(shared.len(), 2);
+        assert_eq!(shared, vec![1, 3]);
+        // The other diagonal folds it more.
+        let other = if shared.contains(&0) {
+            [[0, 1, 3], [1, 2, 3]]
+        } else {
+            [[0, 1, 2], [0, 2, 3]]
+        };
+        let n = |[a, b, c]: [usize; 3]| {
+            (folded[b] - folded[a])
+                .cross(folded[c] - folded[a])
+                .normalize()
+        };
+        let other_fold = n(other[0]).dot(n(other[1])).acos().to_degrees();
+        assert!(other_fold > fold, "{other_fold} vs {fold}");
+        // A flat bow tie folds by 180° either way: refused.
+        let bow_tie: Vec<DVec3> = [(0., 0.), (1., 1.), (1., 0.), (0., 1.)]
+            .iter()
+            .map(|&(x, y)| DVec3::new(x, y, 0.0))
+            .collect();
+        assert!(triangulate(&bow_tie).is_err());
     }
 }

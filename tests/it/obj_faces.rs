@@ -187,3 +187,53 @@ fn a_ring_drawn_as_one_face_keeps_its_hole_and_a_crossing_face_is_refused() {
     let err = run_fails(traxer().arg("inspect").arg(&p), 2);
     assert!(err.contains("crosses itself"), "{err}");
 }
+
+#[test]
+fn a_quad_that_is_not_flat_loads_split_along_its_better_diagonal_with_a_note() {
+    // Issue 39: a quad of a control cage that is not flat, whose projection on
+    // its mean plane crosses itself by a sliver, was refused as self-crossing.
+    // It is two triangles folded by 4° along its diagonal 1–3.
+    let dir = tempfile::tempdir().unwrap();
+    let p = write(
+        dir.path(),
+        "cage.obj",
+        "o cage\nv -0.8 -0.6 0.7\nv 0.0 -0.8 -0.7\nv 0.1 0.2 -0.8\nv -0.4 -0.7 0.0\nf 1 2 3 4\n",
+    );
+    let (m, report) = traxer::mesh::load(&p).unwrap();
+    assert_eq!(m.triangles.len(), 2);
+    let corners = |t: [u32; 3]| t.map(|k| m.positions[k as usize]);
+    let areas: f64 = m
+        .triangles
+        .iter()
+        .map(|&t| {
+            let [a, b, c] = corners(t);
+            0.5 * (b - a).cross(c - a).length()
+        })
+        .sum();
+    // Split along the diagonal from the file's corner 2 to its corner 4: the
+    // triangles (1, 2, 4) and (2, 3, 4) of the file's numbering.
+    let expected = {
+        let v = [
+            DVec3::new(-0.8, -0.6, 0.7),
+            DVec3::new(0.0, -0.8, -0.7),
+            DVec3::new(0.1, 0.2, -0.8),
+            DVec3::new(-0.4, -0.7, 0.0),
+        ];
+        let tri = |a: usize, b: usize, c: usize| 0.5 * (v[b] - v[a]).cross(v[c] - v[a]).length();
+        tri(0, 1, 3) + tri(1, 2, 3)
+    };
+    assert!((areas - expected).abs() < 1e-12, "{areas} vs {expected}");
+    let notes = report.warnings().join("\n");
+    assert!(
+        notes.contains("not flat") && notes.contains("faces 1 (4.0°)"),
+        "{notes}"
+    );
+    // `traxer inspect` loads it and says so.
+    let out = crate::common::run_ok(traxer().arg("inspect").arg(&p));
+    let all = format!(
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(all.contains("not flat"), "{all}");
+}
