@@ -49,15 +49,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
     }
     let coating = coating_from_spec(&a.coating).map_err(|e| InputError(e.to_string()))?;
     let energies = parse_values("energy", &a.energy)?;
-    let angles = parse_values("angle", &a.angle)?;
-    // Beyond 90° the formulas give numbers (R > 1 at 1e300°) that mean nothing.
-    if let Some(th) = angles.iter().find(|th| !(0.0..=90.0).contains(*th)) {
-        return Err(InputError(format!(
-            "--angle {}: a grazing angle is 0° to 90° (from the surface, in degrees)",
-            traxer::text::number(*th)
-        ))
-        .into());
-    }
+    let angles = grazing_angles(&a.angle)?;
     let versus_angle = energies.len() <= 8 && (angles.len() > 8 || angles.len() >= energies.len());
     if !versus_angle && angles.len() > 8 {
         return Err(InputError(
@@ -118,6 +110,19 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
 
 /// The table's rows (energy, angle, R, R_s, R_p) and one plotted curve per
 /// energy (against the angle) or per angle (against the energy).
+/// The --angle list, checked: beyond 90° the formulas give numbers (R > 1 at
+/// 1e300°) that mean nothing.
+fn grazing_angles(text: &str) -> Result<Vec<f64>, InputError> {
+    let angles = parse_values("angle", text)?;
+    if let Some(th) = angles.iter().find(|th| !(0.0..=90.0).contains(*th)) {
+        return Err(InputError(format!(
+            "--angle {}: a grazing angle is 0° to 90° (from the surface, in degrees)",
+            traxer::text::number(*th)
+        )));
+    }
+    Ok(angles)
+}
+
 fn curves(
     coating: &traxer::xray::Coating,
     energies: &[f64],

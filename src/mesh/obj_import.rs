@@ -128,9 +128,12 @@ fn folded_note(object: &str, folded: &[(usize, f64)]) -> Option<String> {
     ))
 }
 
+/// Quads split along their better diagonal: (face number, fold in degrees).
+type Folded = Vec<(usize, f64)>;
+
 /// One OBJ object as a checked mesh, whether the file gave its normals, and
-/// its quads split along their better diagonal (face number, fold in degrees).
-type ModelMesh = (TriangleMesh, bool, Vec<(usize, f64)>);
+/// its quads split along their better diagonal.
+type ModelMesh = (TriangleMesh, bool, Folded);
 
 fn model_mesh(path: &Path, model: &tobj::Model) -> Result<ModelMesh, MeshError> {
     let m = &model.mesh;
@@ -206,7 +209,7 @@ fn faces_to_triangles(
     indices: &[u32],
     arities: &[u32],
     positions: &[DVec3],
-) -> Result<(Vec<[u32; 3]>, Vec<(usize, f64)>), String> {
+) -> Result<(Vec<[u32; 3]>, Folded), String> {
     if arities.is_empty() {
         let triangles = indices
             .chunks_exact(3)
