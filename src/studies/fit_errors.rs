@@ -117,7 +117,7 @@ impl ParameterErrors {
                     let (gv, lv) = (get(&g.parameters, i), get(&l.parameters, i));
                     if gv.to_bits() == lv.to_bits() && gv.to_bits() == v.to_bits() {
                         verdict.push_str(&format!(
-                            "; the local fit never moved it from {} (a point of the global search's grid)",
+                            "; the local fit left it at {}, a point of the global search's grid: the targets did not move it",
                             significant(v)
                         ));
                     }
@@ -459,7 +459,7 @@ mod tests {
             e.verdicts[1]
         );
         assert!(e.verdicts[2].contains("constrained"), "{}", e.verdicts[2]);
-        assert!(e.verdicts[2].contains("never moved"), "{}", e.verdicts[2]);
+        assert!(e.verdicts[2].contains("did not move it"), "{}", e.verdicts[2]);
         assert_eq!(e.degenerate.len(), 1, "{:?}", e.degenerate);
         assert!(e.degenerate[0].starts_with("in_plane_wide and wide_fraction"));
         assert!(e.quoted(0).contains("50.0 ±"), "{}", e.quoted(0));
