@@ -96,7 +96,10 @@ fn main() {
 /// git checkout).
 fn record_git_hash() {
     let git = |args: &[&str]| {
+        // No optional locks: `git status` would otherwise refresh the index,
+        // which this script watches, and every build would rebuild the crate.
         std::process::Command::new("git")
+            .env("GIT_OPTIONAL_LOCKS", "0")
             .args(args)
             .output()
             .ok()
