@@ -255,11 +255,20 @@ fn from_model(
         how.push(format!("ABC (atomic from the Opacity Project tables in {}, electron–ion and electron–electron bremsstrahlung, Compton; Redondo, JCAP 12 (2013) 008; src/source/sun/abc.rs) for g_ae = {g:e}, each rate the average of w E² over its energy cell divided by the cell centre's E²", dir.display()));
         origin["opacities"] = json!(dir.display().to_string());
     }
+    // Cite the model the file is, not always the default one.
+    let cited = ["AGSS09met", "GS98"]
+        .iter()
+        .find(|m| name.contains(&format!("B16-{m}")))
+        .map_or(
+            "a solar model file (not one of the B16 models traxer knows: cite its source)"
+                .to_string(),
+            |m| format!("B16-{m}, N. Vinyoles et al., ApJ 835 (2017) 202, arXiv:1611.09867"),
+        );
     let header = format!(
         "Axion emission: rate per axion phase-space mode w (keV); {}.\n\
          Computed by traxer {} (`traxer solar-flux --emission {} --model {name} --radii {} --energies {energies_text}`)\n\
          from the solar model {name} (SHA-256 {sha}):\n\
-         B16-AGSS09met, N. Vinyoles et al., ApJ 835 (2017) 202, arXiv:1611.09867.\n\
+         {cited}.\n\
          Axions per volume, time and energy: w E²/(2π²) in natural units (see src/source/sun/).",
         how.join("; "),
         env!("CARGO_PKG_VERSION"),

@@ -459,7 +459,11 @@ mod tests {
             e.verdicts[1]
         );
         assert!(e.verdicts[2].contains("constrained"), "{}", e.verdicts[2]);
-        assert!(e.verdicts[2].contains("did not move it"), "{}", e.verdicts[2]);
+        assert!(
+            e.verdicts[2].contains("did not move it"),
+            "{}",
+            e.verdicts[2]
+        );
         assert_eq!(e.degenerate.len(), 1, "{:?}", e.degenerate);
         assert!(e.degenerate[0].starts_with("in_plane_wide and wide_fraction"));
         assert!(e.quoted(0).contains("50.0 ±"), "{}", e.quoted(0));

@@ -707,3 +707,24 @@ fn shared_solar_a_radius_outside_the_opacity_project_grid_is_named() {
     );
     assert!(err.contains("r = 0.95"), "{err}");
 }
+
+#[test]
+#[ignore = "needs ../shared/solar/: scripts/test.sh runs it (`-- --ignored shared_solar_`) where it is, and CI fails without it"]
+fn shared_solar_an_emission_table_cites_the_model_it_was_computed_from() {
+    // Before: every table made with --model cited B16-AGSS09met, whatever the
+    // file (GS98 for the solar-model systematic among them).
+    let gs98 = repo().join("../shared/solar/SolarModel_B16-GS98.dat");
+    assert!(gs98.exists(), "../shared/solar/ is not here");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("gs98");
+    crate::common::run_ok(
+        crate::common::traxer()
+            .args(["solar-flux", "--model"])
+            .arg(&gs98)
+            .args(["--radii", "0.1,0.2", "--energies", "1,2", "-q", "-o"])
+            .arg(&out),
+    );
+    let table = std::fs::read_to_string(out.join("emission.csv")).unwrap();
+    assert!(table.contains("# B16-GS98, N. Vinyoles"), "{table}");
+    assert!(!table.contains("AGSS09met"), "{table}");
+}
