@@ -268,3 +268,54 @@ fn the_readme_axion_table_comes_out_of_its_commands() {
         );
     }
 }
+
+/// `x` written with as many digits after the point, in exponent form, as
+/// `quoted` (e.g. "1.128e9" → three).
+fn like(x: f64, quoted: &str) -> String {
+    let mantissa = quoted.split('e').next().unwrap();
+    let digits = mantissa.split('.').nth(1).map_or(0, str::len);
+    format!("{x:.digits$e}")
+}
+
+#[test]
+fn the_abc_flux_table_of_docs_cast_comes_out_of_its_command() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = run_ok(
+        traxer()
+            .current_dir(repo())
+            .args(["solar-flux", "--emission", "abc", "-o"])
+            .arg(dir.path().join("abc")),
+    );
+    let printed = String::from_utf8(out.stdout).unwrap();
+    let flux = |process: &str| -> f64 {
+        printed
+            .lines()
+            .find(|l| l.split_whitespace().next() == Some(process))
+            .and_then(|l| l.split_whitespace().nth(1))
+            .unwrap_or_else(|| panic!("{process} in {printed}"))
+            .parse()
+            .unwrap()
+    };
+    let cast = doc("docs/cast.md");
+    for (row, process) in [
+        (
+            "| atomic (free–bound, bound–bound, metals' free–free) |",
+            "atomic",
+        ),
+        ("| electron–ion bremsstrahlung |", "electron_ion"),
+        ("| electron–electron bremsstrahlung |", "electron_electron"),
+        ("| Compton |", "compton"),
+        ("| total, 0.1–15 keV |", "abc"),
+    ] {
+        let at = cast
+            .find(row)
+            .unwrap_or_else(|| panic!("docs/cast.md has no row {row}"));
+        let quoted = cast[at + row.len()..].split('|').next().unwrap().trim();
+        assert_eq!(
+            like(flux(process), quoted),
+            quoted,
+            "docs/cast.md {row} quotes {quoted}, the command gives {}",
+            flux(process)
+        );
+    }
+}
