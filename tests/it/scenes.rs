@@ -37,6 +37,29 @@ fn check(scene: &str, key: &str, got: f64, table: &toml::Table) {
     );
 }
 
+/// The recorded results of scene `name`, or a message naming the scene that
+/// has none and what to do (a user's own scene in scenes/ used to panic with
+/// "no entry found for key").
+fn recorded<'a>(scenes: &'a toml::Table, name: &str) -> Result<&'a toml::Table, String> {
+    scenes.get(name).and_then(|t| t.as_table()).ok_or_else(|| {
+        format!(
+            "scenes/{name}.toml has no recorded results in tests/data/scene_expectations.toml: every scene in scenes/ is a test; record its numbers with scripts/scene_expectations.py, or keep your own scenes outside scenes/"
+        )
+    })
+}
+
+#[test]
+fn a_scene_without_recorded_results_is_named() {
+    let all = expectations();
+    let scenes = all["scenes"].as_table().unwrap();
+    assert!(recorded(scenes, "panter_al_ka").is_ok());
+    let e = recorded(scenes, "my_own_scene").unwrap_err();
+    assert!(
+        e.contains("scenes/my_own_scene.toml") && e.contains("scene_expectations.py"),
+        "{e}"
+    );
+}
+
 #[test]
 fn every_shipped_scene_gives_its_recorded_results() {
     let all = expectations();
@@ -49,11 +72,7 @@ fn every_shipped_scene_gives_its_recorded_results() {
             continue;
         }
         let name = path.file_stem().unwrap().to_string_lossy().into_owned();
-        let table = scenes.get(&name).and_then(|t| t.as_table()).unwrap_or_else(|| {
-            panic!(
-                "scenes/{name}.toml has no recorded results in tests/data/scene_expectations.toml: every scene in scenes/ is a test; record its numbers with scripts/scene_expectations.py, or keep your own scenes outside scenes/"
-            )
-        });
+        let table = recorded(scenes, &name).unwrap_or_else(|e| panic!("{e}"));
         let s = Scene::load(&device(), &path, &[]).unwrap_or_else(|e| panic!("{e}"));
         if s.sources.is_empty() {
             check_render(&name, &s, table);
