@@ -34,6 +34,10 @@ pub struct MergeArgs {
     /// Also write each sensor's image as NAME.fits (see `traxer trace --fits`).
     #[arg(long)]
     pub fits: bool,
+    /// Replace the results of a run with other inputs in --out; without it such
+    /// a folder is refused and kept.
+    #[arg(long)]
+    pub replace: bool,
 }
 
 pub fn run(a: MergeArgs) -> anyhow::Result<()> {
@@ -44,6 +48,7 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
         partial: a.partial,
         moved_scene: a.scene.as_deref(),
         fits: a.fits,
+        replace: a.replace,
     };
     let MergedRun { scene, finished } = job.run(&super::invocation())?;
     super::Warnings::default().show(&scene);

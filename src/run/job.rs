@@ -165,7 +165,7 @@ pub fn refuse_other_run(
     identity: &super::RunIdentity,
     replace: bool,
 ) -> Result<(), InputError> {
-    const REPLACE: &str = "`traxer trace --replace`, or `replace=True` in Python";
+    const REPLACE: &str = "`--replace` (traxer trace or merge), or `replace=True` in Python";
     let path = out.join(super::RUN_STATE_FILE);
     if replace || !path.exists() {
         return Ok(());

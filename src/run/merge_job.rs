@@ -3,7 +3,9 @@
 //! variables, build), the tallies added one at a time ([`super::merge`]), and the
 //! results of the whole run written as a finished run's.
 
-use super::job::{fits_scene, prepare_folder, refuse_unfinished_run, reload_scene};
+use super::job::{
+    fits_scene, prepare_folder, refuse_other_run, refuse_unfinished_run, reload_scene,
+};
 use super::{
     merge, read_header, read_state, Finished, InputError, Invocation, RunError, StateHeader,
     CHECKPOINT_FILE, RUN_STATE_FILE,
@@ -24,6 +26,9 @@ pub struct MergeJob<'a> {
     /// The scene file, if it moved since the shards ran.
     pub moved_scene: Option<&'a Path>,
     pub fits: bool,
+    /// Replace the results of a run with other inputs in `out` (refused
+    /// without it).
+    pub replace: bool,
 }
 
 /// A finished merge, with the scene it was checked against.
@@ -65,6 +70,7 @@ impl MergeJob<'_> {
         let photon_list = first.identity.photon_list > 0;
         let folder = prepare_folder(out, &scene, photon_list, self.fits)?;
         refuse_unfinished_run(out)?;
+        refuse_other_run(out, &merged.header.identity, self.replace)?;
         let header = merged.header;
         let provenance = Provenance::new(invocation, Some(device.info().version))
             .scene(&scene)

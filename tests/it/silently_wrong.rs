@@ -602,3 +602,45 @@ fn messages_name_the_cli_options_and_print_numbers_readably() {
     );
     assert!(err.contains("a grazing angle is 0° to 90°"), "{err}");
 }
+
+#[test]
+fn a_merge_keeps_the_results_of_another_run_unless_asked_to_replace_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "gas.toml", GAS_SCENE);
+    let d = |n: &str| dir.path().join(n);
+    for (seed, k) in [("1", "1"), ("1", "2"), ("2", "1"), ("2", "2")] {
+        run_ok(
+            traxer()
+                .arg("trace")
+                .arg(&scene)
+                .args([
+                    "-n",
+                    "2000",
+                    "-s",
+                    seed,
+                    "--shard",
+                    &format!("{k}/2"),
+                    "-q",
+                    "-o",
+                ])
+                .arg(d(&format!("s{seed}_{k}"))),
+        );
+    }
+    let merge = |seed: &str, extra: &[&str]| {
+        let mut c = traxer();
+        c.args(["merge", "-q", "-o"])
+            .arg(d("merged"))
+            .arg(d(&format!("s{seed}_1")))
+            .arg(d(&format!("s{seed}_2")))
+            .args(extra);
+        c
+    };
+    run_ok(&mut merge("1", &[]));
+    let err = run_fails(&mut merge("2", &[]), 2);
+    assert!(
+        err.contains("seed 2, not 1") && err.contains("--replace"),
+        "{err}"
+    );
+    run_ok(&mut merge("1", &[]));
+    run_ok(&mut merge("2", &["--replace"]));
+}
