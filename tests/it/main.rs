@@ -31,6 +31,7 @@ mod photon_loop;
 mod pictures;
 mod quiet;
 mod rebin;
+mod refusals;
 mod render;
 mod results_folder;
 mod roughness;
