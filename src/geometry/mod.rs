@@ -23,6 +23,7 @@ mod shape;
 mod sphere;
 mod transform;
 mod triangle_mesh;
+pub mod wolter;
 
 pub use azimuth::AzimuthRange;
 pub use cuboid::Cuboid;
