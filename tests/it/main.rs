@@ -43,6 +43,7 @@ mod sources;
 mod streams;
 mod study_resume;
 mod table_cache;
+mod telescopes;
 mod toolchain;
 mod view;
 mod xray;
