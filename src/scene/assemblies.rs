@@ -1,14 +1,17 @@
 //! Built-in assemblies (`[[assemblies]]`): one entry that expands into many
 //! ordinary objects and the mirror materials they need, before objects are built.
-//! Today the CAST LLNL telescope (`llnl`).
+//! Today nested grazing-incidence telescopes (`nested_telescope`, with the
+//! CAST LLNL optic's `llnl_telescope` as a shorthand), their data read by
+//! `telescope` and expanded by `telescope_parts`.
 
 use super::desc::{ObjectDesc, SceneDesc, ShellLabel, TessellateDesc};
 use super::error::{SceneError, SceneText};
 use super::inputs::InputFiles;
-use super::llnl::{LlnlTelescope, PartMaterial};
 use super::materials::{MaterialDesc, MirrorDesc, SideDesc};
 use super::placement::{RotateDesc, TransformStep};
 use super::shapes::{MeshDesc, ShapeDesc};
+use super::telescope::{self, Profile, Telescope};
+use super::telescope_parts::{Part, PartChoices, PartMaterial};
 use crate::xray::figure_error::FigureErrorSpec;
 use serde::Deserialize;
 use std::ops::Range;
@@ -19,38 +22,51 @@ use toml::Spanned;
 ///
 /// ```toml
 /// [[assemblies]]
-/// type = "llnl_telescope"        # the CAST LLNL telescope (data/llnl_telescope.toml)
-/// name = "llnl"                  # prefix of its objects' names (default "llnl")
-/// data = "my_telescope.toml"     # optional: other radii/coatings in the same form
-/// azimuth_center = 0.0           # degrees: direction of the 30° segments' centre
+/// type = "nested_telescope"      # shells as data (data/telescopes/NAME.toml)
+/// telescope = "xmm_newton"       # a shipped telescope: "llnl", "xmm_newton"
+/// data = "my_telescope.toml"     # or: a prescription file in the same form
+/// name = "xmm"                   # prefix of its objects' names (default: the telescope's key)
+/// azimuth_center = 0.0           # degrees: direction of segments' centre (LLNL's 30°)
 /// coating = "perfect"            # optional: one coating for every shell
 ///                                # ("as_built", the default: each shell's own)
 /// figure_error = "llnl_panter"   # optional: figure errors of every mirror
-/// shell_axes = "coaxial"         # or "traxer": each shell's axis where TrAXer puts it
+/// shell_axes = "coaxial"         # or "traxer": each segment's axis where TrAXer puts it
+/// spider = true                  # the data's entrance spider (default: when it has one)
+/// spider_distance = 20.0         # mm in front of the entrance (when the data gives none)
+/// central_stop = false           # an absorbing disk filling the innermost opening
 /// omit = ["rear_7"]              # optional: parts left out (stray-light studies):
-///                                # a mirror with its glass, or one part ("rear_7_back")
+///                                # a mirror with its wall, or one part ("rear_7_back")
 /// tessellate = { segments = 500, rings = 20 }   # optional: meshes with smooth normals
 /// mesh = "../meshes/llnl_telescope.glb"          # optional: the parts from a mesh file
 /// transform = [ { translate = [0, 0, 0] } ]     # placement of the telescope frame
 /// ```
+///
+/// `type = "llnl_telescope"` is the same with `telescope = "llnl"` and `name =
+/// "llnl"` by default.
 #[derive(Debug, Deserialize)]
 #[serde(tag = "type", rename_all = "snake_case")]
 pub enum AssemblyDesc {
-    LlnlTelescope(LlnlTelescopeDesc),
+    NestedTelescope(NestedTelescopeDesc),
+    LlnlTelescope(NestedTelescopeDesc),
 }
 
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct LlnlTelescopeDesc {
-    #[serde(default = "llnl_name")]
-    pub name: String,
+pub struct NestedTelescopeDesc {
+    #[serde(default)]
+    pub name: Option<String>,
+    /// A shipped telescope (`telescope::SHIPPED`).
+    #[serde(default)]
+    pub telescope: Option<String>,
+    /// A prescription file, relative to the scene.
     #[serde(default)]
     pub data: Option<String>,
     #[serde(default)]
     pub azimuth_center: f64,
     #[serde(default)]
     pub coating: Option<String>,
-    /// Figure errors of every mirror (preset name or inline parameters).
+    /// Figure errors of every mirror (preset name or inline parameters);
+    /// replaces the shells' own where the data gives them.
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
     /// Microroughness scatter of every mirror (a PSD over a band, or "none");
@@ -60,8 +76,16 @@ pub struct LlnlTelescopeDesc {
     /// Where each shell's cone axis lies (see [`ShellAxes`]).
     #[serde(default)]
     pub shell_axes: ShellAxes,
+    /// Whether the data's entrance spider is built (default: when it has one).
+    #[serde(default)]
+    pub spider: Option<bool>,
+    /// The spider's distance in front of the entrance (mm); replaces the data's.
+    #[serde(default)]
+    pub spider_distance: Option<f64>,
+    #[serde(default)]
+    pub central_stop: bool,
     /// Parts left out, by their name without the assembly's prefix: "rear_7" is
-    /// that mirror with its glass (back and edges), "rear_7_back" that part alone.
+    /// that mirror with its wall (back and edges), "rear_7_back" that part alone.
     #[serde(default)]
     pub omit: Vec<String>,
     #[serde(default)]
@@ -82,13 +106,10 @@ pub enum ShellAxes {
     #[default]
     Coaxial,
     /// As the predecessor TrAXer built the telescope: shell i's axis moved by
-    /// [`LlnlTelescope::traxer_axis_offset`] along the segment centre, so the
+    /// [`Telescope::traxer_axis_offset`] along the segment centre, so the
     /// shells' foci no longer coincide. For comparing with TrAXer's images.
+    /// Cone segments only.
     Traxer,
-}
-
-fn llnl_name() -> String {
-    "llnl".into()
 }
 
 /// A mirror material an assembly needs, written where the assembly is.
@@ -110,64 +131,108 @@ pub fn expand(
     let mut materials = Vec::new();
     for a in std::mem::take(&mut desc.assemblies) {
         let span = a.span();
-        match a.into_inner() {
-            AssemblyDesc::LlnlTelescope(t) => {
-                expand_llnl(at, dir, &t, span, &mut desc.objects, &mut materials, inputs)?
-            }
-        }
+        let (kind, t) = match a.into_inner() {
+            AssemblyDesc::NestedTelescope(t) => ("nested_telescope", t),
+            AssemblyDesc::LlnlTelescope(t) => ("llnl_telescope", t),
+        };
+        let site = Site { at, span, kind };
+        expand_telescope(&site, dir, &t, &mut desc.objects, &mut materials, inputs)?;
     }
     Ok(materials)
 }
 
-/// The telescope's shell data (shipped, or the scene's `data` file), checked.
-fn llnl_data(
-    at: SceneText,
-    dir: &Path,
-    t: &LlnlTelescopeDesc,
+/// Where an assembly is written: for its messages.
+struct Site<'a> {
+    at: SceneText<'a>,
     span: Range<usize>,
+    /// The assembly's type as written (`nested_telescope`, `llnl_telescope`).
+    kind: &'static str,
+}
+
+impl Site<'_> {
+    fn error(&self, message: String) -> SceneError {
+        self.at
+            .error(self.span.clone(), format!("{}: {message}", self.kind))
+    }
+
+    /// The shipped telescope's key an entry of this kind names by default.
+    fn default_telescope(&self) -> Option<&'static str> {
+        (self.kind == "llnl_telescope").then_some("llnl")
+    }
+}
+
+/// The telescope's shell data (shipped, or the scene's `data` file), checked,
+/// and the objects' name prefix.
+fn telescope_data(
+    site: &Site,
+    dir: &Path,
+    t: &NestedTelescopeDesc,
     inputs: &InputFiles,
-) -> Result<LlnlTelescope, SceneError> {
-    let err = |m: String| at.error(span.clone(), m);
-    let data = match &t.data {
-        None => LlnlTelescope::shipped(),
-        Some(f) => {
+) -> Result<(Telescope, String), SceneError> {
+    let shipped = t.telescope.as_deref().or(site.default_telescope());
+    let (data, key) = match (&t.data, shipped) {
+        (Some(_), Some(_)) if t.telescope.is_some() => {
+            return Err(
+                site.error("give `telescope` (a shipped one) or `data` (a file), not both".into())
+            )
+        }
+        (Some(f), _) => {
             let file = dir.join(f);
             let body = std::fs::read_to_string(&file)
-                .map_err(|e| err(format!("llnl_telescope data {}: {e}", file.display())))?;
+                .map_err(|e| site.error(format!("data {}: {e}", file.display())))?;
             inputs.note(&file);
-            LlnlTelescope::from_toml(&body).map_err(|e| SceneError::from_toml(&file, &body, &e))?
+            let data =
+                Telescope::from_toml(&body).map_err(|e| SceneError::from_toml(&file, &body, &e))?;
+            data.validate()
+                .map_err(|m| site.error(format!("data {}: {m}", file.display())))?;
+            (data, "telescope".to_string())
+        }
+        (None, Some(name)) => (
+            Telescope::shipped(name).map_err(|m| site.error(m.to_string()))?,
+            name.to_string(),
+        ),
+        (None, None) => {
+            let names: Vec<&str> = telescope::SHIPPED.iter().map(|(n, _)| *n).collect();
+            return Err(site.error(format!(
+                "name the telescope: `telescope = \"{}\"` (shipped: {}) or `data = \"FILE.toml\"`",
+                names[0],
+                names.join(", ")
+            )));
         }
     };
-    data.validate().map_err(|m| match &t.data {
-        // The numbers are wrong in the user's data file: name it.
-        Some(f) => err(format!(
-            "llnl_telescope data {}: {m}",
-            dir.join(f).display()
-        )),
-        None => err(format!("llnl_telescope data: {m}")),
-    })?;
-    Ok(data)
+    Ok((data, t.name.clone().unwrap_or(key)))
 }
 
 /// The material name of a part: the absorber, or the mirror material of its
-/// coating (generated once per coating, with the telescope's figure error).
+/// coating and figure errors (generated once per pair, with the telescope's
+/// figure errors where the scene gives them, else the shell's own).
 fn part_material(
-    t: &LlnlTelescopeDesc,
-    material: &PartMaterial,
+    t: &NestedTelescopeDesc,
+    prefix: &str,
+    part: &Part,
     span: &Range<usize>,
     materials: &mut Vec<GeneratedMaterial>,
 ) -> String {
-    match material {
+    match &part.material {
         PartMaterial::Absorber => "absorber".to_string(),
-        PartMaterial::Mirror(coating) => {
-            let name = format!("{}_mirror_{coating}", t.name);
+        PartMaterial::Mirror {
+            coating,
+            figure_error,
+        } => {
+            let (name, figure_error) = match (&t.figure_error, figure_error, part.shell) {
+                (None, Some(own), Some(shell)) => (
+                    format!("{prefix}_mirror_{coating}_shell_{}", shell + 1),
+                    Some(own.clone()),
+                ),
+                _ => (format!("{prefix}_mirror_{coating}"), t.figure_error.clone()),
+            };
             if !materials.iter().any(|m| m.name == name) {
                 materials.push(GeneratedMaterial {
                     name: name.clone(),
                     desc: MaterialDesc::Mirror(MirrorDesc {
                         side: SideDesc::Front,
                         coating: Some(coating.clone()),
-                        figure_error: t.figure_error.clone(),
+                        figure_error,
                         roughness: t.roughness.clone(),
                     }),
                     span: span.clone(),
@@ -178,37 +243,77 @@ fn part_material(
     }
 }
 
-/// The LLNL telescope's parts as objects: analytic, tessellated, or read from a
+/// The scene's choices about the parts, checked against the data.
+fn part_choices<'a>(
+    site: &Site,
+    t: &'a NestedTelescopeDesc,
+    data: &Telescope,
+) -> Result<PartChoices<'a>, SceneError> {
+    if !t.azimuth_center.is_finite() {
+        return Err(site.error("azimuth_center must be a number (degrees)".into()));
+    }
+    if t.mesh.is_some() && t.tessellate.is_some() {
+        return Err(site.error("give `mesh` (parts from a file) or `tessellate`, not both".into()));
+    }
+    if t.shell_axes == ShellAxes::Traxer && (data.is_full_circle() || data.profile != Profile::Cone)
+    {
+        return Err(site.error(
+            "shell_axes = \"traxer\" moves each cone segment's axis along the segment's centre; this telescope's shells are not cone segments".into(),
+        ));
+    }
+    let spider_distance = match (&data.spider, t.spider) {
+        (None, Some(true)) => {
+            return Err(site.error("spider = true, but the telescope's data have no spider".into()))
+        }
+        (None, _) if t.spider_distance.is_some() => {
+            return Err(site.error(
+                "spider_distance is given, but the telescope's data have no spider".into(),
+            ))
+        }
+        (None, _) | (Some(_), Some(false)) => None,
+        (Some(s), _) => match t.spider_distance.or(s.distance_mm) {
+            Some(d) if d.is_finite() && d >= 0.0 => Some(d),
+            Some(d) => {
+                return Err(site.error(format!(
+                    "spider_distance = {d}: give a distance ≥ 0 (mm in front of the entrance)"
+                )))
+            }
+            None => {
+                return Err(site.error(
+                    "the telescope has an entrance spider whose distance in front of the entrance its data do not give: set spider_distance = MM, or spider = false".into(),
+                ))
+            }
+        },
+    };
+    Ok(PartChoices {
+        // A mesh file was tessellated at azimuth 0 and is rotated instead.
+        azimuth_center_deg: if t.mesh.is_some() {
+            0.0
+        } else {
+            t.azimuth_center
+        },
+        // "as_built" (or no `coating`) keeps each shell's own coating.
+        coating: t.coating.as_deref().filter(|c| *c != "as_built"),
+        spider_distance_mm: spider_distance,
+        central_stop: t.central_stop,
+    })
+}
+
+/// The telescope's parts as objects: analytic, tessellated, or read from a
 /// mesh file that holds them (tessellated at azimuth 0 and rotated into place).
-fn expand_llnl(
-    at: SceneText,
+fn expand_telescope(
+    site: &Site,
     dir: &Path,
-    t: &LlnlTelescopeDesc,
-    span: Range<usize>,
+    t: &NestedTelescopeDesc,
     objects: &mut Vec<Spanned<ObjectDesc>>,
     materials: &mut Vec<GeneratedMaterial>,
     inputs: &InputFiles,
 ) -> Result<(), SceneError> {
-    let err = |m: String| at.error(span.clone(), m);
-    let data = llnl_data(at, dir, t, span.clone(), inputs)?;
-    if !t.azimuth_center.is_finite() {
-        return Err(err("azimuth_center must be a number (degrees)".into()));
-    }
-    if t.mesh.is_some() && t.tessellate.is_some() {
-        return Err(err(
-            "llnl_telescope: give `mesh` (parts from a file) or `tessellate`, not both".into(),
-        ));
-    }
-    // "as_built" (or no `coating`) keeps each shell's own coating.
-    let coating = t.coating.as_deref().filter(|c| *c != "as_built");
-    // A mesh file was tessellated at azimuth 0 and is rotated instead.
-    let azimuth = if t.mesh.is_some() {
-        0.0
-    } else {
-        t.azimuth_center
-    };
+    let (data, prefix) = telescope_data(site, dir, t, inputs)?;
+    let choices = part_choices(site, t, &data)?;
+    let span = &site.span;
     let spanned = |v| Spanned::new(span.clone(), v);
-    let parts = data.parts(azimuth, coating);
+    let parts = data.parts(&choices);
     let omitted = |part: &str| {
         t.omit.iter().any(|o| {
             part.strip_prefix(o.as_str())
@@ -216,18 +321,18 @@ fn expand_llnl(
         })
     };
     if let Some(unknown) = t.omit.iter().find(|o| !parts.iter().any(|p| &p.name == *o)) {
-        return Err(err(format!(
-            "llnl_telescope: omit names `{unknown}`, which is no part of the telescope (parts are front_1, front_1_back, front_1_edge_far, front_1_edge_near, rear_1, …, rear_{}_edge_near)",
+        return Err(site.error(format!(
+            "omit names `{unknown}`, which is no part of the telescope (parts are front_1, front_1_back, front_1_edge_far, front_1_edge_near, rear_1, …, rear_{}_edge_near)",
             data.shells.len()
         )));
     }
     for part in parts.into_iter().filter(|p| !omitted(&p.name)) {
-        let material = part_material(t, &part.material, &span, materials);
-        let is_mirror = matches!(part.material, PartMaterial::Mirror(_));
-        let name = format!("{}_{}", t.name, part.name);
-        let axis_offset = match t.shell_axes {
-            ShellAxes::Coaxial => 0.0,
-            ShellAxes::Traxer => data.traxer_axis_offset(part.shell),
+        let material = part_material(t, &prefix, &part, span, materials);
+        let is_mirror = matches!(part.material, PartMaterial::Mirror { .. });
+        let name = format!("{prefix}_{}", part.name);
+        let axis_offset = match (t.shell_axes, part.shell) {
+            (ShellAxes::Traxer, Some(shell)) => data.traxer_axis_offset(shell),
+            _ => 0.0,
         };
         let shift = |azimuth: f64| {
             let a = azimuth.to_radians();
@@ -236,7 +341,10 @@ fn expand_llnl(
         let (shape, own_transform) = match &t.mesh {
             None => (
                 part.shape,
-                part.transform.into_iter().chain([shift(azimuth)]).collect(),
+                part.transform
+                    .into_iter()
+                    .chain([shift(choices.azimuth_center_deg)])
+                    .collect(),
             ),
             // The file holds the part already placed in the telescope frame,
             // with the segments centred on azimuth 0.
@@ -258,7 +366,7 @@ fn expand_llnl(
             .iter()
             .chain(&t.transform)
             .map(|s| spanned(s.clone()))
-            .collect();
+            .collect::<Vec<_>>();
         let meshed = t.tessellate.is_some() || t.mesh.is_some();
         objects.push(Spanned::new(
             span.clone(),
@@ -271,7 +379,7 @@ fn expand_llnl(
                 smooth_normals: meshed && is_mirror,
                 appearance: None,
                 stage: part.stage,
-                shell: Some(ShellLabel::Number(part.shell as i64 + 1)),
+                shell: part.shell.map(|s| ShellLabel::Number(s as i64 + 1)),
             },
         ));
     }

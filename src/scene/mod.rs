@@ -3,8 +3,8 @@
 //!
 //! Data flow: scene.toml ─[`load`]: substitute vars, serde─▶ `SceneDesc`
 //! ─`build`─▶ [`Scene`] (complete, immutable, shared by all tracing threads).
-//! One file per build concern: `materials`, `assemblies` (the LLNL telescope,
-//! `llnl`), `objects` (meshes, tessellation, world bounds), `shapes` and
+//! One file per build concern: `materials`, `assemblies` (nested telescopes:
+//! `telescope` data, `telescope_parts`), `objects` (meshes, tessellation, world bounds), `shapes` and
 //! `placement` (each shape and transform step checks its own parameters),
 //! `appearance` and `camera` (render setup), `embree_binding` (how objects reach
 //! Embree); sources check themselves in `crate::source`.
@@ -17,16 +17,17 @@ pub mod desc;
 mod embree_binding;
 mod error;
 pub mod inputs;
-pub mod llnl;
 pub mod load;
 mod materials;
 mod objects;
 mod placement;
 mod shapes;
+pub mod telescope;
+pub mod telescope_parts;
 mod vars;
 
 pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
-pub use assemblies::{AssemblyDesc, LlnlTelescopeDesc};
+pub use assemblies::{AssemblyDesc, NestedTelescopeDesc};
 pub use build::{analytic_shapes, inline_shape, NamedShape, TABLE_THETA_MAX};
 pub use camera::{Camera, CameraDesc};
 pub use error::SceneError;

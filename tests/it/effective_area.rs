@@ -3,7 +3,7 @@
 //! shell's area × R·R at its grazing angles, and the meshed telescope against the
 //! analytic one.
 
-use traxer::scene::llnl::LlnlTelescope;
+use traxer::scene::telescope::Telescope;
 use traxer::scene::Scene;
 use traxer::studies::effective_area::{sweep, AreaResult, AreaSweep};
 use traxer::xray::CoatingLibrary;
@@ -46,20 +46,20 @@ struct Piece {
 }
 
 /// The cross-section of the telescope as traxer's assembly documents it
-/// (data/llnl_telescope.toml): per shell the front and rear mirror faces, the
+/// (data/telescopes/llnl.toml): per shell the front and rear mirror faces, the
 /// glass behind them (t / cos α further out) and the glass edges.
-fn cross_section(t: &LlnlTelescope, shells: &[usize]) -> Vec<Piece> {
+fn cross_section(t: &Telescope, shells: &[usize]) -> Vec<Piece> {
     let mut pieces = Vec::new();
     let z0 = 0.5 * t.gap_mm;
     for &i in shells {
-        let s = &t.shells[i];
+        let [r1, r2, r4, r5] = t.cone_radii(i);
         let (a, ar) = (t.alpha(i), t.alpha_rear(i));
         let l = t.mirror_length_mm;
         for (near, far, zn, zf, ang, front) in [
-            (s.r2, s.r1, z0, z0 + l * a.cos(), a, true),
-            (s.r4, s.r5, -z0, -z0 - l * ar.cos(), ar, false),
+            (r2, r1, z0, z0 + l * a.cos(), a, true),
+            (r4, r5, -z0, -z0 - l * ar.cos(), ar, false),
         ] {
-            let dr = t.glass_thickness_mm / ang.cos();
+            let dr = t.thickness(i) / ang.cos();
             pieces.push(Piece {
                 a: (near, zn),
                 b: (far, zf),
@@ -139,7 +139,7 @@ fn focused(pieces: &[Piece], rho: f64) -> bool {
 
 /// (π/6) ∫ focused(ρ) ρ dρ over the shells' entrance, in cm²: the 30° segments'
 /// collecting area for two reflections, minus what the glass shadows.
-fn closed_form_area(t: &LlnlTelescope, shells: &[usize]) -> f64 {
+fn closed_form_area(t: &Telescope, shells: &[usize]) -> f64 {
     let pieces = cross_section(t, shells);
     let (lo, hi, n) = (50.0, 108.0, 400_000);
     let h = (hi - lo) / n as f64;
@@ -155,7 +155,7 @@ fn closed_form_area(t: &LlnlTelescope, shells: &[usize]) -> f64 {
 
 #[test]
 fn perfect_mirrors_collect_the_closed_form_area_on_axis() {
-    let t = LlnlTelescope::shipped();
+    let t = Telescope::shipped("llnl").unwrap();
     let want = closed_form_area(&t, &(0..13).collect::<Vec<_>>());
     let scene = llnl_scene(&["coating=perfect", "figure_error=none"], "");
     let r = area(&scene, &[1.49], 400_000, 11);
@@ -179,19 +179,18 @@ fn one_gold_shell_has_its_geometric_area_times_both_reflectivities() {
     // equal-angle design. (The rear cone's 3α is its angle to the axis, not the
     // grazing angle.) The area is the shell's geometric area × R(E, α)·R(E, α_r − 2α).
     let dir = tempfile::tempdir().unwrap();
-    let mut t = LlnlTelescope::shipped();
+    let mut t = Telescope::shipped("llnl").unwrap();
     t.shells = vec![t.shells[6].clone()];
     let data =
-        std::fs::read_to_string(crate::common::repo().join("data/llnl_telescope.toml")).unwrap();
+        std::fs::read_to_string(crate::common::repo().join("data/telescopes/llnl.toml")).unwrap();
     let head: String = data
         .lines()
         .take_while(|l| !l.starts_with("shells"))
         .map(|l| format!("{l}\n"))
         .collect();
-    let s = &t.shells[0];
+    let [r1, r2, r4, r5] = t.cone_radii(0);
     let one = format!(
-        "{head}shells = [ {{ r1 = {}, r2 = {}, r4 = {}, r5 = {}, coating = \"bare_gold\" }} ]\n",
-        s.r1, s.r2, s.r4, s.r5
+        "{head}shells = [ {{ r1_mm = {r1}, r2_mm = {r2}, r4_mm = {r4}, r5_mm = {r5}, coating = \"bare_gold\" }} ]\n"
     );
     let data_path = crate::common::write(dir.path(), "one_shell.toml", &one);
     let scene = llnl_scene(

@@ -1,14 +1,18 @@
-//! The LLNL telescope built from data/llnl_telescope.toml: the construction checks
+//! The LLNL telescope built from data/telescopes/llnl.toml: the construction checks
 //! of SPEC §2 (cone angles, virtual radius, Wolter equation) and a ray through the
 //! middle of each shell.
 
 use glam::DVec3;
 use traxer::raycast::{intersect, reflect};
-use traxer::scene::llnl::LlnlTelescope;
+use traxer::scene::telescope::Telescope;
+
+fn llnl() -> Telescope {
+    Telescope::shipped("llnl").unwrap()
+}
 
 #[test]
 fn cone_angles_radii_and_focal_length_follow_from_the_data() {
-    let t = LlnlTelescope::shipped();
+    let t = llnl();
     t.validate().unwrap();
     assert_eq!(t.shells.len(), 13);
     let deg = |x: f64| x.to_degrees();
@@ -19,7 +23,8 @@ fn cone_angles_radii_and_focal_length_follow_from_the_data() {
             && (deg(t.alpha_rear(12)) - 2.8778).abs() < 1e-4
     );
     let l = t.mirror_length_mm;
-    for (i, s) in t.shells.iter().enumerate() {
+    for i in 0..t.shells.len() {
+        let [r1, r2, _, _] = t.cone_radii(i);
         let a = t.alpha(i);
         assert!(
             (t.alpha_rear(i) / a - 3.0).abs() < 0.005,
@@ -28,7 +33,7 @@ fn cone_angles_radii_and_focal_length_follow_from_the_data() {
             t.alpha_rear(i) / a
         );
         // Virtual radius R3 = R2 − (x_sep/2) tan α: 60.891 … 98.585 mm.
-        let r3 = s.r2 - 0.5 * t.gap_mm * a.tan();
+        let r3 = r2 - 0.5 * t.gap_mm * a.tan();
         if i == 0 {
             assert!((r3 - 60.891).abs() < 1e-3);
         }
@@ -37,7 +42,7 @@ fn cone_angles_radii_and_focal_length_follow_from_the_data() {
         }
         // Wolter equation tan(4α) = R/f: ≈ 1500.1 mm with the front mirror's
         // mid-length radius, ≈ 1471.5 mm with R3.
-        let f_mid = (s.r1 - 0.5 * l * a.sin()) / (4.0 * a).tan();
+        let f_mid = (r1 - 0.5 * l * a.sin()) / (4.0 * a).tan();
         let f_r3 = r3 / (4.0 * a).tan();
         assert!((f_mid - 1500.1).abs() < 0.6, "shell {}: f = {f_mid}", i + 1);
         assert!(
@@ -48,7 +53,7 @@ fn cone_angles_radii_and_focal_length_follow_from_the_data() {
     }
     // Every shell names a shipped coating, as SPEC §2 maps them.
     let lib = traxer::xray::CoatingLibrary::shipped();
-    let recipes: Vec<&str> = t.shells.iter().map(|s| s.coating.as_str()).collect();
+    let recipes: Vec<&str> = (0..13).map(|i| t.coating(i)).collect();
     assert_eq!(recipes[..3], ["llnl_recipe_1"; 3]);
     assert_eq!(recipes[3..7], ["llnl_recipe_2"; 4]);
     assert_eq!(recipes[7..11], ["llnl_recipe_3"; 4]);
@@ -81,7 +86,7 @@ coating = "perfect"
 /// the direction leaving it.
 fn through_shell(
     scene: &traxer::scene::Scene,
-    t: &LlnlTelescope,
+    t: &Telescope,
     i: usize,
     o: DVec3,
 ) -> (traxer::raycast::SurfaceHit, DVec3) {
@@ -106,12 +111,12 @@ fn through_shell(
 #[test]
 fn a_ray_through_the_middle_of_each_front_shell_reaches_the_axis_near_the_focus() {
     let scene = telescope_in_a_beam("");
-    let t = LlnlTelescope::shipped();
-    for (i, s) in t.shells.iter().enumerate() {
+    let t = llnl();
+    for i in 0..t.shells.len() {
         // Axial ray at the radius of the front mirror's middle, in the segment's
         // centre (azimuth 0).
         let a = t.alpha(i);
-        let r_mid = s.r1 - 0.5 * t.mirror_length_mm * a.sin();
+        let r_mid = t.cone_radii(i)[0] - 0.5 * t.mirror_length_mm * a.sin();
         let (h2, d2) = through_shell(&scene, &t, i, DVec3::new(r_mid, 0.0, 400.0));
         assert!(
             intersect(&scene, h2.point, d2, Some(&h2)).is_none(),
@@ -204,22 +209,22 @@ fn focus_sweep_that_misses_the_focus_says_so() {
 fn traxer_placement_moves_each_shell_axis_outwards_by_half_the_front_height_difference() {
     // Segments centred on azimuth 90°: the axes move along +y.
     let scene = telescope_in_a_beam("azimuth_center = 90.0\nshell_axes = \"traxer\"");
-    let t = LlnlTelescope::shipped();
+    let t = llnl();
     let (d_first, d_last) = (
-        t.shells[0].r1 - t.shells[0].r2,
-        t.shells[12].r1 - t.shells[12].r2,
+        t.cone_radii(0)[0] - t.cone_radii(0)[1],
+        t.cone_radii(12)[0] - t.cone_radii(12)[1],
     );
     // The numbers: 0 for shell 1, 0.72 mm for shell 13.
     assert_eq!(t.traxer_axis_offset(0), 0.0);
     assert!((t.traxer_axis_offset(12) - 0.5 * (d_last - d_first)).abs() < 1e-12);
     assert!((t.traxer_axis_offset(12) - 0.718).abs() < 1e-3);
-    for (i, s) in t.shells.iter().enumerate() {
+    for i in 0..t.shells.len() {
         let shift = t.traxer_axis_offset(i);
         let a = t.alpha(i);
         // An axial ray at the front mirror's mid-length radius from the shell's own
         // (moved) axis: grazing at α, then the rear mirror, then it crosses that
         // axis (y = shift) near the focal plane, as a coaxial shell crosses y = 0.
-        let r_mid = s.r1 - 0.5 * t.mirror_length_mm * a.sin();
+        let r_mid = t.cone_radii(i)[0] - 0.5 * t.mirror_length_mm * a.sin();
         let (h2, d2) = through_shell(&scene, &t, i, DVec3::new(0.0, r_mid + shift, 400.0));
         let z = h2.point.z - (h2.point.y - shift) / d2.y * d2.z;
         assert!((z + 1500.1).abs() < 3.5, "shell {}: z = {z}", i + 1);

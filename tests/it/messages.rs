@@ -110,9 +110,9 @@ fn a_bad_value_from_a_define_names_the_define() {
 #[test]
 fn bad_numbers_in_a_data_file_name_that_file() {
     let dir = tempfile::tempdir().unwrap();
-    let data = std::fs::read_to_string(repo().join("data/llnl_telescope.toml"))
+    let data = std::fs::read_to_string(repo().join("data/telescopes/llnl.toml"))
         .unwrap()
-        .replace("r1 = 63.2384", "r1 = 50.0");
+        .replace("r1_mm = 63.2384", "r1_mm = 50.0");
     write(dir.path(), "my_telescope.toml", &data);
     let err = trace_error_in(
         dir.path(),

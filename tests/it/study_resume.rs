@@ -207,7 +207,7 @@ fn a_fit_stopped_twice_and_resumed_ends_as_the_uninterrupted_fit() {
 fn a_study_record_edited_or_of_changed_inputs_is_not_resumed() {
     let dir = tempfile::tempdir().unwrap();
     // The PANTER scene reading the telescope's data from a file beside it.
-    let data = std::fs::read_to_string(repo().join("data/llnl_telescope.toml")).unwrap();
+    let data = std::fs::read_to_string(repo().join("data/telescopes/llnl.toml")).unwrap();
     std::fs::write(dir.path().join("llnl.toml"), &data).unwrap();
     let text = std::fs::read_to_string(repo().join("scenes/panter_al_ka.toml"))
         .unwrap()
