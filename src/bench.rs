@@ -179,7 +179,7 @@ pub fn bvh_build_seconds(
     device: &crate::embree::Device,
     n_triangles: usize,
 ) -> Result<(usize, f64), crate::embree::EmbreeError> {
-    use crate::geometry::{AnalyticObject, AzimuthRange, Resolution, RevolutionQuadric, Surface};
+    use crate::geometry::{AzimuthRange, Resolution, RevolutionQuadric, Surface};
     let rings = 100;
     let segments = n_triangles.div_ceil(2 * rings);
     let cylinder = RevolutionQuadric::cylinder(100.0, 0.0, 200.0, AzimuthRange::FULL);
@@ -189,7 +189,7 @@ pub fn bvh_build_seconds(
         .iter()
         .map(|p| p.as_vec3().to_array())
         .collect();
-    let mut builder = device.scene::<AnalyticObject>();
+    let mut builder = device.scene::<crate::scene::AnalyticPieces>();
     builder.add_triangles(0, &vertices, &mesh.triangles)?;
     let t = Instant::now();
     let committed = builder.commit()?;

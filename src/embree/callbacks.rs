@@ -13,7 +13,7 @@ pub(super) unsafe extern "C" fn bounds_callback<U: UserGeometry>(
     unsafe {
         let args = &*args;
         let shape = &*(args.geometryUserPtr as *const U);
-        let (lo, hi) = shape.bounds();
+        let (lo, hi) = shape.bounds(args.primID);
         let b = &mut *args.bounds_o;
         b.lower_x = lo[0];
         b.lower_y = lo[1];
@@ -42,7 +42,8 @@ pub(super) unsafe extern "C" fn intersect_callback<U: UserGeometry>(
         let rh = &mut *(args.rayhit as *mut sys::RTCRayHit);
         let tfar = rh.ray.tfar;
         let starts_here = ctx.start_geometry == args.geomID;
-        if let Some(t) = shape.intersect(ctx.origin, ctx.dir, tfar as f64, starts_here) {
+        if let Some(t) = shape.intersect(args.primID, ctx.origin, ctx.dir, tfar as f64, starts_here)
+        {
             let t32 = t as f32;
             if t32 < tfar && t > 0.0 {
                 rh.ray.tfar = t32;
@@ -76,7 +77,13 @@ pub(super) unsafe extern "C" fn occluded_callback<U: UserGeometry>(
         let ray = &mut *(args.ray as *mut sys::RTCRay);
         let starts_here = ctx.start_geometry == args.geomID;
         if shape
-            .intersect(ctx.origin, ctx.dir, ray.tfar as f64, starts_here)
+            .intersect(
+                args.primID,
+                ctx.origin,
+                ctx.dir,
+                ray.tfar as f64,
+                starts_here,
+            )
             .is_some()
         {
             ray.tfar = f32::NEG_INFINITY;

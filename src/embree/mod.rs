@@ -69,15 +69,24 @@ pub enum EmbreeError {
 
 /// An analytic shape that Embree treats as user geometry: Embree only sees its
 /// bounding box; the exact intersection is computed by Rust in f64.
+///
+/// One geometry may hold several primitives, each with its own box: parts of
+/// one surface (a full-circle shell cut into azimuth sectors), so that Embree's
+/// boxes stay tight. All primitives of a geometry are one surface to the caller.
 pub trait UserGeometry: Send + Sync + 'static {
-    /// World-space axis-aligned bounds (lower, upper), slightly padded by the caller.
-    fn bounds(&self) -> ([f32; 3], [f32; 3]);
-    /// Distance `t` (in units of `dir`) to the nearest hit with `t < t_max`.
+    /// How many primitives (≥ 1).
+    fn primitive_count(&self) -> u32;
+    /// World-space axis-aligned bounds (lower, upper) of primitive `primitive`,
+    /// slightly padded by the caller.
+    fn bounds(&self, primitive: u32) -> ([f32; 3], [f32; 3]);
+    /// Distance `t` (in units of `dir`) to the nearest hit on primitive
+    /// `primitive` with `t < t_max`.
     /// `starts_on_surface` is true when the ray leaves a point of this same
     /// surface (after a reflection): the root at t ≈ 0 must then be ignored, but a
     /// genuine second hit on the same (concave) surface must not.
     fn intersect(
         &self,
+        primitive: u32,
         origin: [f64; 3],
         dir: [f64; 3],
         t_max: f64,

@@ -94,9 +94,11 @@ impl<U: UserGeometry> SceneBuilder<U> {
         self.device.check()
     }
 
-    /// Adds an analytic shape (one primitive) under geometry id `id`; Embree will
-    /// call back into `shape.intersect` for rays that reach its bounding box.
+    /// Adds an analytic shape (its primitives) under geometry id `id`; Embree
+    /// will call back into `shape.intersect` for rays that reach a primitive's
+    /// bounding box.
     pub fn add_user(&mut self, id: u32, shape: U) -> Result<(), EmbreeError> {
+        let shape_primitives = shape.primitive_count();
         let boxed = Box::new(shape);
         let ptr = &*boxed as *const U as *mut c_void;
         self.user.push(boxed);
@@ -110,7 +112,7 @@ impl<U: UserGeometry> SceneBuilder<U> {
                 self.device.check()?;
                 return Err(EmbreeError::NoDevice("rtcNewGeometry returned NULL".into()));
             }
-            sys::rtcSetGeometryUserPrimitiveCount(geom, 1);
+            sys::rtcSetGeometryUserPrimitiveCount(geom, shape_primitives);
             sys::rtcSetGeometryUserData(geom, ptr);
             sys::rtcSetGeometryBoundsFunction(
                 geom,

@@ -74,6 +74,28 @@ impl AzimuthRange {
         }
     }
 
+    /// The range cut into `n` equal sectors (n ≥ 1) that share their edges
+    /// exactly: a point on an edge belongs to both neighbours, so no direction
+    /// falls between them (the full circle's last edge is its first).
+    pub fn sectors(&self, n: usize) -> Vec<AzimuthRange> {
+        let n = n.max(1);
+        let span = self.span_deg.min(360.0);
+        let width = span / n as f64;
+        let edge = |k: usize| self.start_deg + width * k as f64;
+        (0..n)
+            .map(|k| {
+                let mut s = AzimuthRange::new(edge(k), width);
+                s.first = if k == 0 { self.first } else { unit(edge(k)) };
+                s.last = if k + 1 == n {
+                    self.last
+                } else {
+                    unit(edge(k + 1))
+                };
+                s
+            })
+            .collect()
+    }
+
     /// Unit-circle points bounding the range: its two ends and every axis direction
     /// inside it (for bounding boxes).
     pub(crate) fn extreme_directions(&self) -> Vec<(f64, f64)> {

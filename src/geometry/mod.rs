@@ -30,7 +30,7 @@ pub use cuboid::Cuboid;
 pub use disk::Disk;
 pub use quadric::RevolutionQuadric;
 pub use rectangle::Rectangle;
-pub use shape::{AnalyticObject, Resolution, Shape, Surface};
+pub use shape::{AnalyticObject, Piece, Resolution, Shape, Surface};
 pub use sphere::Sphere;
 pub use transform::Transform;
 pub use triangle_mesh::TriangleMesh;

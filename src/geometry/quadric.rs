@@ -40,11 +40,16 @@ impl RevolutionQuadric {
         Self::cone(r, z0, r, z1, azimuth)
     }
 
-    /// Paraboloid with its focus at the local origin, opening towards +z:
-    /// r² = 4q (z + q), q = the vertex-to-focus distance.
-    pub fn paraboloid(q: f64, z0: f64, z1: f64, azimuth: AzimuthRange) -> Self {
+    /// Paraboloid with its focus on the axis at z = `focus_z`, opening towards
+    /// +z: r² = 4q (z − focus_z + q), q = the vertex-to-focus distance.
+    pub fn paraboloid(q: f64, focus_z: f64, z0: f64, z1: f64, azimuth: AzimuthRange) -> Self {
         RevolutionQuadric {
-            a: 4.0 * q * q,
+            // As written before the focus could move, for focus_z = 0.
+            a: if focus_z == 0.0 {
+                4.0 * q * q
+            } else {
+                4.0 * q * (q - focus_z)
+            },
             b: 4.0 * q,
             c: 0.0,
             z_min: z0.min(z1),
@@ -53,15 +58,30 @@ impl RevolutionQuadric {
         }
     }
 
-    /// Hyperboloid of two sheets centred at the local origin:
-    /// z²/a² − r²/b² = 1, i.e. r² = b² (z²/a² − 1); foci at z = ±√(a² + b²).
-    /// The z range selects the sheet.
-    pub fn hyperboloid(semi_a: f64, semi_b: f64, z0: f64, z1: f64, azimuth: AzimuthRange) -> Self {
+    /// Hyperboloid of two sheets centred on the axis at z = `center_z` = z_c:
+    /// (z − z_c)²/a² − r²/b² = 1, i.e. r² = b² ((z − z_c)²/a² − 1); foci at
+    /// z_c ± √(a² + b²). The z range selects the sheet.
+    pub fn hyperboloid(
+        semi_a: f64,
+        semi_b: f64,
+        center_z: f64,
+        z0: f64,
+        z1: f64,
+        azimuth: AzimuthRange,
+    ) -> Self {
         let bb = semi_b * semi_b;
+        let k = bb / (semi_a * semi_a);
+        // r² = (k z_c² − b²) − 2k z_c z + k z²; as written before the centre
+        // could move, for z_c = 0.
+        let (a, b) = if center_z == 0.0 {
+            (-bb, 0.0)
+        } else {
+            (k * center_z * center_z - bb, -2.0 * k * center_z)
+        };
         RevolutionQuadric {
-            a: -bb,
-            b: 0.0,
-            c: bb / (semi_a * semi_a),
+            a,
+            b,
+            c: k,
             z_min: z0.min(z1),
             z_max: z0.max(z1),
             azimuth,
@@ -76,6 +96,23 @@ impl RevolutionQuadric {
 
     pub fn radius(&self, z: f64) -> f64 {
         self.radius_squared(z).max(0.0).sqrt()
+    }
+
+    /// The smallest and largest radius over z_min … z_max.
+    pub fn radius_range(&self) -> (f64, f64) {
+        // r(z) is monotonic on each side of its single extremum z* = −b/2c; sample
+        // the ends and z* when it lies inside.
+        let mut zs = vec![self.z_min, self.z_max];
+        if self.c != 0.0 {
+            let zs_ext = -self.b / (2.0 * self.c);
+            if zs_ext > self.z_min && zs_ext < self.z_max {
+                zs.push(zs_ext);
+            }
+        }
+        let radii = zs.iter().map(|&z| self.radius(z));
+        let r_max = radii.clone().fold(0.0, f64::max);
+        let r_min = radii.fold(f64::INFINITY, f64::min);
+        (r_min, r_max)
     }
 }
 
@@ -101,18 +138,7 @@ impl Surface for RevolutionQuadric {
 
     /// Local bounding box.
     fn bounds(&self) -> (DVec3, DVec3) {
-        // r(z) is monotonic on each side of its single extremum z* = −b/2c; sample
-        // the ends and z* when it lies inside.
-        let mut zs = vec![self.z_min, self.z_max];
-        if self.c != 0.0 {
-            let zs_ext = -self.b / (2.0 * self.c);
-            if zs_ext > self.z_min && zs_ext < self.z_max {
-                zs.push(zs_ext);
-            }
-        }
-        let radii: Vec<f64> = zs.iter().map(|&z| self.radius(z)).collect();
-        let r_max = radii.iter().cloned().fold(0.0, f64::max);
-        let r_min = radii.iter().cloned().fold(f64::INFINITY, f64::min);
+        let (r_min, r_max) = self.radius_range();
         let mut lo = DVec3::new(f64::INFINITY, f64::INFINITY, self.z_min);
         let mut hi = DVec3::new(f64::NEG_INFINITY, f64::NEG_INFINITY, self.z_max);
         for (x, y) in self.azimuth.extreme_directions() {

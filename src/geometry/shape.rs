@@ -2,7 +2,9 @@
 //! shapes that dispatches to it ([`Shape`], matched, never boxed: it sits in the
 //! photon path), and an analytic shape placed in the world ([`AnalyticObject`]).
 
-use super::{Cuboid, Disk, Rectangle, RevolutionQuadric, Sphere, Transform, TriangleMesh};
+use super::{
+    AzimuthRange, Cuboid, Disk, Rectangle, RevolutionQuadric, Sphere, Transform, TriangleMesh,
+};
 use glam::DVec3;
 
 /// Tessellation resolution: `segments` around the azimuth (or along x for a
@@ -98,13 +100,19 @@ impl AnalyticObject {
         t_max: f64,
         starts_on_surface: bool,
     ) -> Option<f64> {
-        let (lo, ld) = if self.transform.is_identity() {
+        let (lo, ld) = self.to_local(o, d);
+        self.shape.intersect(lo, ld, t_max, starts_on_surface)
+    }
+
+    /// A world-space ray in the local frame.
+    #[inline]
+    fn to_local(&self, o: DVec3, d: DVec3) -> (DVec3, DVec3) {
+        if self.transform.is_identity() {
             (o, d)
         } else {
             let m = &self.transform.to_local;
             (m.transform_point3(o), m.transform_vector3(d))
-        };
-        self.shape.intersect(lo, ld, t_max, starts_on_surface)
+        }
     }
 
     /// World-space front normal at a world-space surface point.
@@ -122,6 +130,111 @@ impl AnalyticObject {
     /// World-space bounds: the eight mapped corners of the local box.
     pub fn world_bounds(&self) -> (DVec3, DVec3) {
         let (lo, hi) = self.shape.bounds();
+        self.transform.box_to_world(lo, hi)
+    }
+}
+
+/// Azimuth sectors wider than this are cut for their bounding boxes (the LLNL
+/// shells' 30° segments stay whole).
+const SPLIT_ABOVE_DEG: f64 = 90.0;
+/// The longest arc (mm) and radial length of a piece of a cut surface.
+const PIECE_MAX_MM: f64 = 20.0;
+
+/// A piece of a cut surface: an azimuth sector and, for a disk, a ring.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Piece {
+    pub azimuth: AzimuthRange,
+    pub inner_radius: f64,
+    pub outer_radius: f64,
+}
+
+impl Shape {
+    /// This shape restricted to `piece` (a surface of revolution or a disk).
+    #[inline]
+    pub fn piece(&self, piece: &Piece) -> Shape {
+        let mut shape = *self;
+        match &mut shape {
+            Shape::Revolution(q) => q.azimuth = piece.azimuth,
+            Shape::Disk(d) => {
+                d.azimuth = piece.azimuth;
+                d.inner_radius = piece.inner_radius;
+                d.outer_radius = piece.outer_radius;
+            }
+            _ => {}
+        }
+        shape
+    }
+}
+
+impl AnalyticObject {
+    /// Cuts the object into pieces with tight bounding boxes, which together are
+    /// the same surface; none when it stays whole. A full-circle shell's box
+    /// holds every shell nested inside it, so an unsplit nested telescope sends
+    /// each ray through every shell's intersection test; cut into sectors of
+    /// at most 10 mm of arc, a piece's box holds only its neighbours'. Disks
+    /// longer than 10 mm radially (a spider's arms) are also cut into rings.
+    /// Surfaces within 90° of azimuth and small disks stay whole (the LLNL
+    /// shells' 30° segments).
+    pub fn pieces(&self) -> Vec<Piece> {
+        let (azimuth, r_min, r_max) = match &self.shape {
+            Shape::Revolution(q) => {
+                let (lo, hi) = q.radius_range();
+                (q.azimuth, lo, hi)
+            }
+            Shape::Disk(d) => (d.azimuth, d.inner_radius, d.outer_radius),
+            _ => return vec![],
+        };
+        let disk = matches!(self.shape, Shape::Disk(_));
+        let span = azimuth.span_deg().min(360.0);
+        let radial = if disk { r_max - r_min } else { 0.0 };
+        if span <= SPLIT_ABOVE_DEG && radial <= PIECE_MAX_MM {
+            return vec![];
+        }
+        let rings = ((radial / PIECE_MAX_MM).ceil() as usize).clamp(1, 256);
+        let edge = |k: usize| {
+            if k == rings {
+                r_max
+            } else {
+                r_min + (r_max - r_min) * k as f64 / rings as f64
+            }
+        };
+        let mut pieces = Vec::new();
+        for ring in 0..rings {
+            let (inner, outer) = (edge(ring), edge(ring + 1));
+            let arc = span.to_radians() * outer;
+            let n = if span <= SPLIT_ABOVE_DEG {
+                1
+            } else {
+                (arc / PIECE_MAX_MM).ceil().clamp(1.0, 4096.0) as usize
+            };
+            pieces.extend(azimuth.sectors(n).into_iter().map(|azimuth| Piece {
+                azimuth,
+                inner_radius: inner,
+                outer_radius: outer,
+            }));
+        }
+        pieces
+    }
+
+    /// [`AnalyticObject::intersect_world`] on one piece of the shape.
+    #[inline]
+    pub fn intersect_piece(
+        &self,
+        piece: &Piece,
+        o: DVec3,
+        d: DVec3,
+        t_max: f64,
+        starts_on_surface: bool,
+    ) -> Option<f64> {
+        let (lo, ld) = self.to_local(o, d);
+        self.shape
+            .piece(piece)
+            .intersect(lo, ld, t_max, starts_on_surface)
+    }
+
+    /// World-space bounds of one piece.
+    pub fn piece_bounds(&self, piece: &Piece) -> (DVec3, DVec3) {
+        let (lo, hi) = self.shape.piece(piece).bounds();
         self.transform.box_to_world(lo, hi)
     }
 }

@@ -12,7 +12,7 @@ use super::placement::transform;
 use super::shapes::ShapeDesc;
 use super::{embree_binding, load, Camera, Representation, Scene, Sky};
 use crate::embree::Device;
-use crate::geometry::{AnalyticObject, Resolution, Shape, Transform};
+use crate::geometry::{Resolution, Shape, Transform};
 use crate::source::Source;
 use crate::xray::figure_error::FigureErrorLibrary;
 use crate::xray::{Coating, CoatingLibrary, Foil, ReflectivityTable};
@@ -69,7 +69,7 @@ pub(super) fn build(
 
     let mut objects = Vec::new();
     let mut builder = ObjectBuilder::new(at, dir, representation, &inputs);
-    let mut embree = device.scene::<AnalyticObject>();
+    let mut embree = device.scene::<embree_binding::AnalyticPieces>();
     let mut triangle_count = 0;
     for (index, od) in std::mem::take(&mut desc.objects).into_iter().enumerate() {
         let id = u32::try_from(index).map_err(|_| at.whole("too many objects"))?;

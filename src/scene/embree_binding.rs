@@ -4,12 +4,36 @@
 
 use super::ObjectGeometry;
 use crate::embree::{EmbreeError, SceneBuilder, UserGeometry};
-use crate::geometry::AnalyticObject;
+use crate::geometry::{AnalyticObject, Piece};
 use glam::DVec3;
 
-impl UserGeometry for AnalyticObject {
-    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
-        let (lo, hi) = self.world_bounds();
+/// What Embree holds of one analytic object: the object, whole (one Embree
+/// primitive) or cut into pieces with tight boxes ([`AnalyticObject::pieces`],
+/// one primitive each, 64 bytes: they share the object's transform).
+pub struct AnalyticPieces {
+    object: AnalyticObject,
+    pieces: Box<[Piece]>,
+}
+
+impl AnalyticPieces {
+    pub fn new(object: &AnalyticObject) -> AnalyticPieces {
+        AnalyticPieces {
+            object: *object,
+            pieces: object.pieces().into_boxed_slice(),
+        }
+    }
+}
+
+impl UserGeometry for AnalyticPieces {
+    fn primitive_count(&self) -> u32 {
+        self.pieces.len().max(1) as u32
+    }
+
+    fn bounds(&self, primitive: u32) -> ([f32; 3], [f32; 3]) {
+        let (lo, hi) = match self.pieces.get(primitive as usize) {
+            Some(piece) => self.object.piece_bounds(piece),
+            None => self.object.world_bounds(),
+        };
         // Pad so that f32 rounding of the box never cuts off the exact surface.
         let pad = 1e-6 * (lo.abs().max(hi.abs()).max_element() + 1.0);
         let down = |x: f64| ((x - pad) as f32).next_down();
@@ -20,31 +44,34 @@ impl UserGeometry for AnalyticObject {
         )
     }
 
+    #[inline]
     fn intersect(
         &self,
+        primitive: u32,
         origin: [f64; 3],
         dir: [f64; 3],
         t_max: f64,
         starts_on_surface: bool,
     ) -> Option<f64> {
-        self.intersect_world(
-            DVec3::from(origin),
-            DVec3::from(dir),
-            t_max,
-            starts_on_surface,
-        )
+        let (o, d) = (DVec3::from(origin), DVec3::from(dir));
+        match self.pieces.get(primitive as usize) {
+            Some(piece) => self
+                .object
+                .intersect_piece(piece, o, d, t_max, starts_on_surface),
+            None => self.object.intersect_world(o, d, t_max, starts_on_surface),
+        }
     }
 }
 
 /// Attaches one object's geometry under Embree geometry id `id` (its index in
 /// the scene); returns its number of triangles.
 pub(super) fn attach(
-    embree: &mut SceneBuilder<AnalyticObject>,
+    embree: &mut SceneBuilder<AnalyticPieces>,
     id: u32,
     geometry: &ObjectGeometry,
 ) -> Result<usize, EmbreeError> {
     match geometry {
-        ObjectGeometry::Analytic(a) => embree.add_user(id, *a).map(|_| 0),
+        ObjectGeometry::Analytic(a) => embree.add_user(id, AnalyticPieces::new(a)).map(|_| 0),
         ObjectGeometry::Mesh(m) => {
             let v32: Vec<[f32; 3]> = m.positions.iter().map(|p| p.as_vec3().to_array()).collect();
             embree.add_triangles(id, &v32, &m.triangles)?;

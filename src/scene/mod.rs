@@ -30,6 +30,7 @@ pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
 pub use assemblies::{AssemblyDesc, NestedTelescopeDesc};
 pub use build::{analytic_shapes, inline_shape, NamedShape, TABLE_THETA_MAX};
 pub use camera::{Camera, CameraDesc};
+pub use embree_binding::AnalyticPieces;
 pub use error::SceneError;
 pub use inputs::{input_difference, InputHashes};
 pub use materials::{AbsorberDesc, FoilDesc, MaterialDesc, MirrorDesc, SideDesc};
@@ -70,7 +71,7 @@ pub struct Scene {
     /// Reflectivity tables of the coated mirrors' coatings (indexed by
     /// `Material::Mirror::reflectivity`), over the sources' energy range.
     pub reflectivity: Vec<ReflectivityTable>,
-    pub embree: CommittedScene<AnalyticObject>,
+    pub embree: CommittedScene<embree_binding::AnalyticPieces>,
     /// Named cameras for visible-light renders.
     pub cameras: BTreeMap<String, Camera>,
     /// The sky of visible-light renders.

@@ -140,6 +140,9 @@ impl CylinderDesc {
 pub struct ParaboloidDesc {
     /// Vertex-to-focus distance q (mm).
     pub focal_length: f64,
+    /// Where the focus lies on the axis (default 0).
+    #[serde(default)]
+    pub focus_z: f64,
     pub z_start: f64,
     pub z_end: f64,
     #[serde(default)]
@@ -149,15 +152,16 @@ pub struct ParaboloidDesc {
 impl ParaboloidDesc {
     fn build(&self) -> Result<Shape, InvalidShape> {
         let p = self;
-        if !all_finite(&[p.focal_length, p.z_start, p.z_end])
+        if !all_finite(&[p.focal_length, p.focus_z, p.z_start, p.z_end])
             || p.focal_length <= 0.0
             || p.z_start == p.z_end
-            || p.z_start.min(p.z_end) < -p.focal_length
+            || p.z_start.min(p.z_end) - p.focus_z < -p.focal_length
         {
-            return Err("paraboloid needs focal_length > 0 and z_start ≠ z_end, both ≥ −focal_length (the vertex)".into());
+            return Err("paraboloid needs focal_length > 0 and z_start ≠ z_end, both ≥ focus_z − focal_length (the vertex)".into());
         }
         Ok(Shape::Revolution(RevolutionQuadric::paraboloid(
             p.focal_length,
+            p.focus_z,
             p.z_start,
             p.z_end,
             azimuth(&p.azimuth)?,
@@ -170,6 +174,9 @@ impl ParaboloidDesc {
 pub struct HyperboloidDesc {
     pub semi_axis_a: f64,
     pub semi_axis_b: f64,
+    /// Where the centre lies on the axis (default 0).
+    #[serde(default)]
+    pub center_z: f64,
     pub z_start: f64,
     pub z_end: f64,
     #[serde(default)]
@@ -180,19 +187,21 @@ impl HyperboloidDesc {
     fn build(&self) -> Result<Shape, InvalidShape> {
         let h = self;
         let (lo, hi) = (h.z_start.min(h.z_end), h.z_start.max(h.z_end));
-        if !all_finite(&[h.semi_axis_a, h.semi_axis_b, lo, hi])
+        let (lo_c, hi_c) = (lo - h.center_z, hi - h.center_z);
+        if !all_finite(&[h.semi_axis_a, h.semi_axis_b, h.center_z, lo, hi])
             || h.semi_axis_a <= 0.0
             || h.semi_axis_b <= 0.0
             || lo == hi
-            || !(lo >= h.semi_axis_a || hi <= -h.semi_axis_a)
+            || !(lo_c >= h.semi_axis_a || hi_c <= -h.semi_axis_a)
         {
             return Err(InvalidShape::from(
-                "hyperboloid needs semi axes > 0 and a z range on one sheet (|z| ≥ semi_axis_a)",
+                "hyperboloid needs semi axes > 0 and a z range on one sheet (|z − center_z| ≥ semi_axis_a)",
             ));
         }
         Ok(Shape::Revolution(RevolutionQuadric::hyperboloid(
             h.semi_axis_a,
             h.semi_axis_b,
+            h.center_z,
             h.z_start,
             h.z_end,
             azimuth(&h.azimuth)?,

@@ -212,29 +212,30 @@ impl Telescope {
                 [
                     Mirror {
                         name: format!("front_{n}"),
-                        // The paraboloid shape has its focus at its origin.
+                        // In place (no transform to apply per ray).
                         shape: ShapeDesc::Paraboloid(ParaboloidDesc {
                             focal_length: w.q,
-                            z_start: z0 + d,
-                            z_end: z0 + l + d,
+                            focus_z: -d,
+                            z_start: z0,
+                            z_end: z0 + l,
                             azimuth: az,
                         }),
-                        transform: vec![TransformStep::Translate([0.0, 0.0, -d])],
+                        transform: vec![],
                         near: p(z0),
                         far: p(z0 + l),
                         stage: MirrorStage::Front,
                     },
                     Mirror {
                         name: format!("rear_{n}"),
-                        // The hyperboloid shape is centred at its origin.
                         shape: ShapeDesc::Hyperboloid(HyperboloidDesc {
                             semi_axis_a: w.a,
                             semi_axis_b: w.b,
-                            z_start: -z0 - c,
-                            z_end: -z0 - l - c,
+                            center_z: c,
+                            z_start: -z0,
+                            z_end: -z0 - l,
                             azimuth: az,
                         }),
-                        transform: vec![TransformStep::Translate([0.0, 0.0, c])],
+                        transform: vec![],
                         near: h(-z0),
                         far: h(-z0 - l),
                         stage: MirrorStage::Rear,
