@@ -29,6 +29,7 @@ fn main() {
     println!("cargo::rustc-check-cfg=cfg(embree4)");
 
     record_git_hash();
+    list_shipped_telescopes();
 
     let (include_dir, lib_dir) = candidate_dirs();
     let Some((include_dir, major)) = include_dir
@@ -115,6 +116,39 @@ fn record_git_hash() {
         println!("cargo:rerun-if-changed={dir}/HEAD");
         println!("cargo:rerun-if-changed={dir}/index");
     }
+}
+
+/// Writes `$OUT_DIR/telescopes.rs`: every data/telescopes/NAME.toml compiled in
+/// under NAME, so that a new telescope takes its data file and nothing else.
+fn list_shipped_telescopes() {
+    let dir = Path::new(&env::var("CARGO_MANIFEST_DIR").unwrap()).join("data/telescopes");
+    println!("cargo:rerun-if-changed={}", dir.display());
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .map(|entries| {
+            entries
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+                .collect()
+        })
+        .unwrap_or_default();
+    files.sort();
+    let entries: String = files
+        .iter()
+        .map(|p| {
+            let name = p.file_stem().unwrap().to_string_lossy();
+            format!(
+                "    ({name:?}, include_str!({:?})),\n",
+                p.display().to_string()
+            )
+        })
+        .collect();
+    let code = format!(
+        "/// The telescopes of data/telescopes/, by file name (written by build.rs).\n\
+         pub const SHIPPED: [(&str, &str); {}] = [\n{entries}];\n",
+        files.len()
+    );
+    let out = Path::new(&env::var("OUT_DIR").unwrap()).join("telescopes.rs");
+    std::fs::write(out, code).expect("OUT_DIR is writable");
 }
 
 /// Include and library folders to try, in order of preference.

@@ -7,10 +7,6 @@ cargo build --release --quiet
 T=target/release/traxer
 $T tessellate meshes/parts.toml --object entrance_aperture --out meshes/entrance_aperture.gltf
 $T tessellate meshes/parts.toml --object central_blocker --out meshes/central_blocker.obj
-# The Wolter-I shells as meshes (world coordinates), for scenes/wolter1_meshed.toml.
-objs=()
-for i in 1 2 3 4; do objs+=(--object "paraboloid_$i" --object "hyperboloid_$i"); done
-$T tessellate scenes/wolter1_parallel.toml "${objs[@]}" --segments 720 --rings 8 --format glb --out meshes/wolter1
 # The CAST LLNL telescope: one file, one named part per mirror, glass back and
 # edge (104 parts). 60 × 2 is 0.5° per segment: its HPD matches the analytic
 # telescope to 0.1 % (README, "Analytic vs meshed telescope").

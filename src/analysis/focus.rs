@@ -25,6 +25,13 @@ pub struct DefocusFit {
     pub slope: f64,
     /// Root-mean-square of the residuals, relative to the diameter.
     pub rms_relative_residual: f64,
+    /// The smallest diameter measured in the sweep.
+    pub smallest_measured: f64,
+    /// Whether the sweep measured D₀: a point lies where D₀ dominates the
+    /// curve (its diameter within twice D₀). A sweep coarser than the depth
+    /// of focus sees only the asymptotes, whose fit puts D₀ anywhere below
+    /// the smallest measured diameter (often 0): then D₀ is not a result.
+    pub d0_resolved: bool,
 }
 
 impl DefocusFit {
@@ -107,12 +114,16 @@ pub fn fit_defocus(points: &[(f64, f64)]) -> Result<DefocusFit, DefocusFitError>
     // Error propagation for u0 = −c1 / (2 c2) with Cov(c) = s² (AᵀWA)⁻¹.
     let grad = DVec3::new(0.0, -1.0 / (2.0 * c.z), c.y / (2.0 * c.z * c.z));
     let var_u0 = s2 * grad.dot(inv * grad);
+    let d0 = d0sq.max(0.0).sqrt();
+    let smallest_measured = pts.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
     Ok(DefocusFit {
         z0,
         z0_std_error: zs * var_u0.max(0.0).sqrt(),
-        d0: d0sq.max(0.0).sqrt(),
+        d0,
         slope: c.z.sqrt() / zs,
         rms_relative_residual: (chi2 / pts.len() as f64).sqrt() / 2.0,
+        smallest_measured,
+        d0_resolved: smallest_measured <= 2.0 * d0,
     })
 }
 
@@ -153,5 +164,34 @@ mod tests {
             .to_string()
             .contains("widen"));
         assert!(fit_defocus(&pts[..3]).is_err());
+    }
+
+    #[test]
+    fn a_sweep_coarser_than_the_depth_of_focus_does_not_claim_the_diameter_there() {
+        // The HPD (mm) of scenes/xmm_point_source.toml every 5 mm (traxer focus
+        // --from -7990 --to -7930, 200 000 photons): a V whose bottom, between
+        // two samples, the sweep never saw. Its fit puts D₀ at 0; a scan every
+        // 1 mm around the focus measured 0.072 mm there.
+        let hpd = [
+            2.22903, 1.89484, 1.56009, 1.22510, 0.88758, 0.54983, 0.22131, 0.11038, 0.43007,
+            0.76527, 1.10080, 1.43572, 1.76965,
+        ];
+        let coarse: Vec<(f64, f64)> = hpd
+            .iter()
+            .enumerate()
+            .map(|(i, &d)| (-7990.0 + 5.0 * i as f64, d))
+            .collect();
+        let f = fit_defocus(&coarse).unwrap();
+        assert!((f.z0 + 7956.6).abs() < 0.5, "{f:?}");
+        assert!(!f.d0_resolved && f.smallest_measured == 0.11038, "{f:?}");
+        // The exact hyperbola sampled as coarsely is resolved: its samples
+        // reach down to twice D₀.
+        let (z0, d0, k) = (-7956.6, 0.3, 0.067);
+        let exact: Vec<(f64, f64)> = (0..13)
+            .map(|i| -7990.0 + 5.0 * i as f64)
+            .map(|z| (z, (d0 * d0 + (k * (z - z0)).powi(2)).sqrt()))
+            .collect();
+        let f = fit_defocus(&exact).unwrap();
+        assert!(f.d0_resolved && (f.d0 - d0).abs() < 1e-9, "{f:?}");
     }
 }

@@ -184,15 +184,29 @@ fn print_fits(a: &FocusArgs, scan: &FocusScan) -> anyhow::Result<()> {
     let fits = &scan.fits;
     match &fits[0].1 {
         Ok(f) => {
+            let arcsec = |d: f64| {
+                scan.focal_length
+                    .map(|fl| format!(" ({:.1}″)", plotted_diameter(d, Some(fl))))
+                    .unwrap_or_default()
+            };
+            let at_focus = if f.d0_resolved {
+                format!("HPD there {:.4} mm{}", f.d0, arcsec(f.d0))
+            } else {
+                // Where the curve is 3× the smallest measured HPD, on each side.
+                let half = 3.0 * f.smallest_measured / f.slope;
+                format!(
+                    "the HPD there is below the smallest measured, {:.4} mm{}, but not resolved: the steps are coarser than the depth of focus (for it: --from {:.3} --to {:.3})",
+                    f.smallest_measured,
+                    arcsec(f.smallest_measured),
+                    f.z0 - half,
+                    f.z0 + half
+                )
+            };
             say!(
-                "best focus (HPD fit): {} = {:.3} ± {:.3}; HPD there {:.4} mm{}",
+                "best focus (HPD fit): {} = {:.3} ± {:.3}; {at_focus}",
                 a.var,
                 f.z0,
                 f.z0_std_error,
-                f.d0,
-                scan.focal_length
-                    .map(|fl| format!(" ({:.1}″)", plotted_diameter(f.d0, Some(fl))))
-                    .unwrap_or_default()
             );
             if !a.output.quiet.quiet {
                 for (label, fit) in fits.iter().skip(1) {

@@ -100,13 +100,13 @@ impl AnalyticObject {
         t_max: f64,
         starts_on_surface: bool,
     ) -> Option<f64> {
-        let (lo, ld) = self.to_local(o, d);
+        let (lo, ld) = self.local_ray(o, d);
         self.shape.intersect(lo, ld, t_max, starts_on_surface)
     }
 
     /// A world-space ray in the local frame.
     #[inline]
-    fn to_local(&self, o: DVec3, d: DVec3) -> (DVec3, DVec3) {
+    fn local_ray(&self, o: DVec3, d: DVec3) -> (DVec3, DVec3) {
         if self.transform.is_identity() {
             (o, d)
         } else {
@@ -226,7 +226,7 @@ impl AnalyticObject {
         t_max: f64,
         starts_on_surface: bool,
     ) -> Option<f64> {
-        let (lo, ld) = self.to_local(o, d);
+        let (lo, ld) = self.local_ray(o, d);
         self.shape
             .piece(piece)
             .intersect(lo, ld, t_max, starts_on_surface)

@@ -211,9 +211,10 @@ mod tests {
         }
     }
 
-    /// The same shell as the numbers in scenes/wolter1_parallel.toml (shell
-    /// 1: f = 1500 mm, R3 = 50 mm), which scripts/wolter1_shells.py computed
-    /// independently (in Python, by the other form of the quadratic's root).
+    /// Shell 1 of the Wolter-I example scenes (f = 1500 mm, R3 = 50 mm) as the
+    /// Python generator that wrote those scenes before the assembly existed
+    /// (scripts/wolter1_shells.py, retired after commit 58782e4) computed it
+    /// independently, by the other form of the quadratic's root.
     #[test]
     fn the_shell_of_the_shipped_wolter_scene_is_reproduced() {
         let s = WolterShell::new(1500.0, 50.0).unwrap();

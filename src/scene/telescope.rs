@@ -13,24 +13,10 @@ use crate::geometry::wolter::WolterShell;
 use crate::xray::figure_error::FigureErrorSpec;
 use serde::Deserialize;
 
-/// The telescopes traxer ships, by the name a scene gives (`telescope = "llnl"`),
-/// compiled in so that an installed binary needs no data directory.
-pub const SHIPPED: [(&str, &str); 2] = [
-    (
-        "llnl",
-        include_str!(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/data/telescopes/llnl.toml"
-        )),
-    ),
-    (
-        "xmm_newton",
-        include_str!(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/data/telescopes/xmm_newton.toml"
-        )),
-    ),
-];
+// The telescopes traxer ships, by the name a scene gives (`telescope =
+// "llnl"`): every data/telescopes/NAME.toml, compiled in so that an installed
+// binary needs no data directory (the list is written by build.rs).
+include!(concat!(env!("OUT_DIR"), "/telescopes.rs"));
 
 message_error!(
     /// Telescope data (radii, lengths) that describe no telescope.

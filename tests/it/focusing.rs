@@ -158,7 +158,8 @@ fn flat_mirror_deflects_by_twice_the_grazing_angle() {
 }
 
 /// Wolter-I equal-angle design (Van Speybroeck & Chase 1972), computed here
-/// independently of scripts/wolter1_shells.py: returns the scene objects.
+/// independently of `geometry::wolter` and the `nested_telescope` assembly:
+/// returns the scene objects.
 fn wolter_shell(f: f64, l: f64, r0: f64, i: usize) -> String {
     let theta = (r0 / f).atan() / 4.0;
     let d = r0 / (2.0 * theta).tan();

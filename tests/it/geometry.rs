@@ -45,12 +45,13 @@ fn shapes() -> Vec<Shape> {
         )),
         Shape::Revolution(RevolutionQuadric::paraboloid(
             0.5,
+            0.0,
             800.0,
             1000.0,
             AzimuthRange::FULL,
         )),
         Shape::Revolution(RevolutionQuadric::hyperboloid(
-            700.0, 30.0, 760.0, 850.0, seg,
+            700.0, 30.0, 0.0, 760.0, 850.0, seg,
         )),
         Shape::Disk(Disk {
             inner_radius: 2.0,
@@ -129,11 +130,11 @@ fn quadric_coefficients_match_the_defining_formulas() {
     let c = RevolutionQuadric::cone(63.2384, 229.0, 60.9121, 4.0, AzimuthRange::FULL);
     assert!((c.radius(229.0) - 63.2384).abs() < 1e-12);
     assert!((c.radius(4.0) - 60.9121).abs() < 1e-12);
-    let p = RevolutionQuadric::paraboloid(0.5, 0.0, 10.0, AzimuthRange::FULL);
+    let p = RevolutionQuadric::paraboloid(0.5, 0.0, 0.0, 10.0, AzimuthRange::FULL);
     // r² = 4q(z + q): vertex at z = −q, focus at 0, latus rectum 4q at z = 0.
     assert!((p.radius(-0.5)).abs() < 1e-12);
     assert!((p.radius(0.0) - 1.0).abs() < 1e-12);
-    let h = RevolutionQuadric::hyperboloid(3.0, 4.0, 3.0, 10.0, AzimuthRange::FULL);
+    let h = RevolutionQuadric::hyperboloid(3.0, 4.0, 0.0, 3.0, 10.0, AzimuthRange::FULL);
     // z²/9 − r²/16 = 1 at z = 6: r² = 16·3 = 48.
     assert!((h.radius(6.0) - 48f64.sqrt()).abs() < 1e-12);
 }
@@ -415,4 +416,118 @@ fn a_box_tessellates_at_the_resolution_asked() {
     });
     assert_eq!(fine.triangles.len(), 6 * 200);
     assert!((fine.area() - 22.0).abs() < 1e-12);
+}
+
+#[test]
+fn moved_paraboloid_and_hyperboloid_are_the_translated_ones() {
+    // focus_z / center_z in the coefficients, against the shape at the origin
+    // seen through the shift: radius at matching heights, to rounding.
+    let (q, dz) = (0.31, -15000.0);
+    let moved = RevolutionQuadric::paraboloid(q, dz, 0.0, 300.0, AzimuthRange::FULL);
+    let at_origin = RevolutionQuadric::paraboloid(q, 0.0, -dz, 300.0 - dz, AzimuthRange::FULL);
+    let (a, b, c) = (3750.9, 17.6, -11250.0);
+    let moved_h = RevolutionQuadric::hyperboloid(a, b, c, -300.0, 0.0, AzimuthRange::FULL);
+    let origin_h = RevolutionQuadric::hyperboloid(a, b, 0.0, -300.0 - c, -c, AzimuthRange::FULL);
+    for k in 0..=30 {
+        let z = 10.0 * k as f64;
+        let rel = |x: f64, y: f64| (x / y - 1.0).abs();
+        assert!(
+            rel(moved.radius(z), at_origin.radius(z - dz)) < 1e-12,
+            "z = {z}"
+        );
+        assert!(
+            rel(moved_h.radius(-z), origin_h.radius(-z - c)) < 1e-10,
+            "z = {}",
+            -z
+        );
+        // Against the closed forms themselves.
+        let r2 = 4.0 * q * (z - dz + q);
+        assert!(rel(moved.radius_squared(z), r2) < 1e-12);
+        let u = (-z - c) / a;
+        assert!(rel(moved_h.radius_squared(-z), b * b * (u * u - 1.0)) < 1e-10);
+    }
+}
+
+#[test]
+fn a_surface_cut_into_pieces_is_hit_where_the_whole_is() {
+    use traxer::geometry::{AnalyticObject, Transform};
+    // Full circles (cut into sectors; the disk also into rings) and a 30°
+    // segment (kept whole): the nearest hit over the pieces is the whole
+    // shape's, for rays from everywhere, including along the sectors' edges.
+    let objects = [
+        Shape::Revolution(RevolutionQuadric::paraboloid(
+            0.5,
+            -15000.0,
+            0.0,
+            300.0,
+            AzimuthRange::FULL,
+        )),
+        Shape::Revolution(RevolutionQuadric::cone(
+            350.0,
+            0.0,
+            340.0,
+            -300.0,
+            AzimuthRange::new(10.0, 200.0),
+        )),
+        Shape::Disk(Disk {
+            inner_radius: 0.0,
+            outer_radius: 350.0,
+            azimuth: AzimuthRange::new(-1.0, 2.3),
+        }),
+        Shape::Revolution(RevolutionQuadric::cone(
+            60.0,
+            0.0,
+            63.0,
+            225.0,
+            AzimuthRange::new(-15.0, 30.0),
+        )),
+    ];
+    let mut rng = Lcg(7);
+    for shape in objects {
+        let object = AnalyticObject {
+            shape,
+            transform: Transform::default(),
+        };
+        let pieces = object.pieces();
+        let segment = matches!(shape, Shape::Revolution(q) if q.azimuth.span_deg() < 90.0);
+        assert_eq!(pieces.is_empty(), segment, "{shape:?}");
+        let disk = matches!(shape, Shape::Disk(_));
+        let z_target = |rng: &mut Lcg| if disk { 0.0 } else { rng.range(-300.0, 300.0) };
+        let (mut hits, mut edge_hits) = (0, 0);
+        for k in 0..20_000 {
+            let o = DVec3::new(
+                rng.range(-400.0, 400.0),
+                rng.range(-400.0, 400.0),
+                rng.range(-400.0, 400.0),
+            );
+            // Every tenth ray aims at a sector edge of the pieces.
+            let target = if k % 10 == 0 && !pieces.is_empty() {
+                let p = &pieces[k % pieces.len()];
+                let phi = p.azimuth.start_deg().to_radians();
+                let r = 0.5 * (p.inner_radius + p.outer_radius).max(200.0).min(340.0);
+                DVec3::new(r * phi.cos(), r * phi.sin(), z_target(&mut rng))
+            } else {
+                let z = z_target(&mut rng);
+                DVec3::new(rng.range(-350.0, 350.0), rng.range(-350.0, 350.0), z)
+            };
+            let d = (target - o).normalize();
+            let whole = object.intersect_world(o, d, f64::INFINITY, false);
+            let cut = if pieces.is_empty() {
+                whole
+            } else {
+                pieces
+                    .iter()
+                    .filter_map(|p| object.intersect_piece(p, o, d, f64::INFINITY, false))
+                    .min_by(f64::total_cmp)
+            };
+            assert_eq!(whole, cut, "{shape:?}: ray {o} → {d}");
+            hits += whole.is_some() as usize;
+            edge_hits += (k % 10 == 0 && whole.is_some()) as usize;
+        }
+        assert!(hits > 200, "{shape:?}: {hits} hits");
+        assert!(
+            segment || edge_hits > 20,
+            "{shape:?}: {edge_hits} edge hits"
+        );
+    }
 }

@@ -1,8 +1,9 @@
-//! Telescopes as data (issue 40, begun): the XMM-Newton prescription of
+//! Telescopes as data: the XMM-Newton prescription of
 //! data/telescopes/xmm_newton.toml, its shells computed by
 //! `geometry::wolter::WolterShell` from R3 and f alone, against the published
 //! table they come from (tests/data/xmm_true_wolter.csv, from
-//! rest-for-physics/axionlib-data).
+//! rest-for-physics/axionlib-data); the traced module against its geometric
+//! area and its focus; every shipped telescope's parts.
 
 use crate::common::repo;
 use traxer::geometry::wolter::WolterShell;
@@ -70,4 +71,146 @@ fn the_xmm_shells_reproduce_the_published_radii_and_angles() {
     }
     // Exactly the two shells whose R3 the table's own R1 and R5 contradict.
     assert_eq!(r3_taken_from_the_other_file, vec![12, 46]);
+}
+
+/// The XMM-Newton parallel-beam scene with `defines`.
+fn xmm_scene(defines: &[&str]) -> traxer::scene::Scene {
+    let defines: Vec<String> = defines.iter().map(|s| s.to_string()).collect();
+    traxer::scene::Scene::load(
+        &crate::common::device(),
+        &repo().join("scenes/xmm_effective_area.toml"),
+        &defines,
+    )
+    .unwrap()
+}
+
+/// The on-axis area (cm²) counting two reflections, and its Monte-Carlo error.
+fn xmm_area(defines: &[&str], photons: u64) -> (f64, f64, f64) {
+    use traxer::studies::effective_area::{sweep, AreaSweep};
+    let s = AreaSweep {
+        energies: vec![1.5],
+        angles_arcmin: vec![0.0],
+        photons,
+        seed: 5,
+        threads: 0,
+        sensor: None,
+        radius_mm: None,
+    };
+    let r = sweep(&xmm_scene(defines), &s, &[], &(), |_| {}).unwrap();
+    let p = &r.angles[0].points[0];
+    let got = p.by_class_cm2[1]; // front then rear
+                                 // Binomial error of a fraction of the beam's aperture.
+    let f = got / r.aperture_cm2;
+    let sigma = r.aperture_cm2 * (f * (1.0 - f) / photons as f64).sqrt();
+    (got, sigma, p.area_cm2)
+}
+
+/// Σ π (R1² − R3²) over the 58 shells, cm², from the prescription alone: the
+/// annulus of the entrance each paraboloid catches on axis.
+fn xmm_geometric_area_cm2() -> f64 {
+    let text = std::fs::read_to_string(repo().join("data/telescopes/xmm_newton.toml")).unwrap();
+    let t: Telescope = toml::from_str(&text).unwrap();
+    let f = t.focal_length_mm;
+    t.shells
+        .iter()
+        .map(|s| {
+            // The paraboloid through R3 with slope tan α there (α = ¼ atan(R3/f)),
+            // r² = R3² + 2 R3 tan α · z, evaluated at the entrance z = 300 mm.
+            let r3 = s.r3_mm;
+            let alpha = (r3 / f).atan() / 4.0;
+            let r1_sq = r3 * r3 + 2.0 * r3 * alpha.tan() * t.mirror_length_mm;
+            std::f64::consts::PI * (r1_sq - r3 * r3)
+        })
+        .sum::<f64>()
+        / 100.0
+}
+
+#[test]
+fn perfect_xmm_shells_collect_their_geometric_area_and_the_spider_shades_its_share() {
+    // R = 1, no spider: every X-ray entering between R3 and R1 of a shell is
+    // reflected twice (the shells do not shade each other on axis), so the
+    // traced area is Σπ(R1² − R3²) within the Monte-Carlo error (4σ: fails
+    // once in ~16 000 seeds).
+    let want = xmm_geometric_area_cm2();
+    assert!((want - 2152.6).abs() < 0.5, "Σπ(R1² − R3²) = {want} cm²");
+    let (open, sigma, all) = xmm_area(&["coating=perfect", "spider=false"], 400_000);
+    assert!(
+        (open - want).abs() < 4.0 * sigma,
+        "traced {open} ± {sigma} cm², geometric {want} cm²"
+    );
+    // Nothing else reaches the sensor on axis (no single reflections).
+    assert!(all - open < 1e-9 * all, "{all} vs {open}");
+    // The spider's 16 arms of 2.29° block 16·2.29/360 = 10.18 % of every annulus.
+    let (shaded, sigma_s, _) = xmm_area(&["coating=perfect"], 400_000);
+    let blocked = 1.0 - 16.0 * 2.29 / 360.0;
+    let err = (sigma_s * sigma_s + (blocked * sigma).powi(2)).sqrt();
+    assert!(
+        (shaded - blocked * open).abs() < 4.0 * err,
+        "with the spider {shaded} ± {sigma_s} cm², expected {}",
+        blocked * open
+    );
+}
+
+#[test]
+fn the_xmm_module_focuses_a_parallel_beam_at_7500_mm_to_a_point() {
+    use traxer::trace::RunConfig;
+    // A true Wolter-I shell images an axial beam to a point: at the design
+    // focus every photon lands within a pixel or two of the axis (50 µm pixels),
+    // 5 mm before or after it the image is a ring of radius 5 mm · tan 4α ≥ 0.1 mm.
+    let rms_at = |z: f64| {
+        let scene = xmm_scene(&["coating=perfect", &format!("sensor_z={z}")]);
+        let r = traxer::trace::run(&scene, &RunConfig::new(100_000, 3)).unwrap();
+        assert!(r.stats.reached_sensor > 40_000, "{:?}", r.stats);
+        let flux = r.images[0].flux();
+        let n = 1400;
+        let (mut w, mut sx, mut sy, mut sr) = (0.0, 0.0, 0.0, 0.0);
+        for (k, v) in flux.iter().enumerate() {
+            let (x, y) = ((k % n) as f64 - 700.0 + 0.5, (k / n) as f64 - 700.0 + 0.5);
+            w += v;
+            sx += v * x;
+            sy += v * y;
+            sr += v * (x * x + y * y);
+        }
+        let (cx, cy) = (sx / w, sy / w);
+        0.05 * (sr / w - cx * cx - cy * cy).sqrt()
+    };
+    let (focus, before, after) = (rms_at(-7500.0), rms_at(-7495.0), rms_at(-7505.0));
+    assert!(
+        focus < 0.05,
+        "rms at 7500 mm: {focus} mm (one pixel is 0.05 mm)"
+    );
+    assert!(
+        before > 0.1 && after > 0.1,
+        "rms 5 mm off focus: {before} / {after} mm"
+    );
+}
+
+#[test]
+fn every_shipped_telescope_builds_with_its_parts_tagged() {
+    // Each data/telescopes/*.toml parses, passes its checks and expands into
+    // mirrors tagged with their shell and stage, walls and (XMM) the spider.
+    use traxer::scene::telescope_parts::PartChoices;
+    let mut names = Vec::new();
+    for (name, _) in traxer::scene::telescope::SHIPPED {
+        let t = traxer::scene::telescope::Telescope::shipped(name).unwrap();
+        let parts = t.parts(&PartChoices {
+            spider_distance_mm: Some(20.0),
+            central_stop: true,
+            ..Default::default()
+        });
+        let mirrors = parts.iter().filter(|p| p.stage.is_some()).count();
+        assert_eq!(mirrors, 2 * t.shells.len(), "{name}");
+        assert!(parts.iter().all(|p| p.stage.is_none() || p.shell.is_some()));
+        let spider_arms = parts
+            .iter()
+            .filter(|p| p.name.starts_with("spider_"))
+            .count();
+        assert_eq!(
+            spider_arms,
+            t.spider.as_ref().map_or(0, |s| s.arms as usize)
+        );
+        assert_eq!(parts.last().unwrap().name, "central_stop");
+        names.push(name);
+    }
+    assert_eq!(names, ["llnl", "wolter1_demo", "xmm_newton"]);
 }
