@@ -504,7 +504,7 @@ fn a_surface_cut_into_pieces_is_hit_where_the_whole_is() {
             let target = if k % 10 == 0 && !pieces.is_empty() {
                 let p = &pieces[k % pieces.len()];
                 let phi = p.azimuth.start_deg().to_radians();
-                let r = 0.5 * (p.inner_radius + p.outer_radius).max(200.0).min(340.0);
+                let r = 0.5 * (p.inner_radius + p.outer_radius).clamp(200.0, 340.0);
                 DVec3::new(r * phi.cos(), r * phi.sin(), z_target(&mut rng))
             } else {
                 let z = z_target(&mut rng);
