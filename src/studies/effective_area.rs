@@ -30,6 +30,7 @@ use crate::history::PathClass;
 use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::scene::{Scene, TABLE_THETA_MAX};
+use crate::sensor::SensorSpec;
 use crate::source::{ParallelBeam, Photon, Source};
 use crate::trace::{chunk_range, trace_photon, Attenuation, Statistics, CHUNK};
 use crate::xray::{AngleCell, EnergyCell, ReflectivityTable};
@@ -136,6 +137,43 @@ fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
 /// `replay`: the angles a stopped sweep of the same settings finished; they are
 /// taken instead of traced (each angle depends only on the settings and the
 /// seed). `on_angle` sees every finished angle.
+/// Refuses off-axis angles whose image lands beyond the sensor's edge: f·tan θ
+/// (f the sensor's `focal_length`) farther from the axis than half the sensor's
+/// shorter side, for a sensor centred on the beam's axis. The area there would
+/// count only the X-rays that stray onto the sensor, a plausible but wrong
+/// small number.
+fn image_stays_on_the_sensor(
+    scene: &Scene,
+    beam: &ParallelBeam,
+    spec: &SensorSpec,
+    angles_arcmin: &[f64],
+) -> Result<(), StudyError> {
+    let Some(f) = spec.focal_length else {
+        return Ok(());
+    };
+    // A sensor placed off the axis (to catch an off-axis image) is left alone.
+    let centre = scene.objects[spec.object]
+        .transform
+        .to_world
+        .transform_point3(glam::DVec3::ZERO);
+    let from_axis = centre - beam.aperture.center;
+    if from_axis.reject_from_normalized(beam.axis).length() > 1.0 {
+        return Ok(());
+    }
+    let half = 0.5 * spec.size[0].min(spec.size[1]);
+    for &a in angles_arcmin {
+        let offset = f * (a / 60.0).to_radians().tan().abs();
+        if offset > half {
+            return Err(StudyError::Input(format!(
+                "at {a}′ off axis the image lies {offset:.1} mm from the axis (f · tan θ with the sensor's focal_length {f} mm), beyond the edge of sensor `{}` ({half} mm from its centre): the area would count only what strays onto the sensor. Give a larger sensor or smaller --angles (up to {:.1}′)",
+                spec.name,
+                (half / f).atan().to_degrees() * 60.0
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub fn sweep(
     scene: &Scene,
     s: &AreaSweep,
@@ -153,6 +191,7 @@ pub fn sweep(
             spec.name
         )));
     }
+    image_stays_on_the_sensor(scene, base, spec, &s.angles_arcmin)?;
     // Reflectivity over the sweep's energies, table for table as the scene's.
     let (e_min, e_max) = s
         .energies

@@ -162,10 +162,10 @@ fn the_xmm_module_focuses_a_parallel_beam_at_7500_mm_to_a_point() {
         let r = traxer::trace::run(&scene, &RunConfig::new(100_000, 3)).unwrap();
         assert!(r.stats.reached_sensor > 40_000, "{:?}", r.stats);
         let flux = r.images[0].flux();
-        let n = 1400;
+        let n = 2000;
         let (mut w, mut sx, mut sy, mut sr) = (0.0, 0.0, 0.0, 0.0);
         for (k, v) in flux.iter().enumerate() {
-            let (x, y) = ((k % n) as f64 - 700.0 + 0.5, (k / n) as f64 - 700.0 + 0.5);
+            let (x, y) = ((k % n) as f64 - 1000.0 + 0.5, (k / n) as f64 - 1000.0 + 0.5);
             w += v;
             sx += v * x;
             sy += v * y;
