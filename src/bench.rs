@@ -31,6 +31,8 @@ pub struct BenchReport {
     pub best_raw_rays_per_second: f64,
     pub best_order: RayOrder,
     pub triangles: usize,
+    /// Seconds Embree took to build the scene's BVH.
+    pub bvh_seconds: f64,
 }
 
 /// Orders in which the recorded rays are replayed.
@@ -111,6 +113,7 @@ pub fn run(
         best_raw_rays_per_second: best_raw,
         best_order,
         triangles: scene.triangle_count,
+        bvh_seconds: scene.bvh_seconds,
     })
 }
 

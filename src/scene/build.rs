@@ -85,9 +85,11 @@ pub(super) fn build(
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
     check_foils(at, &materials.foils, &sources)?;
     check_gas(at, &materials.sensors, &sources)?;
+    let bvh_start = std::time::Instant::now();
     let embree = embree
         .commit()
         .map_err(|e| at.whole(format!("Embree could not build the scene: {e}")))?;
+    let bvh_seconds = bvh_start.elapsed().as_secs_f64();
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
     let warnings = builder.warnings;
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
@@ -108,6 +110,7 @@ pub(super) fn build(
         cameras,
         sky,
         warnings,
+        bvh_seconds,
         triangle_count,
     })
 }

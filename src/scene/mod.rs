@@ -78,6 +78,8 @@ pub struct Scene {
     pub sky: Sky,
     /// Things worth telling the user (skipped mesh primitives, ...).
     pub warnings: Vec<String>,
+    /// Seconds Embree took to build the scene's BVH (`traxer bench` reports it).
+    pub bvh_seconds: f64,
     pub triangle_count: usize,
 }
 
