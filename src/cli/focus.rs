@@ -189,8 +189,22 @@ fn print_fits(a: &FocusArgs, scan: &FocusScan) -> anyhow::Result<()> {
                     .map(|fl| format!(" ({:.1}″)", plotted_diameter(d, Some(fl))))
                     .unwrap_or_default()
             };
+            // The measured position nearest the focus: the fit's D₀ is a
+            // parameter of its model, which need not be the image's HPD there.
+            let nearest = scan
+                .steps
+                .iter()
+                .filter_map(|s| s.quality.as_ref().map(|q| (s.value, q.hpd_mm)))
+                .min_by(|a, b| (a.0 - f.z0).abs().total_cmp(&(b.0 - f.z0).abs()));
+            let measured = nearest
+                .map(|(z, d)| format!("; measured {d:.4} mm{} at {z:.3}", arcsec(d)))
+                .unwrap_or_default();
             let at_focus = if f.d0_resolved {
-                format!("HPD there {:.4} mm{}", f.d0, arcsec(f.d0))
+                format!(
+                    "HPD there {:.4} mm{} on the fitted curve{measured}",
+                    f.d0,
+                    arcsec(f.d0)
+                )
             } else {
                 // Where the curve is 3× the smallest measured HPD, on each side.
                 let half = 3.0 * f.smallest_measured / f.slope;
