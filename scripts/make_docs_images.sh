@@ -49,6 +49,20 @@ cp "$tmp/effective_area.png" docs/img/llnl_effective_area.png
 cp "$tmp/vignetting.png" docs/img/llnl_vignetting.png
 cp "$tmp/off_axis.png" docs/img/llnl_off_axis.png
 rm -rf "$tmp"
+# The XMM-Newton module's effective area, vignetting and off-axis image quality
+# (perfect figure), and BabyIAXO's solar axion image (ABC + Primakoff, 10 million
+# photons, as docs/babyiaxo.md's numbers).
+tmp=$(mktemp -d)
+$T effective-area scenes/xmm_effective_area.toml --energies 0.5:10:0.25 --angles 0:20:5 -n 1000000 --out "$tmp" -q
+cp "$tmp/effective_area.png" docs/img/xmm_effective_area.png
+cp "$tmp/vignetting.png" docs/img/xmm_vignetting.png
+cp "$tmp/off_axis.png" docs/img/xmm_off_axis.png
+rm -rf "$tmp"
+tmp=$(mktemp -d)
+$T trace scenes/babyiaxo_axion_image.toml -n 10000000 --out "$tmp" -q
+cp "$tmp/detector.png" docs/img/babyiaxo_axion_image.png
+cp "$tmp/detector_log.png" docs/img/babyiaxo_axion_image_log.png
+rm -rf "$tmp"
 # The live window (traxer view) on the CAST scene, under a virtual X server:
 # the frame it saves is the window's picture.
 tmp=$(mktemp -d)

@@ -64,6 +64,15 @@ fn every_toml_example_in_the_docs_reads_as_a_scene() {
         let text = std::fs::read_to_string(&file).unwrap();
         for (line, block) in toml_blocks(&text) {
             let at = format!("{}:{line}", file.display());
+            // A telescope prescription (data/telescopes/*.toml's form): it must
+            // read and pass the prescription's checks.
+            if toml::from_str::<toml::Table>(&block).is_ok_and(|t| t.contains_key("profile")) {
+                let t = traxer::scene::telescope::Telescope::from_toml(&block)
+                    .unwrap_or_else(|e| panic!("{at}: {e}"));
+                t.validate().unwrap_or_else(|e| panic!("{at}: {e}"));
+                checked += 1;
+                continue;
+            }
             // A whole scene has sources and objects and no elisions.
             let complete = block.contains("[[sources]]")
                 && block.contains("[[objects]]")

@@ -214,3 +214,69 @@ fn every_shipped_telescope_builds_with_its_parts_tagged() {
     }
     assert_eq!(names, ["llnl", "wolter1_demo", "xmm_newton"]);
 }
+
+/// A two-shell Wolter-I prescription (`extra` lines per shell 2) as a data file
+/// beside a scene using it with `assembly` lines; the scene loaded.
+fn two_shell_scene(shell_2: &str, assembly: &str) -> traxer::scene::Scene {
+    let dir = tempfile::tempdir().unwrap();
+    let data = format!(
+        "name = \"two shells\"\nprofile = \"wolter1\"\nfocal_length_mm = 1500.0\nmirror_length_mm = 100.0\nwall_thickness_mm = 0.5\ncoating = \"gold\"\nshells = [ {{ r3_mm = 50.0 }}, {{ r3_mm = 60.0{shell_2} }} ]\n"
+    );
+    crate::common::write(dir.path(), "two.toml", &data);
+    let scene = format!(
+        "[[sources]]\ntype = \"parallel\"\naperture = {{ center = [0, 0, 200], radius = 70.0 }}\nenergy = {{ line = 1.49 }}\n\n[[assemblies]]\ntype = \"nested_telescope\"\ndata = \"two.toml\"\nname = \"t\"\n{assembly}\n"
+    );
+    let path = crate::common::write(dir.path(), "scene.toml", &scene);
+    traxer::scene::Scene::load(&crate::common::device(), &path, &[]).unwrap()
+}
+
+/// The figure errors of the mirror object `name`.
+fn figure_of(
+    scene: &traxer::scene::Scene,
+    name: &str,
+) -> Option<traxer::xray::figure_error::FigureError> {
+    let o = scene.objects.iter().find(|o| o.name == name).unwrap();
+    match o.material {
+        traxer::material::Material::Mirror { figure_error, .. } => figure_error,
+        other => panic!("{name} is no mirror: {other:?}"),
+    }
+}
+
+#[test]
+fn a_shell_keeps_its_own_figure_errors_unless_the_scene_gives_every_mirror_one() {
+    let own = ", figure_error = { in_plane_narrow = 30.0, in_plane_wide = 0.0, wide_fraction = 0.0, out_of_plane = 0.0 }";
+    let scene = two_shell_scene(own, "");
+    assert!(figure_of(&scene, "t_front_1").is_none());
+    let f2 = figure_of(&scene, "t_rear_2").expect("shell 2's own figure errors");
+    assert_eq!(f2.in_plane_narrow, 30.0);
+    // The scene's figure_error replaces the shells' own, on every mirror.
+    let scene = two_shell_scene(own, "figure_error = \"llnl_panter\"");
+    let lib = traxer::xray::figure_error::FigureErrorLibrary::shipped();
+    let panter = lib.get("llnl_panter").unwrap();
+    for name in ["t_front_1", "t_rear_1", "t_front_2", "t_rear_2"] {
+        assert_eq!(figure_of(&scene, name).unwrap(), panter, "{name}");
+    }
+}
+
+#[test]
+fn a_traxer_axis_placement_is_refused_for_full_circle_shells() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = "[[sources]]\ntype = \"parallel\"\naperture = { center = [0, 0, 400], radius = 360.0 }\nenergy = { line = 1.49 }\n\n[[assemblies]]\ntype = \"nested_telescope\"\ntelescope = \"xmm_newton\"\nspider = false\nshell_axes = \"traxer\"\n";
+    let path = crate::common::write(dir.path(), "scene.toml", scene);
+    let err = traxer::scene::Scene::load(&crate::common::device(), &path, &[])
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        err.contains("shell_axes") && err.contains("cone segments"),
+        "{err}"
+    );
+    // The spider needs a distance the XMM data do not give.
+    let scene = scene.replace("spider = false\nshell_axes = \"traxer\"\n", "");
+    let path = crate::common::write(dir.path(), "scene.toml", &scene);
+    let err = traxer::scene::Scene::load(&crate::common::device(), &path, &[])
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(err.contains("spider_distance"), "{err}");
+}
