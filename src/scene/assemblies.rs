@@ -255,7 +255,8 @@ fn part_choices<'a>(
     if t.mesh.is_some() && t.tessellate.is_some() {
         return Err(site.error("give `mesh` (parts from a file) or `tessellate`, not both".into()));
     }
-    if t.shell_axes == ShellAxes::Traxer && (data.is_full_circle() || data.profile != Profile::Cone)
+    if t.shell_axes == ShellAxes::Traxer
+        && ((0..data.shells.len()).any(|i| data.span(i) >= 360.0) || data.profile != Profile::Cone)
     {
         return Err(site.error(
             "shell_axes = \"traxer\" moves each cone segment's axis along the segment's centre; this telescope's shells are not cone segments".into(),

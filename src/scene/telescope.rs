@@ -61,6 +61,12 @@ pub struct Shell {
     /// from shell to shell; a scene's `figure_error` replaces them.
     #[serde(default)]
     pub figure_error: Option<FigureErrorSpec>,
+    /// This shell's mirror length (mm); default the telescope's.
+    #[serde(default)]
+    pub mirror_length_mm: Option<f64>,
+    /// This shell's azimuthal extent (degrees); default the telescope's.
+    #[serde(default)]
+    pub azimuth_span_deg: Option<f64>,
 }
 
 /// The entrance spider: `arms` absorbing arms, each `arm_width_deg` wide,
@@ -135,8 +141,24 @@ impl Telescope {
         toml::from_str(text)
     }
 
+    /// Whether every shell is a full circle.
     pub fn is_full_circle(&self) -> bool {
-        self.azimuth_span_deg >= 360.0
+        (0..self.shells.len()).all(|i| self.span(i) >= 360.0)
+    }
+
+    /// Shell i's mirror length (mm): along the slant for cones, the axis for
+    /// Wolter-I shells.
+    pub fn length(&self, i: usize) -> f64 {
+        self.shells[i]
+            .mirror_length_mm
+            .unwrap_or(self.mirror_length_mm)
+    }
+
+    /// Shell i's azimuthal extent (degrees).
+    pub fn span(&self, i: usize) -> f64 {
+        self.shells[i]
+            .azimuth_span_deg
+            .unwrap_or(self.azimuth_span_deg)
     }
 
     /// Shell i's wall thickness (mm).
@@ -168,7 +190,7 @@ impl Telescope {
         match self.profile {
             Profile::Cone => {
                 let [r1, r2, _, _] = self.cone_radii(i);
-                ((r1 - r2) / self.mirror_length_mm).asin()
+                ((r1 - r2) / self.length(i)).asin()
             }
             Profile::Wolter1 => self.wolter(i).alpha,
         }
@@ -179,7 +201,7 @@ impl Telescope {
         match self.profile {
             Profile::Cone => {
                 let [_, _, r4, r5] = self.cone_radii(i);
-                ((r4 - r5) / self.mirror_length_mm).asin()
+                ((r4 - r5) / self.length(i)).asin()
             }
             Profile::Wolter1 => 3.0 * self.wolter(i).alpha,
         }
@@ -259,6 +281,12 @@ impl Telescope {
     fn validate_shell(&self, i: usize) -> Result<(), String> {
         let s = &self.shells[i];
         let pos = |x: f64| x.is_finite() && x > 0.0;
+        if !pos(self.length(i)) {
+            return Err("mirror_length_mm must be > 0".into());
+        }
+        if !(self.span(i) > 0.0 && self.span(i) <= 360.0) {
+            return Err("azimuth_span_deg must lie in (0, 360]".into());
+        }
         if s.thickness_mm
             .or(self.wall_thickness_mm)
             .is_none_or(|t| !pos(t))
@@ -280,7 +308,7 @@ impl Telescope {
                 let (Some(r1), Some(r2), Some(r4), Some(r5)) = (r1, r2, r4, r5) else {
                     return Err("a cone shell needs r1_mm, r2_mm, r4_mm and r5_mm".into());
                 };
-                let l = self.mirror_length_mm;
+                let l = self.length(i);
                 if !([r1, r2, r4, r5].into_iter().all(pos) && r1 > r2 && r4 > r5)
                     || r1 - r2 >= l
                     || r4 - r5 >= l
@@ -306,11 +334,11 @@ impl Telescope {
                 };
                 // The hyperboloid must stay on its branch over the whole mirror.
                 let w = WolterShell::new(self.focal_length_mm, r3)?;
-                let z_end = -(0.5 * self.gap_mm + self.mirror_length_mm);
+                let z_end = -(0.5 * self.gap_mm + self.length(i));
                 if z_end - w.hyperboloid_centre <= w.a {
                     return Err(format!(
                         "a hyperboloid {} mm long does not fit in front of the focus of this shell",
-                        crate::text::number(self.mirror_length_mm)
+                        crate::text::number(self.length(i))
                     ));
                 }
             }

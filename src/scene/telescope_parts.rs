@@ -75,15 +75,18 @@ impl Telescope {
     /// mirrors: without one the two walls meet), the same for `rear_i` (i from
     /// 1); then `spider_1` … and `central_stop` when chosen.
     pub fn parts(&self, choices: &PartChoices) -> Vec<Part> {
-        let az = (!self.is_full_circle()).then(|| {
-            let half = 0.5 * self.azimuth_span_deg;
-            [
-                choices.azimuth_center_deg - half,
-                choices.azimuth_center_deg + half,
-            ]
-        });
+        let segment = |i: usize| {
+            (self.span(i) < 360.0).then(|| {
+                let half = 0.5 * self.span(i);
+                [
+                    choices.azimuth_center_deg - half,
+                    choices.azimuth_center_deg + half,
+                ]
+            })
+        };
         let mut parts = Vec::new();
         for i in 0..self.shells.len() {
+            let az = segment(i);
             let material = PartMaterial::Mirror {
                 coating: choices.coating.unwrap_or(self.coating(i)).to_string(),
                 figure_error: self.shells[i].figure_error.clone(),
@@ -121,7 +124,7 @@ impl Telescope {
                 ShapeDesc::Disk(DiskDesc {
                     radius: self.front_inner_radius(0),
                     inner_radius: 0.0,
-                    azimuth: az,
+                    azimuth: segment(0),
                 }),
                 self.entrance_z(),
             ));
@@ -134,9 +137,11 @@ impl Telescope {
         let z0 = 0.5 * self.gap_mm;
         match self.profile {
             Profile::Cone => (0..self.shells.len())
-                .map(|i| z0 + self.mirror_length_mm * self.alpha(i).cos())
+                .map(|i| z0 + self.length(i) * self.alpha(i).cos())
                 .fold(f64::MIN, f64::max),
-            Profile::Wolter1 => z0 + self.mirror_length_mm,
+            Profile::Wolter1 => (0..self.shells.len())
+                .map(|i| z0 + self.length(i))
+                .fold(f64::MIN, f64::max),
         }
     }
 
@@ -147,7 +152,7 @@ impl Telescope {
             Profile::Cone => self.cone_radii(i)[0],
             Profile::Wolter1 => self
                 .wolter(i)
-                .paraboloid_radius(0.5 * self.gap_mm + self.mirror_length_mm),
+                .paraboloid_radius(0.5 * self.gap_mm + self.length(i)),
         };
         r1 + self.thickness(i) / self.alpha(i).cos()
     }
@@ -159,7 +164,7 @@ impl Telescope {
         let n = i + 1;
         let t = self.thickness(i);
         let z0 = 0.5 * self.gap_mm;
-        let l = self.mirror_length_mm;
+        let l = self.length(i);
         match self.profile {
             Profile::Cone => {
                 let [r1, r2, r4, r5] = self.cone_radii(i);

@@ -280,3 +280,33 @@ fn a_traxer_axis_placement_is_refused_for_full_circle_shells() {
         .to_string();
     assert!(err.contains("spider_distance"), "{err}");
 }
+
+#[test]
+fn a_shell_may_have_its_own_length_and_azimuth_span() {
+    use traxer::geometry::Shape;
+    use traxer::scene::ObjectGeometry;
+    let scene = two_shell_scene(", mirror_length_mm = 80.0, azimuth_span_deg = 90.0", "");
+    let quadric = |name: &str| {
+        let o = scene.objects.iter().find(|o| o.name == name).unwrap();
+        match &o.geometry {
+            ObjectGeometry::Analytic(a) => match a.shape {
+                Shape::Revolution(q) => q,
+                other => panic!("{name}: {other:?}"),
+            },
+            ObjectGeometry::Mesh(_) => panic!("{name} is a mesh"),
+        }
+    };
+    let (p1, p2, h2) = (
+        quadric("t_front_1"),
+        quadric("t_front_2"),
+        quadric("t_rear_2"),
+    );
+    assert_eq!((p1.z_min, p1.z_max), (0.0, 100.0));
+    assert_eq!((p2.z_min, p2.z_max), (0.0, 80.0));
+    assert_eq!((h2.z_min, h2.z_max), (-80.0, 0.0));
+    assert!(p1.azimuth.is_full());
+    assert_eq!(
+        (p2.azimuth.start_deg(), p2.azimuth.span_deg()),
+        (-45.0, 90.0)
+    );
+}
