@@ -295,8 +295,9 @@ class EffectiveArea:
         """The provenance record of the sweep."""
     def save(self, folder: _Path) -> None:
         """Writes the files of ``traxer effective-area`` into ``folder``:
-        effective_area.csv, off_axis.csv, effective_area.json and the plots,
-        all at once."""
+        effective_area.csv, off_axis.csv, effective_area.json, the plots and
+        (with two energies or more) one OGIP ARF per angle,
+        ``effective_area_<angle>arcmin.arf``, all at once."""
 
 class SolarEmission:
     """A solar axion emission table w(r, E) on a radius × energy grid."""

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::history::PathClass;
-use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
+use traxer::output::{effective_area_files, write_effective_area, Provenance};
 use traxer::run::Invocation;
 use traxer::studies::effective_area::{sweep, AreaResult, AreaSweep};
 use traxer::trace::RunConfig;
@@ -173,11 +173,25 @@ impl EffectiveArea {
     }
 
     /// Writes the files of `traxer effective-area` into `folder`:
-    /// effective_area.csv, off_axis.csv, effective_area.json and the plots
-    /// effective_area.png, vignetting.png and off_axis.png, all at once.
+    /// effective_area.csv, off_axis.csv, effective_area.json, the plots
+    /// effective_area.png, vignetting.png and off_axis.png, and (with two
+    /// energies or more) one OGIP ARF per angle, all at once.
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
         py.detach(|| -> anyhow::Result<()> {
-            let out = traxer::run::results_folder(&folder, &EFFECTIVE_AREA_FILES)?;
+            let angles: Vec<f64> = self
+                .result
+                .angles
+                .iter()
+                .map(|a| a.off_axis_arcmin)
+                .collect();
+            let energies: Vec<f64> = self
+                .result
+                .angles
+                .first()
+                .map(|a| a.points.iter().map(|p| p.energy_kev).collect())
+                .unwrap_or_default();
+            let names = effective_area_files(&angles, &energies);
+            let out = traxer::run::results_folder(&folder, &names)?;
             write_effective_area(out.path(), &self.result, self.radius_mm, &self.provenance)?;
             out.commit()?;
             Ok(())

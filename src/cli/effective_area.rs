@@ -5,7 +5,7 @@
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress};
 use anyhow::Context;
-use traxer::output::{write_effective_area, Provenance, EFFECTIVE_AREA_FILES};
+use traxer::output::{effective_area_files, write_effective_area, Provenance};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
 use traxer::studies::effective_area::{
@@ -82,10 +82,12 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         ("sensor".into(), serde_json::json!(s.sensor)),
         ("radius_mm".into(), serde_json::json!(s.radius_mm)),
     ]);
+    let files = effective_area_files(&s.angles_arcmin, &s.energies);
+    let files: Vec<&str> = files.iter().map(String::as_str).collect();
     let study: Study<AngleResult> = Study::open(
         &a.output.scene_folder(&a.scene, "effective_area"),
         "effective_area",
-        &EFFECTIVE_AREA_FILES,
+        &files,
         id.into(),
         a.resume,
     )?;
@@ -157,9 +159,11 @@ fn print_sweep(s: &AreaSweep, result: &AreaResult, out: &std::path::Path) {
             ang.geometric_area_cm2,
         );
     }
-    say!(
-        "wrote {} files to {}",
-        EFFECTIVE_AREA_FILES.len(),
-        out.display()
-    );
+    let files = effective_area_files(&s.angles_arcmin, &s.energies);
+    let arfs = files.len() - traxer::output::EFFECTIVE_AREA_FILES.len();
+    let arf_note = match arfs {
+        0 => " (no ARF: an ARF's energy bins need two energies or more)".to_string(),
+        n => format!(", {n} of them OGIP ARFs (effective_area_<angle>arcmin.arf)"),
+    };
+    say!("wrote {} files to {}{arf_note}", files.len(), out.display());
 }

@@ -3,7 +3,7 @@
 //! per angle), effective_area.json (provenance, settings, results) and the plots
 //! effective_area.png (area against energy, one curve per angle), vignetting.png
 //! (area against angle, a few energies) and off_axis.png (HPD, 80 %, 90 % against
-//! angle).
+//! angle), and one OGIP ARF per angle (`output::arf`).
 
 use super::{line_plot, write_csv, write_json, Provenance, Series};
 use crate::history::PathClass;
@@ -21,7 +21,18 @@ pub const EFFECTIVE_AREA_FILES: [&str; 6] = [
     "off_axis.png",
 ];
 
-/// Writes every file of the sweep into `dir`; returns their paths.
+/// Every file of a sweep over these angles and energies: the six above and,
+/// with at least two energies, one OGIP ARF per angle ([`super::arf_name`]).
+pub fn effective_area_files(angles_arcmin: &[f64], energies: &[f64]) -> Vec<String> {
+    let mut names: Vec<String> = EFFECTIVE_AREA_FILES.iter().map(|s| s.to_string()).collect();
+    if super::energy_bins(energies).is_some() {
+        names.extend(angles_arcmin.iter().map(|&a| super::arf_name(a)));
+    }
+    names
+}
+
+/// Writes every file of the sweep into `dir` (the ARFs too,
+/// [`effective_area_files`]); returns their paths.
 pub fn write_effective_area(
     dir: &Path,
     r: &AreaResult,
@@ -113,6 +124,13 @@ pub fn write_effective_area(
         }),
     )?;
     write_plots(&paths[3..6], r)?;
+    // The scene traced names the optic in the ARFs' TELESCOP.
+    let telescope = provenance
+        .scene_path
+        .as_deref()
+        .and_then(|p| Path::new(p).file_stem())
+        .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned());
+    super::arf::write_arfs(dir, r, &telescope, provenance)?;
     Ok(paths)
 }
 

@@ -333,11 +333,20 @@ fn fits_file(
         .open()?;
     let hdu = f.primary_hdu()?;
     hdu.write_image(&mut f, data)?;
+    write_keys(&mut f, &hdu, keys)
+}
+
+/// Writes `keys` into the header of `hdu`, in order.
+pub(super) fn write_keys(
+    f: &mut FitsFile,
+    hdu: &fitsio::hdu::FitsHdu,
+    keys: Keys,
+) -> fitsio::errors::Result<()> {
     for (name, value) in keys.0 {
         match value {
-            Value::Text(v, c) => hdu.write_key(&mut f, &name, (v.as_str(), c.as_str()))?,
-            Value::Float(v, c) => hdu.write_key(&mut f, &name, (v, c.as_str()))?,
-            Value::Int(v, c) => hdu.write_key(&mut f, &name, (v, c.as_str()))?,
+            Value::Text(v, c) => hdu.write_key(f, &name, (v.as_str(), c.as_str()))?,
+            Value::Float(v, c) => hdu.write_key(f, &name, (v, c.as_str()))?,
+            Value::Int(v, c) => hdu.write_key(f, &name, (v, c.as_str()))?,
         }
     }
     Ok(())
@@ -367,7 +376,7 @@ fn without_primary_extname(mut bytes: Vec<u8>) -> Vec<u8> {
 
 /// The run's provenance as keywords (FITS strings hold 68 characters: longer
 /// values are cut, and `PROVFILE` names the JSON file with all of it).
-fn provenance_keys(keys: &mut Keys, p: &Provenance, json_name: &str) {
+pub(super) fn provenance_keys(keys: &mut Keys, p: &Provenance, json_name: &str) {
     keys.text("ORIGIN", "traxer", "X-ray raytracer for axion helioscopes");
     keys.text(
         "CREATOR",
@@ -428,16 +437,16 @@ struct LinearAxis<'a> {
 
 /// Cards in the order they are written.
 #[derive(Default)]
-struct Keys(Vec<(String, Value)>);
+pub(super) struct Keys(Vec<(String, Value)>);
 
 impl Keys {
-    fn text(&mut self, name: &str, value: &str, comment: &str) {
+    pub(super) fn text(&mut self, name: &str, value: &str, comment: &str) {
         self.0.push((
             name.into(),
             Value::Text(fits_string(value), fits_string(comment)),
         ));
     }
-    fn float(&mut self, name: &str, value: f64, comment: &str) {
+    pub(super) fn float(&mut self, name: &str, value: f64, comment: &str) {
         self.0
             .push((name.into(), Value::Float(value, fits_string(comment))));
     }
@@ -459,7 +468,7 @@ impl Keys {
         );
     }
 
-    fn int(&mut self, name: &str, value: i64, comment: &str) {
+    pub(super) fn int(&mut self, name: &str, value: i64, comment: &str) {
         self.0
             .push((name.into(), Value::Int(value, fits_string(comment))));
     }

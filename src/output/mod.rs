@@ -8,6 +8,7 @@
 //! [`write_compare`], [`write_fit`]; renders and plots get a sidecar
 //! ([`write_sidecar`]).
 
+mod arf;
 pub mod colormap;
 mod compare;
 mod conversion;
@@ -29,11 +30,12 @@ mod run_files;
 mod solar_flux;
 
 pub use crate::sensor::{class_file_names, file_stem, sensor_file_names};
+pub use arf::{arf_name, energy_bins};
 pub use colormap::Scale;
 pub use compare::{compare_markdown, write_compare, COMPARE_FILES};
 pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
-pub use effective_area::{write_effective_area, EFFECTIVE_AREA_FILES};
+pub use effective_area::{effective_area_files, write_effective_area, EFFECTIVE_AREA_FILES};
 pub use fit::{write_fit, FitReport, FIT_FILES};
 pub use fits::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
 pub use fits_read::{read_fits_image, FitsImage};

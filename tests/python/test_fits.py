@@ -250,3 +250,44 @@ def test_grid_image_fits_equals_the_grid_npy_and_eef_reads_fits(tmp_path):
     assert grid == from_fits
     # The grid's 55 µm pixels resample the image: its HPD within 2 %.
     assert grid["hpd_mm"] == pytest.approx(sensor["image_quality"]["hpd_mm"], rel=0.02)
+
+
+def test_effective_area_writes_ogip_arfs_equal_to_its_csv(tmp_path):
+    """`effective-area` writes one OGIP ARF per off-axis angle (CAL/GEN/92-002 §4,
+    type I): a null primary array, one SPECRESP BINTABLE with ENERG_LO, ENERG_HI
+    (keV, contiguous bins centred on the sweep's energies) and SPECRESP (cm²),
+    the memo's keywords; the areas are the CSV's (to float32)."""
+    out = tmp_path / "ea"
+    traxer("effective-area", REPO / "scenes" / "llnl_effective_area.toml",
+           "--energies", "1:3:0.5", "--angles", "0,2.5", "-n", 50000, "--out", out, "-q")
+    with open(out / "effective_area.csv") as f:
+        rows = list(csv.DictReader(f))
+    for angle in ("0", "2.5"):
+        with fits.open(out / f"effective_area_{angle}arcmin.arf") as h:
+            assert len(h) == 2 and h[0].data is None
+            ext = h["SPECRESP"]
+            hdr = ext.header
+            assert hdr["XTENSION"] == "BINTABLE"
+            for key, value in [("HDUCLASS", "OGIP"), ("HDUCLAS1", "RESPONSE"),
+                               ("HDUCLAS2", "SPECRESP"), ("HDUVERS", "1.1.0"),
+                               ("TUNIT1", "keV"), ("TUNIT2", "keV"),
+                               ("TUNIT3", "cm**2")]:
+                assert hdr[key] == value, key
+            for key in ("TELESCOP", "INSTRUME", "FILTER"):
+                assert hdr[key].strip(), key
+            assert hdr["OFFAXIS"] == float(angle)
+            assert list(ext.columns.names) == ["ENERG_LO", "ENERG_HI", "SPECRESP"]
+            lo, hi, area = (ext.data[c] for c in ("ENERG_LO", "ENERG_HI", "SPECRESP"))
+        mine = [r for r in rows if float(r["off_axis_arcmin"]) == float(angle)]
+        energies = np.array([float(r["energy_keV"]) for r in mine])
+        np.testing.assert_allclose(0.5 * (lo + hi), energies, rtol=1e-6)
+        np.testing.assert_array_equal(lo[1:], hi[:-1])
+        assert np.all(hi > lo) and lo[0] > 0
+        csv_area = np.array([float(r["area_cm2"]) for r in mine])
+        np.testing.assert_allclose(area, csv_area, rtol=1e-6)
+        assert np.all(csv_area > 1.0)
+    # One energy has no bin width: no ARF, and the CLI says so.
+    out1 = tmp_path / "one"
+    said = traxer("effective-area", REPO / "scenes" / "llnl_effective_area.toml",
+                  "--energies", "1.5", "--angles", "0", "-n", 2000, "--out", out1)
+    assert not list(out1.glob("*.arf")) and "no ARF" in said.stdout

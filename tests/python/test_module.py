@@ -709,3 +709,15 @@ def test_save_refuses_a_folder_of_another_run_unless_asked_to_replace(tmp_path):
     first.save(tmp_path / "run")  # the same run again: nothing lost
     other.save(tmp_path / "run", replace=True)
     assert np.load(tmp_path / "run" / "sensor.npy").sum() != flux
+
+
+def test_effective_area_save_writes_the_arfs_too(tmp_path):
+    """Python's EffectiveArea.save writes the CLI's OGIP ARFs, one per angle."""
+    from astropy.io import fits as _fits
+    scene = traxer.Scene(str(REPO / "scenes" / "llnl_effective_area.toml"))
+    ea = scene.effective_area(np.array([1.0, 1.5, 2.0]), [0.0, 5.0], photons=20000)
+    ea.save(tmp_path / "ea")
+    for angle in ("0", "5"):
+        with _fits.open(tmp_path / "ea" / f"effective_area_{angle}arcmin.arf") as h:
+            np.testing.assert_allclose(h["SPECRESP"].data["SPECRESP"],
+                                       ea.area_cm2[0 if angle == "0" else 1], rtol=1e-6)

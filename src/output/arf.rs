@@ -1,0 +1,150 @@
+//! The effective area as OGIP ancillary response files (ARF): one file per
+//! off-axis angle of an effective-area sweep, `effective_area_<θ>arcmin.arf`,
+//! in the format of OGIP Calibration Memo CAL/GEN/92-002 (George et al., §4,
+//! "type I": one response per file): a null primary array and one BINTABLE
+//! extension `SPECRESP` with the columns ENERG_LO, ENERG_HI (keV) and SPECRESP
+//! (cm²), and the keywords HDUCLASS = 'OGIP', HDUCLAS1 = 'RESPONSE',
+//! HDUCLAS2 = 'SPECRESP', HDUVERS = '1.1.0', TELESCOP, INSTRUME, FILTER.
+//!
+//! Data flow: `output::effective_area` writes these beside effective_area.csv
+//! from the same `AreaResult`; X-ray spectral tools (XSPEC, Sherpa) read them.
+
+use super::fits::{provenance_keys, write_keys, Keys};
+use super::Provenance;
+use crate::files::atomic_write;
+use crate::studies::effective_area::{AngleResult, AreaResult};
+use fitsio::tables::{ColumnDataType, ColumnDescription};
+use fitsio::FitsFile;
+use std::path::Path;
+
+/// The ARF file name of off-axis angle `arcmin`.
+pub fn arf_name(arcmin: f64) -> String {
+    format!("effective_area_{arcmin}arcmin.arf")
+}
+
+/// The energy bins (keV) of a sweep's energies, one per energy: the edges
+/// half-way between neighbouring energies, the outer edges half a step beyond
+/// the first and last energy (never below half the first). On an even grid
+/// each energy is its bin's centre. The bin's response is the area at its
+/// energy, not an average over the bin (at an absorption edge inside a bin the
+/// two differ). `None` for fewer than two energies: one value has no bin width.
+pub fn energy_bins(energies: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
+    if energies.len() < 2 {
+        return None;
+    }
+    let n = energies.len();
+    let mid = |k: usize| 0.5 * (energies[k] + energies[k + 1]);
+    let first = (energies[0] - 0.5 * (energies[1] - energies[0])).max(0.5 * energies[0]);
+    let last = energies[n - 1] + 0.5 * (energies[n - 1] - energies[n - 2]);
+    let lo = (0..n)
+        .map(|k| if k == 0 { first } else { mid(k - 1) })
+        .collect();
+    let hi = (0..n)
+        .map(|k| if k + 1 == n { last } else { mid(k) })
+        .collect();
+    Some((lo, hi))
+}
+
+/// Writes one ARF per angle of `r` into `dir` (nothing for fewer than two
+/// energies); returns how many.
+pub fn write_arfs(
+    dir: &Path,
+    r: &AreaResult,
+    telescope: &str,
+    provenance: &Provenance,
+) -> std::io::Result<usize> {
+    let energies: Vec<f64> = match r.angles.first() {
+        Some(a) => a.points.iter().map(|p| p.energy_kev).collect(),
+        None => return Ok(0),
+    };
+    let Some((lo, hi)) = energy_bins(&energies) else {
+        return Ok(0);
+    };
+    for a in &r.angles {
+        let path = dir.join(arf_name(a.off_axis_arcmin));
+        let tmp = tempfile::Builder::new().prefix("traxer-arf-").tempdir()?;
+        let tmp_file = tmp.path().join("area.arf");
+        arf_file(&tmp_file, a, (&lo, &hi), telescope, provenance).map_err(|e| {
+            std::io::Error::other(format!("{}: writing the ARF: {e}", path.display()))
+        })?;
+        atomic_write(&path, &std::fs::read(&tmp_file)?)?;
+    }
+    Ok(r.angles.len())
+}
+
+fn arf_file(
+    path: &Path,
+    a: &AngleResult,
+    (lo, hi): (&[f64], &[f64]),
+    telescope: &str,
+    provenance: &Provenance,
+) -> fitsio::errors::Result<()> {
+    let mut f = FitsFile::create(path).open()?;
+    let column = |name: &str| {
+        ColumnDescription::new(name)
+            .with_type(ColumnDataType::Float)
+            .create()
+    };
+    let columns = [
+        column("ENERG_LO")?,
+        column("ENERG_HI")?,
+        column("SPECRESP")?,
+    ];
+    let hdu = f.create_table("SPECRESP", &columns)?;
+    let single = |v: &[f64]| v.iter().map(|&x| x as f32).collect::<Vec<f32>>();
+    let area: Vec<f64> = a.points.iter().map(|p| p.area_cm2).collect();
+    hdu.write_col(&mut f, "ENERG_LO", &single(lo))?;
+    hdu.write_col(&mut f, "ENERG_HI", &single(hi))?;
+    hdu.write_col(&mut f, "SPECRESP", &single(&area))?;
+    let mut keys = Keys::default();
+    keys.text("TUNIT1", "keV", "");
+    keys.text("TUNIT2", "keV", "");
+    keys.text("TUNIT3", "cm**2", "");
+    keys.text("HDUCLASS", "OGIP", "format conforms to OGIP standard");
+    keys.text(
+        "HDUCLAS1",
+        "RESPONSE",
+        "dataset relates to spectral response",
+    );
+    keys.text("HDUCLAS2", "SPECRESP", "dataset is an ancillary response");
+    keys.text(
+        "HDUVERS",
+        "1.1.0",
+        "version of the format (OGIP CAL/GEN/92-002a)",
+    );
+    keys.text("TELESCOP", telescope, "the optic traced");
+    keys.text(
+        "INSTRUME",
+        "traxer",
+        "a raytrace, not a measured instrument",
+    );
+    keys.text("FILTER", "NONE", "");
+    keys.float(
+        "OFFAXIS",
+        a.off_axis_arcmin,
+        "[arcmin] off-axis angle of the beam",
+    );
+    keys.text(
+        "EBINS",
+        "area at the sweep's energy in each bin",
+        "edges half-way between the sweep's energies",
+    );
+    provenance_keys(&mut keys, provenance, "effective_area.json");
+    write_keys(&mut f, &hdu, keys)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bins_are_contiguous_with_edges_half_way_between_the_energies() {
+        let (lo, hi) = energy_bins(&[1.0, 1.5, 2.5]).unwrap();
+        assert_eq!(lo, [0.75, 1.25, 2.0]);
+        assert_eq!(hi, [1.25, 2.0, 3.0]);
+        // The first edge never reaches zero or below.
+        let (lo, _) = energy_bins(&[0.1, 1.0]).unwrap();
+        assert_eq!(lo[0], 0.05);
+        assert!(energy_bins(&[1.0]).is_none());
+    }
+}
