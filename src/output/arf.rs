@@ -6,6 +6,10 @@
 //! (cm²), and the keywords HDUCLASS = 'OGIP', HDUCLAS1 = 'RESPONSE',
 //! HDUCLAS2 = 'SPECRESP', HDUVERS = '1.1.0', TELESCOP, INSTRUME, FILTER.
 //!
+//! Also the sweep's vignetting as a FITS table, `vignetting.fits`: one row per
+//! angle and energy with the area, its error and the area over the on-axis
+//! area at that energy.
+//!
 //! Data flow: `output::effective_area` writes these beside effective_area.csv
 //! from the same `AreaResult`; X-ray spectral tools (XSPEC, Sherpa) read them.
 
@@ -129,6 +133,82 @@ fn arf_file(
         "area at the sweep's energy in each bin",
         "edges half-way between the sweep's energies",
     );
+    provenance_keys(&mut keys, provenance, "effective_area.json");
+    write_keys(&mut f, &hdu, keys)
+}
+
+/// Writes `vignetting.fits` into `dir`: the BINTABLE `VIGNETTING` with the
+/// columns OFFAXIS (arcmin), ENERGY (keV), AREA and AREA_ERR (cm²) and VIGNET,
+/// the area over the area at the reference angle `VIGREF` (the on-axis one, or
+/// the sweep's angle nearest the axis) at the same energy.
+pub fn write_vignetting(
+    dir: &Path,
+    r: &AreaResult,
+    provenance: &Provenance,
+) -> std::io::Result<()> {
+    let path = dir.join("vignetting.fits");
+    let tmp = tempfile::Builder::new().prefix("traxer-vig-").tempdir()?;
+    let tmp_file = tmp.path().join("vignetting.fits");
+    vignetting_file(&tmp_file, r, provenance).map_err(|e| {
+        std::io::Error::other(format!(
+            "{}: writing the vignetting table: {e}",
+            path.display()
+        ))
+    })?;
+    atomic_write(&path, &std::fs::read(&tmp_file)?)
+}
+
+fn vignetting_file(
+    path: &Path,
+    r: &AreaResult,
+    provenance: &Provenance,
+) -> fitsio::errors::Result<()> {
+    let reference = r
+        .angles
+        .iter()
+        .min_by(|a, b| a.off_axis_arcmin.abs().total_cmp(&b.off_axis_arcmin.abs()));
+    let mut columns: [Vec<f64>; 5] = Default::default();
+    for a in &r.angles {
+        for (k, p) in a.points.iter().enumerate() {
+            let on_axis = reference.map_or(f64::NAN, |r| r.points[k].area_cm2);
+            let row = [
+                a.off_axis_arcmin,
+                p.energy_kev,
+                p.area_cm2,
+                p.error_cm2,
+                p.area_cm2 / on_axis,
+            ];
+            for (c, v) in columns.iter_mut().zip(row) {
+                c.push(v);
+            }
+        }
+    }
+    let names = ["OFFAXIS", "ENERGY", "AREA", "AREA_ERR", "VIGNET"];
+    let mut f = FitsFile::create(path).open()?;
+    let descriptions = names
+        .iter()
+        .map(|n| {
+            ColumnDescription::new(*n)
+                .with_type(ColumnDataType::Double)
+                .create()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let hdu = f.create_table("VIGNETTING", &descriptions)?;
+    for (name, data) in names.iter().zip(&columns) {
+        hdu.write_col(&mut f, *name, data)?;
+    }
+    let mut keys = Keys::default();
+    for (k, unit) in ["arcmin", "keV", "cm**2", "cm**2", ""].iter().enumerate() {
+        if !unit.is_empty() {
+            keys.text(&format!("TUNIT{}", k + 1), unit, "");
+        }
+    }
+    keys.float(
+        "VIGREF",
+        reference.map_or(f64::NAN, |r| r.off_axis_arcmin),
+        "[arcmin] VIGNET = AREA / AREA at this angle",
+    );
+    keys.text("COUNTS", &r.counts, "what the area counts");
     provenance_keys(&mut keys, provenance, "effective_area.json");
     write_keys(&mut f, &hdu, keys)
 }

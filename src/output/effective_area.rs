@@ -12,16 +12,17 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 
 /// The files of a sweep.
-pub const EFFECTIVE_AREA_FILES: [&str; 6] = [
+pub const EFFECTIVE_AREA_FILES: [&str; 7] = [
     "effective_area.csv",
     "off_axis.csv",
     "effective_area.json",
     "effective_area.png",
     "vignetting.png",
     "off_axis.png",
+    "vignetting.fits",
 ];
 
-/// Every file of a sweep over these angles and energies: the six above and,
+/// Every file of a sweep over these angles and energies: the seven above and,
 /// with at least two energies, one OGIP ARF per angle ([`super::arf_name`]).
 pub fn effective_area_files(angles_arcmin: &[f64], energies: &[f64]) -> Vec<String> {
     let mut names: Vec<String> = EFFECTIVE_AREA_FILES.iter().map(|s| s.to_string()).collect();
@@ -131,6 +132,7 @@ pub fn write_effective_area(
         .and_then(|p| Path::new(p).file_stem())
         .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned());
     super::arf::write_arfs(dir, r, &telescope, provenance)?;
+    super::arf::write_vignetting(dir, r, provenance)?;
     Ok(paths)
 }
 

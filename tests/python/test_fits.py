@@ -291,3 +291,28 @@ def test_effective_area_writes_ogip_arfs_equal_to_its_csv(tmp_path):
     said = traxer("effective-area", REPO / "scenes" / "llnl_effective_area.toml",
                   "--energies", "1.5", "--angles", "0", "-n", 2000, "--out", out1)
     assert not list(out1.glob("*.arf")) and "no ARF" in said.stdout
+
+
+def test_effective_area_writes_the_vignetting_as_a_fits_table(tmp_path):
+    """vignetting.fits: one row per angle and energy, the CSV's areas and errors,
+    VIGNET = the area over the on-axis area at the same energy."""
+    out = tmp_path / "ea"
+    traxer("effective-area", REPO / "scenes" / "llnl_effective_area.toml",
+           "--energies", "1,1.5,3", "--angles", "0,5", "-n", 40000, "--out", out, "-q")
+    with open(out / "effective_area.csv") as f:
+        rows = list(csv.DictReader(f))
+    with fits.open(out / "vignetting.fits") as h:
+        t = h["VIGNETTING"]
+        assert t.header["VIGREF"] == 0.0 and t.header["TUNIT3"] == "cm**2"
+        d = t.data
+        assert len(d) == len(rows) == 6
+        for row, r in zip(d, rows):
+            assert row["OFFAXIS"] == float(r["off_axis_arcmin"])
+            assert row["ENERGY"] == float(r["energy_keV"])
+            assert row["AREA"] == float(r["area_cm2"])
+            assert row["AREA_ERR"] == float(r["error_cm2"])
+        for row in d:
+            on = d[(d["OFFAXIS"] == 0.0) & (d["ENERGY"] == row["ENERGY"])]["AREA"][0]
+            assert row["VIGNET"] == pytest.approx(row["AREA"] / on, rel=1e-12)
+        five = d[d["OFFAXIS"] == 5.0]["VIGNET"]
+        assert np.all(five < 1.0) and np.all(five > 0.5)
