@@ -49,6 +49,17 @@ pub fn energy_bins(energies: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
     Some((lo, hi))
 }
 
+/// Writes the ARFs (TELESCOP: the scene traced) and `vignetting.fits`.
+pub fn write_responses(dir: &Path, r: &AreaResult, provenance: &Provenance) -> std::io::Result<()> {
+    let telescope = provenance
+        .scene_path
+        .as_deref()
+        .and_then(|p| Path::new(p).file_stem())
+        .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned());
+    write_arfs(dir, r, &telescope, provenance)?;
+    write_vignetting(dir, r, provenance)
+}
+
 /// Writes one ARF per angle of `r` into `dir` (nothing for fewer than two
 /// energies); returns how many.
 pub fn write_arfs(

@@ -125,14 +125,7 @@ pub fn write_effective_area(
         }),
     )?;
     write_plots(&paths[3..6], r)?;
-    // The scene traced names the optic in the ARFs' TELESCOP.
-    let telescope = provenance
-        .scene_path
-        .as_deref()
-        .and_then(|p| Path::new(p).file_stem())
-        .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned());
-    super::arf::write_arfs(dir, r, &telescope, provenance)?;
-    super::arf::write_vignetting(dir, r, provenance)?;
+    super::arf::write_responses(dir, r, provenance)?;
     Ok(paths)
 }
 
