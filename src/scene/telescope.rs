@@ -141,11 +141,6 @@ impl Telescope {
         toml::from_str(text)
     }
 
-    /// Whether every shell is a full circle.
-    pub fn is_full_circle(&self) -> bool {
-        (0..self.shells.len()).all(|i| self.span(i) >= 360.0)
-    }
-
     /// Shell i's mirror length (mm): along the slant for cones, the axis for
     /// Wolter-I shells.
     pub fn length(&self, i: usize) -> f64 {
