@@ -134,7 +134,8 @@ class SensorImage:
     """One sensor's image of a trace.
 
     In the units of the CLI's files; ``grid`` is the image on the detector's
-    pixels, ``by_class`` the image split by photon path."""
+    pixels, ``by_class`` the image split by photon path, ``by_process`` by
+    emission process."""
 
     name: str
     """The sensor's name in the scene."""
@@ -188,6 +189,12 @@ class SensorImage:
     """With ``history_images = true`` on the sensor: {class: flux [iy, ix]} for
     each photon-path class of ``TraceResult.classes`` (direct, front_rear,
     front_only, rear_only, other), equal to NAME_CLASS.npy; None otherwise."""
+    by_process: Optional[dict[str, npt.NDArray[np.float64]]]
+    """With a Sun emitting Primakoff and ABC: {process: flux [iy, ix]} for
+    "primakoff" and "abc", from the same photons as ``flux`` (they add up to
+    its sum over bands), equal to NAME_PROCESS.npy; None for a source of one
+    process. Each scales as its coupling squared (g_aγ², g_ae²): the image for
+    other couplings is their sum so scaled, equal to a trace with them."""
 
 class GridImage:
     """A sensor's image on its detector pixel grid (the scene's ``pixel_grid``),

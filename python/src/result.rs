@@ -79,6 +79,12 @@ pub struct SensorImage {
     /// each photon-path class of `TraceResult.classes` (direct, front_rear,
     /// front_only, rear_only, other), equal to NAME_CLASS.npy; None otherwise.
     pub by_class: Option<Py<PyDict>>,
+    /// With a Sun emitting Primakoff and ABC: {process: flux [iy, ix]} for
+    /// "primakoff" and "abc", from the same photons as `flux` (they add up to
+    /// its sum over bands), equal to NAME_PROCESS.npy; None for a source of one
+    /// process. Each scales as its coupling squared (g_aγ², g_ae²): the image
+    /// for other couplings is their sum so scaled, equal to a trace with them.
+    pub by_process: Option<Py<PyDict>>,
 }
 
 #[pymethods]
@@ -137,10 +143,22 @@ impl SensorImage {
             }
             None => None,
         };
+        let by_process = match spec.processes.is_empty() {
+            true => None,
+            false => {
+                let d = PyDict::new(py);
+                let scale = absolute.unwrap_or(1.0);
+                for (name, img) in traxer::output::process_images(spec, image, scale) {
+                    d.set_item(name, array(py, &[ny, nx], img)?)?;
+                }
+                Some(d.unbind())
+            }
+        };
         Ok(SensorImage {
             conversion,
             grid,
             by_class,
+            by_process,
             name: spec.name.clone(),
             total_flux,
             total_counts: image.total_counts(),

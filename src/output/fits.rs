@@ -57,6 +57,17 @@ pub struct SensorFits<'a> {
     pub json_name: &'a str,
     /// Where the sky images on the sensor (a Sun scene), for the WCS `S`.
     pub sky: Option<&'a SkyCalibration>,
+    /// The image of each emission process (name, [iy][ix] summed over bands),
+    /// written as image extensions named after the process.
+    pub processes: &'a [(String, Vec<f64>)],
+}
+
+/// An image extension: its name, dimensions (slowest first), data and keys.
+struct Extension<'a> {
+    name: String,
+    dims: Vec<usize>,
+    data: &'a [f64],
+    keys: Keys,
 }
 
 /// Writes a sensor's image as the FITS file `path`.
@@ -105,7 +116,29 @@ pub fn write_sensor_fits(path: &Path, image: &SensorFits) -> std::io::Result<()>
         }
     }
     provenance_keys(&mut keys, image.provenance, image.json_name);
-    write_fits(path, &dims, image.flux, keys)
+    let extensions = image
+        .processes
+        .iter()
+        .map(|(name, data)| {
+            let mut k = Keys::default();
+            image_keys(&mut k, image);
+            mm_axes(&mut k, first, pitch, "position on the sensor (local axes)");
+            angular_axes(&mut k, image, first, pitch);
+            sky_axes(&mut k, image, &frame);
+            k.text(
+                "PROCESS",
+                name,
+                "emission process of this image (summed over energy bands)",
+            );
+            Extension {
+                name: name.to_uppercase(),
+                dims: vec![ny, nx],
+                data,
+                keys: k,
+            }
+        })
+        .collect();
+    write_fits(path, &dims, image.flux, keys, extensions)
 }
 
 /// Writes a sensor's image on its detector pixel grid (`NAME_grid.npy`'s
@@ -145,7 +178,7 @@ pub fn write_grid_fits(
     };
     sky_axes(&mut keys, image, &frame);
     provenance_keys(&mut keys, image.provenance, image.json_name);
-    write_fits(path, &[gy, gx], flux, keys)
+    write_fits(path, &[gy, gx], flux, keys, Vec::new())
 }
 
 /// The primary WCS: X and Y in mm, `first` the first pixel's centre, `step`
@@ -308,11 +341,17 @@ fn sky_axes(keys: &mut Keys, image: &SensorFits, frame: &PixelFrame) {
 }
 
 /// Writes `data` of `dims` (slowest first) with `keys` as the FITS file `path`,
-/// atomically.
-fn write_fits(path: &Path, dims: &[usize], data: &[f64], keys: Keys) -> std::io::Result<()> {
+/// followed by the image `extensions`, atomically.
+fn write_fits(
+    path: &Path,
+    dims: &[usize],
+    data: &[f64],
+    keys: Keys,
+    extensions: Vec<Extension>,
+) -> std::io::Result<()> {
     let tmp = tempfile::Builder::new().prefix("traxer-fits-").tempdir()?;
     let tmp_file = tmp.path().join("image.fits");
-    fits_file(&tmp_file, dims, data, keys)
+    fits_file(&tmp_file, dims, data, keys, extensions)
         .map_err(|e| std::io::Error::other(format!("{}: writing FITS: {e}", path.display())))?;
     let bytes = without_primary_extname(std::fs::read(&tmp_file)?);
     atomic_write(path, &bytes)
@@ -323,6 +362,7 @@ fn fits_file(
     dims: &[usize],
     data: &[f64],
     keys: Keys,
+    extensions: Vec<Extension>,
 ) -> fitsio::errors::Result<()> {
     let description = ImageDescription {
         data_type: ImageType::Double,
@@ -333,7 +373,17 @@ fn fits_file(
         .open()?;
     let hdu = f.primary_hdu()?;
     hdu.write_image(&mut f, data)?;
-    write_keys(&mut f, &hdu, keys)
+    write_keys(&mut f, &hdu, keys)?;
+    for e in extensions {
+        let description = ImageDescription {
+            data_type: ImageType::Double,
+            dimensions: &e.dims,
+        };
+        let hdu = f.create_image(e.name, &description)?;
+        hdu.write_image(&mut f, e.data)?;
+        write_keys(&mut f, &hdu, e.keys)?;
+    }
+    Ok(())
 }
 
 /// Writes `keys` into the header of `hdu`, in order.

@@ -25,6 +25,8 @@ mod montage;
 mod npy;
 mod plot;
 mod png;
+mod processes;
+pub use processes::process_images;
 mod provenance;
 mod run_files;
 mod solar_flux;

@@ -3,6 +3,7 @@
 
 use super::conversion::write_conversion;
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
+use super::processes::{process_images, write_process_images};
 use super::write_eef_plot;
 use super::{
     write_csv, write_image_figure, write_npy_f64, write_npy_u64, write_png, ImageFigure,
@@ -123,6 +124,8 @@ fn write_sensor(
     write_npy_f64(&paths[0], &shape, flux)?;
     write_npy_u64(&paths[1], &shape, &image.counts)?;
     let on_grid = finished.on_grid(spec);
+    let scale = absolute.unwrap_or(1.0);
+    let processes = process_images(spec, image, scale);
     if run.fits {
         let fits = SensorFits {
             spec,
@@ -132,6 +135,7 @@ fn write_sensor(
             provenance: run.provenance,
             json_name: &files[4],
             sky: run.sky,
+            processes: &processes,
         };
         written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
@@ -150,12 +154,8 @@ fn write_sensor(
     }
     write_projections(&paths[6], summed, geometry)?;
     let grid = write_grid_files(dir, scene, spec, on_grid, &finished, run, &mut written)?;
-    written.extend(write_class_images(
-        dir,
-        spec,
-        image,
-        absolute.unwrap_or(1.0),
-    )?);
+    written.extend(write_class_images(dir, spec, image, scale)?);
+    let processes = write_process_images(dir, spec, image, &processes, scale, &mut written)?;
     let conversion = write_conversion_files(dir, scene, spec, image, absolute, &mut written)?;
     let sensor = json!({
         "name": spec.name,
@@ -176,7 +176,8 @@ fn write_sensor(
         "pixel_grid": grid,
         "sky_wcs": run.sky.map(sky_wcs_json),
         "conversion": conversion,
-        "history": history_json(scene, image, absolute.unwrap_or(1.0)),
+        "history": history_json(scene, image, scale),
+        "by_process": processes,
         "files": {
             "flux_npy": files[0], "counts_npy": files[1],
             "png_linear": files[2], "png_log": files[3], "png_pixels": files[7],
@@ -529,7 +530,7 @@ pub fn sources_json(scene: &Scene, photons: u64) -> Value {
                     "offset_arcmin": sun.offset_arcmin,
                     "target": sector_json(&sun.target),
                     "energy_range_keV": [sun.energy_range.0, sun.energy_range.1],
-                    "luminosity_per_s": sun.sampler.luminosity,
+                    "luminosity_per_s": sun.emission_draw.luminosity,
                     "flux_at_target_per_cm2_s": sun.flux_per_mm2() * 100.0,
                     "rate_through_target_per_s": sun.rate_through_target(),
                     "rate_per_unit_weight_per_s": sun.rate_per_unit_weight(photons),

@@ -15,7 +15,7 @@
 //! i), any split, order or interruption gives the bit-identical tally of one
 //! uninterrupted run. `output` writes files and knows nothing of runs.
 //!
-//! The file: a first line `traxer run state 2` followed by the SHA-256 of the
+//! The file: a first line `traxer run state 3` followed by the SHA-256 of the
 //! second line, the header as JSON (readable with `head -2`), then the tally in
 //! `postcard`'s compact binary encoding, whose SHA-256 the header records: every
 //! byte of the file is covered by a checksum.

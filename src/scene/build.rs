@@ -67,6 +67,11 @@ pub(super) fn build(
         materials.add_generated(&m.name, m.desc, m.span);
     }
 
+    let sources = build_sources(at, &desc, dir, &inputs)?;
+    materials.processes = sources
+        .first()
+        .map(|s| s.process_names())
+        .unwrap_or_default();
     let mut objects = Vec::new();
     let mut builder = ObjectBuilder::new(at, dir, representation, &inputs);
     let mut embree = device.scene::<embree_binding::AnalyticPieces>();
@@ -81,7 +86,6 @@ pub(super) fn build(
     if let Some((name, span)) = materials.unused() {
         return Err(at.error(span, format!("material `{name}` is not used by any object")));
     }
-    let sources = build_sources(at, &desc, dir, &inputs)?;
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
     check_foils(at, &materials.foils, &sources)?;
     check_gas(at, &materials.sensors, &sources)?;

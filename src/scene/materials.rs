@@ -129,6 +129,9 @@ pub struct Materials {
     pub foils: Vec<Foil>,
     /// Roughness models in order of first use (`Material::Mirror::roughness`).
     pub roughness: Vec<crate::xray::roughness::Roughness>,
+    /// The source's processes each sensor records an image of
+    /// ([`crate::source::Source::process_names`]).
+    pub processes: Vec<String>,
 }
 
 impl Materials {
@@ -178,6 +181,7 @@ impl Materials {
             sensors: Vec::new(),
             foils: Vec::new(),
             roughness: Vec::new(),
+            processes: Vec::new(),
         }
     }
 
@@ -236,7 +240,8 @@ impl Materials {
                 Ok(Material::Foil { foil: index })
             }
             MaterialDesc::Sensor(s) => match s.spec(object_name, object) {
-                Ok(spec) => {
+                Ok(mut spec) => {
+                    spec.processes = self.processes.clone();
                     self.sensors.push(spec);
                     Ok(Material::Sensor {
                         sensor: self.sensors.len() - 1,

@@ -94,6 +94,7 @@ impl SensorDesc {
             pixel_grid,
             history_images: self.history_images,
             gas,
+            processes: Vec::new(),
         })
     }
 }

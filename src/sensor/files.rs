@@ -84,6 +84,20 @@ pub fn class_file_names(name: &str) -> Vec<String> {
         .collect()
 }
 
+/// The per-process image files of sensor `name`, one per process of the
+/// source ([`super::SensorSpec::processes`]).
+pub fn process_file_names(name: &str, processes: &[String]) -> Vec<String> {
+    let stem = file_stem(name);
+    processes
+        .iter()
+        .map(|p| format!("{stem}_{p}.npy"))
+        .collect()
+}
+
+/// The longest process name a source has ("electron_electron"), for the
+/// file-name check made before the sources are known.
+const LONGEST_PROCESS: &str = "electron_electron";
+
 /// Why a sensor's name cannot name its files: every file it may write (the
 /// FITS file, grid, conversion and class images included) must still be a
 /// valid name with the temporary name's additions (`files::atomic_write`).
@@ -99,6 +113,7 @@ pub fn check_file_names(name: &str) -> Result<(), String> {
         .chain(conversion_file_names(name))
         .chain(grid_file_names(name))
         .chain(class_file_names(name))
+        .chain(process_file_names(name, &[LONGEST_PROCESS.to_string()]))
         .chain([fits_file_name(name), grid_fits_file_name(name)])
         .map(|f| f.len() + TEMPORARY_NAME_EXTRA_BYTES)
         .max()

@@ -11,15 +11,18 @@ mod desc;
 pub mod exact;
 mod files;
 pub mod paths;
+mod processes;
 pub mod rebin;
 
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
     check_file_names, class_file_names, conversion_file_names, file_stem, fits_file_name,
-    grid_file_names, grid_fits_file_name, sensor_file_names, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    grid_file_names, grid_fits_file_name, process_file_names, sensor_file_names,
+    MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
+pub use processes::ProcessTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};
 
 use crate::history::PathClass;
@@ -51,6 +54,10 @@ pub struct SensorSpec {
     /// detector (the gas lies on the side the sensor's normal points to).
     #[serde(skip)]
     pub gas: Option<DetectorGas>,
+    /// The source's processes (a Sun with Primakoff and ABC: "primakoff",
+    /// "abc"), each recorded as an image of its own beside the total; empty
+    /// for a source of one process.
+    pub processes: Vec<String>,
 }
 
 impl SensorSpec {
@@ -66,6 +73,7 @@ impl SensorSpec {
         if self.gas.is_some() {
             names.extend(conversion_file_names(&self.name));
         }
+        names.extend(process_file_names(&self.name, &self.processes));
         names
     }
 
@@ -99,7 +107,8 @@ impl SensorSpec {
 
     /// The image values a run holds for this sensor, toward the scene's cap
     /// [`MAX_TOTAL_PIXELS`]: pixels × bands, one image per path class with
-    /// `history_images`, and its pixel grid's pixels × bands (made when written).
+    /// `history_images`, one per process of the source, and its pixel grid's
+    /// pixels × bands (made when written).
     pub fn image_values(&self) -> u64 {
         let pixels = self.pixel_count() as u64;
         let bands = self.bands() as u64;
@@ -112,7 +121,7 @@ impl SensorSpec {
             .pixel_grid
             .as_ref()
             .map_or(0, |g| g.pixels[0] as u64 * g.pixels[1] as u64 * bands);
-        pixels * bands + classes + grid
+        pixels * bands + classes + grid + self.processes.len() as u64 * pixels
     }
 
     /// Number of energy bands (1 without binning).
@@ -167,6 +176,9 @@ pub struct SensorImage {
     pub paths: PathTally,
     /// Where the photons converted, for a sensor with a gas.
     pub conversion: Option<ConversionTally>,
+    /// The flux by emission process ([`SensorSpec::processes`]).
+    #[serde(default)]
+    pub processes: ProcessTally,
     /// Pixels per band plane.
     plane: usize,
 }
@@ -180,6 +192,7 @@ impl SensorImage {
             counts: vec![0; n],
             paths: PathTally::new(spec.history_images, spec.pixel_count()),
             conversion: spec.gas.as_ref().map(|g| ConversionTally::new(&g.desc)),
+            processes: ProcessTally::new(spec.processes.len(), spec.pixel_count()),
             plane: spec.pixel_count(),
         }
     }
@@ -194,13 +207,13 @@ impl SensorImage {
         sum_bands(&self.flux(), spec.pixel_count())
     }
 
-    /// One photon: its pixel (band included), weight, path class and first and
-    /// last mirror, and for a gas detector its energy and conversion.
+    /// One photon: its pixel (band included), weight, emission process, path
+    /// class and first and last mirror, and for a gas detector its energy and
+    /// conversion.
     #[inline]
     pub fn record(
         &mut self,
-        pixel: u32,
-        weight: f64,
+        (pixel, weight, process): (u32, f64, u8),
         class: PathClass,
         (first, last): (u32, u32),
         (energy_kev, conversion): (f64, Option<&ConversionRecord>),
@@ -211,6 +224,8 @@ impl SensorImage {
         let weight = WeightSum::of(weight);
         self.flux_sum[pixel as usize].add(weight);
         self.counts[pixel as usize] += 1;
+        self.processes
+            .record(process, pixel as usize % self.plane.max(1), weight);
         self.paths.record(
             pixel as usize % self.plane.max(1),
             weight,
@@ -226,6 +241,7 @@ impl SensorImage {
             *a += b;
         }
         self.paths.add(&other.paths);
+        self.processes.add(&other.processes);
         if let (Some(a), Some(b)) = (&mut self.conversion, &other.conversion) {
             a.add(b);
         }

@@ -16,7 +16,7 @@ pub use annulus::{AnnulusSector, ApertureDesc};
 pub use parallel::{ParallelBeam, ParallelDesc};
 pub use point::{PointDesc, PointSource};
 pub use spectrum::{EnergyDesc, Spectrum, SpectrumTable};
-pub use sun::{SunDesc, SunSource};
+pub use sun::{SunDesc, SunEmission, SunSource};
 
 use crate::geometry::{within_world, WORLD_LIMIT_MM};
 use crate::random::PhotonRng;
@@ -111,6 +111,9 @@ pub struct Photon {
     pub energy: f64,
     /// Starts at the source's sampling weight; interactions only multiply it.
     pub weight: f64,
+    /// Which of the source's processes emitted it (index into the Sun's
+    /// [`SunEmission::process_names`]; 0 for every other source).
+    pub process: u8,
 }
 
 #[derive(Clone, Debug)]
@@ -136,6 +139,15 @@ impl Source {
             Source::Parallel(s) => s.spectrum.range(),
             Source::Point(s) => s.spectrum.range(),
             Source::Sun(s) => s.energy_range,
+        }
+    }
+
+    /// The processes whose images a trace records beside the total (a Sun with
+    /// Primakoff and ABC: "primakoff", "abc"); empty for one process.
+    pub fn process_names(&self) -> Vec<String> {
+        match self {
+            Source::Sun(s) => s.emission_draw.process_names(),
+            _ => Vec::new(),
         }
     }
 

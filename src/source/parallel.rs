@@ -74,6 +74,7 @@ impl ParallelBeam {
             dir: self.direction,
             energy: self.spectrum.sample(rng),
             weight: 1.0,
+            process: 0,
         }
     }
 }

@@ -76,6 +76,7 @@ impl PointSource {
             dir,
             energy: self.spectrum.sample(rng),
             weight: self.target.area() * cos_t / (4.0 * std::f64::consts::PI * d2),
+            process: 0,
         }
     }
 }

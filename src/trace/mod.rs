@@ -120,8 +120,7 @@ impl Tally {
         for r in records {
             let h = &r.history;
             self.images[r.sensor as usize].record(
-                r.pixel,
-                r.weight,
+                (r.pixel, r.weight, r.process),
                 h.class(),
                 (h.first_mirror, h.last_mirror),
                 (r.energy, r.conversion.as_ref()),

@@ -22,6 +22,9 @@ pub struct Record {
     pub history: History,
     /// Where a gas detector's photon converted (`None` for other sensors).
     pub conversion: Option<ConversionRecord>,
+    /// Which of the source's processes emitted it ([`Photon::process`]).
+    #[serde(default)]
+    pub process: u8,
 }
 
 /// Everything known about a recorded photon, for photon lists.
@@ -206,6 +209,7 @@ fn record_on_sensor(
                 energy: photon.energy,
                 history,
                 conversion,
+                process: photon.process,
             };
             Some((record, local, photon.dir))
         }

@@ -29,6 +29,7 @@ mod output_location;
 mod outputs;
 mod photon_loop;
 mod pictures;
+mod processes;
 mod quiet;
 mod rebin;
 mod refusals;

@@ -432,7 +432,7 @@ fn a_pinhole_image_of_the_sun_has_the_projected_profile_and_the_absolute_rate() 
             .map(|(_, v)| v)
             .sum();
         let rho = (radius / distance).atan() * d_mm / (R_SUN_CM * 10.0);
-        let want = sun.sampler.enclosed_projected(rho);
+        let want = sun.emission_draw.enclosed_projected(rho);
         assert!(
             (inside / total - want).abs() < 0.01,
             "R = {radius} mm (ρ = {rho:.3}): {} vs {want}",

@@ -254,12 +254,26 @@ impl EmissionPart {
     }
 }
 
+/// One coupling's share of an emission: its table at the reference coupling (on
+/// the emission's energies) and the factor (g/g_ref)² that scales it to the
+/// chosen coupling. A trace draws its photons from these tables, not from their
+/// sum, so that where a photon goes does not depend on the couplings (see
+/// [`super::SunEmission`]).
+#[derive(Clone, Debug)]
+pub struct CouplingPart {
+    /// "primakoff" (∝ g_aγ²) or "abc" (∝ g_ae²).
+    pub name: String,
+    pub reference: EmissionTable,
+    pub factor: f64,
+}
+
 /// An emission for chosen couplings: the table to sample, its parts (Primakoff,
-/// the four ABC processes, ABC), and what it is.
+/// the four ABC processes, ABC), its parts by coupling, and what it is.
 #[derive(Clone, Debug)]
 pub struct AxionEmission {
     pub table: EmissionTable,
     pub parts: Vec<EmissionPart>,
+    pub couplings: Vec<CouplingPart>,
     pub description: String,
     pub coupling: String,
 }
@@ -286,6 +300,7 @@ pub fn compose(
     }
     let mut tables = Vec::new();
     let mut parts = Vec::new();
+    let mut couplings = Vec::new();
     let mut what = Vec::new();
     let mut coupling = Vec::new();
     if let Some((table, _, g)) = &primakoff {
@@ -295,15 +310,23 @@ pub fn compose(
         check_representable("g_ae = ", *g, G_AE_REFERENCE, a.table)?;
     }
     if let Some((table, description, g)) = primakoff {
-        let mut t = table.scaled((g / G_AGAMMA_REFERENCE_PER_GEV).powi(2));
+        let factor = (g / G_AGAMMA_REFERENCE_PER_GEV).powi(2);
+        let mut t = table.scaled(factor);
+        let mut reference = table.clone();
         if let Some((a, _)) = &abc {
             if a.table.radii != t.radii {
                 return Err("Primakoff and ABC tables to be added need the same radii".into());
             }
             if a.table.energies != t.energies {
                 t = t.resampled(&a.table.energies)?;
+                reference = reference.resampled(&a.table.energies)?;
             }
         }
+        couplings.push(CouplingPart {
+            name: "primakoff".into(),
+            reference,
+            factor,
+        });
         parts.push(EmissionPart {
             name: "primakoff".into(),
             spectrum_1au: t.spectrum_at(AU_CM),
@@ -316,6 +339,11 @@ pub fn compose(
     if let Some((a, g)) = abc {
         let factor = (g / G_AE_REFERENCE).powi(2);
         let t = a.table.scaled(factor);
+        couplings.push(CouplingPart {
+            name: "abc".into(),
+            reference: a.table.clone(),
+            factor,
+        });
         for (name, s) in super::abc::PROCESSES.iter().zip(a.process_spectra_1au) {
             parts.push(EmissionPart {
                 name: (*name).into(),
@@ -348,6 +376,7 @@ pub fn compose(
     Ok(AxionEmission {
         table,
         parts,
+        couplings,
         description: what.join(" + "),
         coupling: coupling.join(", "),
     })

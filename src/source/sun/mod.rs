@@ -23,12 +23,14 @@
 pub mod abc;
 pub mod builtin;
 pub mod emission;
+mod mixture;
 pub mod model;
 pub mod opacity_project;
 pub mod primakoff;
 pub mod sampler;
 
 pub use emission::{EmissionTable, AU_CM, R_SUN_CM};
+pub use mixture::SunEmission;
 pub use model::{SolarDataError, SolarModel};
 pub use sampler::EmissionSampler;
 
@@ -97,6 +99,10 @@ pub struct SunDesc {
     pub energy_range: Option<[f64; 2]>,
 }
 
+/// An emission: its table, what it is, its coupling, and its parts by coupling
+/// when a trace draws from them separately (see [`SunEmission`]).
+type Emission = (EmissionTable, String, String, Vec<builtin::CouplingPart>);
+
 fn default_emission() -> String {
     BUILTIN.to_string()
 }
@@ -120,7 +126,7 @@ pub struct SunSource {
     pub distance_mm: f64,
     pub offset_arcmin: [f64; 2],
     /// The emission, restricted to the energy range.
-    pub sampler: Arc<EmissionSampler>,
+    pub emission_draw: Arc<SunEmission>,
     pub energy_range: (f64, f64),
     /// What the emission is (built-in or the file read).
     pub emission: String,
@@ -137,8 +143,9 @@ impl SunDesc {
             .then(|| dir.join(&self.emission))
     }
 
-    /// The emission table (read relative to `dir`), what it is and its coupling.
-    fn emission_table(&self, dir: &Path) -> Result<(EmissionTable, String, String), InvalidSource> {
+    /// The emission table (read relative to `dir`), what it is, its coupling and
+    /// (for a built-in emission with both couplings) its parts by coupling.
+    fn emission_table(&self, dir: &Path) -> Result<Emission, InvalidSource> {
         if builtin::parse_name(&self.emission).is_some() {
             if self.coupling.is_some() {
                 return Err("sun: coupling describes an emission table file; a built-in emission takes g_agamma (Primakoff) and g_ae (ABC)".into());
@@ -154,7 +161,11 @@ impl SunDesc {
                     .map_err(|e| InvalidSource(format!("sun: {e}")))?;
             let e = builtin::builtin_emission(g_agamma, g_ae)
                 .map_err(|e| InvalidSource(format!("sun: {e}")))?;
-            return Ok((e.table, e.description, e.coupling));
+            let couplings = match e.couplings.len() {
+                1 => Vec::new(),
+                _ => e.couplings,
+            };
+            return Ok((e.table, e.description, e.coupling, couplings));
         }
         let path = dir.join(&self.emission);
         if !path.is_file() {
@@ -175,7 +186,7 @@ impl SunDesc {
             .coupling
             .clone()
             .unwrap_or_else(|| "the coupling the table was computed for".into());
-        Ok((table, path.display().to_string(), coupling))
+        Ok((table, path.display().to_string(), coupling, Vec::new()))
     }
 
     /// The source, its table read relative to `dir`; or what is wrong.
@@ -202,7 +213,7 @@ impl SunDesc {
         {
             return Err("sun: offset_arcmin = [x, y] must be finite and below 600′ (10°)".into());
         }
-        let (table, emission, coupling) = p.emission_table(dir)?;
+        let (table, emission, coupling, couplings) = p.emission_table(dir)?;
         let (t_min, t_max) = (
             table.energy_edges()[0],
             *table.energy_edges().last().unwrap(),
@@ -212,7 +223,11 @@ impl SunDesc {
             Some([a, b]) if a.is_finite() && b.is_finite() && a < b => (a.max(t_min), b.min(t_max)),
             Some(_) => return Err("sun: energy_range = [min, max] with min < max (keV)".into()),
         };
-        let sampler = EmissionSampler::new(&table, e_min, e_max).ok_or_else(|| {
+        let draw = match couplings.is_empty() {
+            true => SunEmission::single(&table, e_min, e_max),
+            false => SunEmission::by_coupling(&couplings, e_min, e_max),
+        };
+        let emission_draw = draw.ok_or_else(|| {
             InvalidSource(format!(
                 "sun: the emission table emits nothing between {e_min} and {e_max} keV"
             ))
@@ -232,7 +247,7 @@ impl SunDesc {
             target_normal: axis,
             distance_mm,
             offset_arcmin: p.offset_arcmin,
-            sampler: Arc::new(sampler),
+            emission_draw: Arc::new(emission_draw),
             energy_range: (e_min, e_max),
             emission,
             coupling,
@@ -263,7 +278,7 @@ impl SunSource {
 
     #[inline]
     pub fn emit(&self, rng: &mut PhotonRng) -> Photon {
-        let (r, energy) = self.sampler.sample(rng);
+        let ((r, energy), weight, process) = self.emission_draw.sample(rng);
         // A uniform direction from the Sun's centre.
         let z = 2.0 * rng.uniform() - 1.0;
         let phi = std::f64::consts::TAU * rng.uniform();
@@ -279,7 +294,8 @@ impl SunSource {
             origin: on_target,
             dir,
             energy,
-            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2,
+            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2 * weight,
+            process,
         }
     }
 
@@ -291,7 +307,7 @@ impl SunSource {
     /// Axions per second that one unit of weight stands for, summed over a run of
     /// `photons` photons: L·A / (4π D_min²) / photons.
     pub fn rate_per_unit_weight(&self, photons: u64) -> f64 {
-        self.sampler.luminosity * self.target.area()
+        self.emission_draw.luminosity * self.target.area()
             / (4.0 * std::f64::consts::PI * self.nearest_mm2)
             / photons.max(1) as f64
     }
@@ -304,6 +320,6 @@ impl SunSource {
 
     /// Axion flux at the target, per mm² and second, facing the Sun.
     pub fn flux_per_mm2(&self) -> f64 {
-        self.sampler.luminosity / (4.0 * std::f64::consts::PI * self.distance_mm.powi(2))
+        self.emission_draw.luminosity / (4.0 * std::f64::consts::PI * self.distance_mm.powi(2))
     }
 }

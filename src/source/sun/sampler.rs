@@ -87,14 +87,21 @@ impl EmissionSampler {
     /// (radius as a fraction of R_sun, energy in keV) of one emitted axion.
     #[inline]
     pub fn sample(&self, rng: &mut PhotonRng) -> (f64, f64) {
-        let k = self.cell(rng.uniform());
+        self.sample_from(rng.uniform(), rng).0
+    }
+
+    /// As [`EmissionSampler::sample`], with `u` (uniform in [0, 1)) choosing the
+    /// cell; also returns the cell's index (radius-major).
+    #[inline]
+    pub fn sample_from(&self, u: f64, rng: &mut PhotonRng) -> ((f64, f64), usize) {
+        let k = self.cell(u);
         let n_e = self.energy_cells.len();
         let (i, j) = (k / n_e, k % n_e);
         let (a, b) = (self.radius_edges[i], self.radius_edges[i + 1]);
         let (a3, b3) = (a * a * a, b * b * b);
         let r = (a3 + rng.uniform() * (b3 - a3)).cbrt();
         let (lo, hi) = self.energy_cells[j];
-        (r, lo + rng.uniform() * (hi - lo))
+        ((r, lo + rng.uniform() * (hi - lo)), k)
     }
 
     /// Fraction of the emission seen within projected radius `rho` (fraction of

@@ -1,0 +1,73 @@
+//! A sensor's image per emission process (`NAME_primakoff.npy`, `NAME_abc.npy`
+//! for a Sun with both couplings) and its summary: each process's flux and
+//! photons, and how to build the image for other couplings from them.
+//!
+//! Data flow: `run_files` asks [`process_images`] for the scaled images (also
+//! written into the FITS file as extensions) and [`write_process_images`] for
+//! the files and the JSON entry.
+
+use super::npy::write_npy_f64;
+use crate::sensor::{process_file_names, SensorImage, SensorSpec};
+use serde_json::{json, Value};
+use std::path::{Path, PathBuf};
+
+/// Each process's image ([iy][ix], summed over bands) times `scale` (axions/s
+/// per unit weight for a Sun), with its name; empty for a one-process source.
+pub fn process_images(
+    spec: &SensorSpec,
+    image: &SensorImage,
+    scale: f64,
+) -> Vec<(String, Vec<f64>)> {
+    spec.processes
+        .iter()
+        .zip(image.processes.images())
+        .map(|(name, img)| (name.clone(), img.iter().map(|v| v * scale).collect()))
+        .collect()
+}
+
+/// What the coupling of each built-in process is, for the recombination rule.
+fn coupling_of(process: &str) -> Option<&'static str> {
+    match process {
+        "primakoff" => Some("g_agamma"),
+        "abc" => Some("g_ae"),
+        _ => None,
+    }
+}
+
+/// Writes the per-process images as `.npy`; returns the JSON entry (`null`
+/// without processes) and adds the paths to `written`.
+pub fn write_process_images(
+    dir: &Path,
+    spec: &SensorSpec,
+    image: &SensorImage,
+    images: &[(String, Vec<f64>)],
+    scale: f64,
+    written: &mut Vec<PathBuf>,
+) -> std::io::Result<Value> {
+    if images.is_empty() {
+        return Ok(Value::Null);
+    }
+    let shape = [spec.pixels[1] as u64, spec.pixels[0] as u64];
+    let files = process_file_names(&spec.name, &spec.processes);
+    let totals = image.processes.totals();
+    let all: f64 = totals.iter().sum();
+    let mut entries = Vec::new();
+    for (k, ((name, img), file)) in images.iter().zip(&files).enumerate() {
+        let p = dir.join(file);
+        write_npy_f64(&p, &shape, img)?;
+        written.push(p);
+        entries.push(json!({
+            "name": name,
+            "file": file,
+            "total_flux": totals[k] * scale,
+            "fraction_of_flux": if all > 0.0 { totals[k] / all } else { 0.0 },
+            "photons": image.processes.counts[k],
+            "scales_as": coupling_of(name).map(|g| format!("{g}²")),
+        }));
+    }
+    Ok(json!({
+        "what": "the image of each emission process, from the same photons as the total (they add up to it, summed over energy bands); each process's table was drawn for half the photons, so each image has the statistics of half the run whatever the couplings, and the photons' paths do not depend on the couplings",
+        "recombine": "the image for other couplings is Σ (g/g_run)² × image of the process, g_run the coupling of this run (sources[].coupling): primakoff scales as g_agamma², abc as g_ae²; it equals a trace with those couplings to rounding",
+        "processes": entries,
+    }))
+}
