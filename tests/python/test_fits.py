@@ -221,6 +221,29 @@ def test_the_sky_wcs_puts_an_off_axis_sun_where_it_was(tmp_path):
     assert np.allclose(local, sky["calibration"]["centre_mm"], atol=1e-9), local
 
 
+def test_process_images_are_extensions_with_the_primary_wcs(tmp_path):
+    """A Sun with Primakoff and ABC: chip.fits holds the total as its primary
+    image and one image extension per process (PRIMAKOFF, ABC), equal to
+    chip_primakoff.npy and chip_abc.npy, adding up to the total, with the same
+    WCS (mm, focal plane, sky) as the primary."""
+    out = tmp_path / "electron"
+    traxer("trace", REPO / "scenes" / "cast_axion_electron_image.toml", "-n", 30000,
+           "--out", out, "-q", "--fits")
+    with fits.open(out / "chip.fits") as f:
+        assert [h.name for h in f] == ["PRIMARY", "PRIMAKOFF", "ABC"]
+        total = f[0].data
+        for h in f[1:]:
+            assert h.header["PROCESS"] == h.name.lower()
+            assert np.array_equal(h.data, np.load(out / f"chip_{h.name.lower()}.npy"))
+            for key in [" ", "A", "S"]:
+                a, b = WCS(f[0].header, key=key), WCS(h.header, key=key)
+                assert np.allclose(a.pixel_to_world_values(3.0, 7.0),
+                                   b.pixel_to_world_values(3.0, 7.0), rtol=0, atol=1e-15)
+            assert h.header["BUNIT"] == f[0].header["BUNIT"]
+        assert np.allclose(f[1].data + f[2].data, total, rtol=1e-13, atol=0)
+        assert f[1].data.sum() > 0 and f[2].data.sum() > 50 * f[1].data.sum()
+
+
 def test_no_sky_wcs_without_a_sun(tmp_path):
     """A lab beam is not the sky: its FITS has the mm and focal-plane WCS only."""
     scene = wolter_scene(tmp_path, False)

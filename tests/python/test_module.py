@@ -200,6 +200,32 @@ def test_class_images_in_memory_equal_the_cli_class_files(tmp_path):
     assert traxer.Scene(WOLTER).trace(1000).sensors["sensor"].by_class is None
 
 
+def test_images_by_process_build_the_image_for_other_couplings(tmp_path):
+    """The docs' recipe: one trace of Primakoff + ABC gives the image for any
+    couplings as (g_aγ/g_aγ₀)² × primakoff + (g_ae/g_ae₀)² × abc; it equals a
+    trace with those couplings to 1e-12 of the largest pixel, and the images
+    equal the CLI's NAME_PROCESS.npy bit for bit."""
+    scene = REPO / "scenes" / "cast_axion_electron_image.toml"
+    run = traxer.Scene(scene).trace(30_000, seed=2)  # g_aγ = 1e-12, g_ae = 1e-13
+    chip = run["chip"]
+    assert list(chip.by_process) == ["primakoff", "abc"]
+    assert np.allclose(chip.by_process["primakoff"] + chip.by_process["abc"], chip.flux,
+                       rtol=1e-13, atol=0)
+    g_agamma, g_ae = 4e-12, 0.5e-13
+    image = (g_agamma / 1e-12) ** 2 * chip.by_process["primakoff"] \
+        + (g_ae / 1e-13) ** 2 * chip.by_process["abc"]
+    direct = traxer.Scene(scene, {"g_agamma": g_agamma, "g_ae": g_ae}).trace(30_000, seed=2)
+    assert np.abs(image - direct["chip"].flux).max() <= 1e-12 * direct["chip"].flux.max()
+    # The test can fail: without the squares the image is another.
+    wrong = 4 * chip.by_process["primakoff"] + 0.5 * chip.by_process["abc"]
+    assert np.abs(wrong - direct["chip"].flux).max() > 1e-3 * direct["chip"].flux.max()
+    cli("trace", scene, "-n", 30_000, "--seed", 2, "--out", tmp_path / "cli", "-q")
+    for name, flux in chip.by_process.items():
+        assert flux.tobytes() == np.load(tmp_path / "cli" / f"chip_{name}.npy").tobytes()
+    # A Sun of one process has no split.
+    assert traxer.Scene(CAST).trace(1000)["chip"].by_process is None
+
+
 def test_save_writes_the_cli_files(pair):
     out, _, saved, _ = pair
     cli_files = sorted(p.name for p in out.iterdir())
