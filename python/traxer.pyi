@@ -129,6 +129,26 @@ class Scene:
         evaluates every photon's weight at every energy. Energies, angles and
         ``radius_mm`` may be astropy Quantities.
         """
+    def psf_library(
+        self,
+        energies_keV: _Numbers,
+        angles_arcmin: Optional[_Numbers] = None,
+        azimuths_deg: Optional[_Numbers] = None,
+        photons: Optional[int | float] = None,
+        seed: int = 1,
+        threads: int = 0,
+        sensor: Optional[str] = None,
+        window: int = 101,
+        progress: bool = False,
+    ) -> PsfLibrary:
+        """The PSF library, as ``traxer psf``: the scene's parallel beam (its
+        only source) tilted to each of ``angles_arcmin`` towards each of
+        ``azimuths_deg`` (None: 0 only) at each of ``energies_keV``, ``photons``
+        photons per point (default 200 000) with the trace's random streams, so
+        that a point equals a trace of the scene set to that angle and energy;
+        a window of ``window`` pixels around each image's centroid, normalised
+        to 1. Energies and angles may be astropy Quantities.
+        """
 
 class SensorImage:
     """One sensor's image of a trace.
@@ -305,6 +325,41 @@ class EffectiveArea:
         effective_area.csv, off_axis.csv, effective_area.json, the plots and
         (with two energies or more) one OGIP ARF per angle,
         ``effective_area_<angle>arcmin.arf``, all at once."""
+
+class PsfLibrary:
+    """A PSF library: the telescope's image of a source at infinity over
+    energies, off-axis angles and azimuths (``Scene.psf_library``)."""
+
+    sensor: str
+    """The sensor imaged on."""
+    energies_keV: npt.NDArray[np.float64]
+    """The energies, keV."""
+    angles_arcmin: npt.NDArray[np.float64]
+    """The off-axis angles, arcmin."""
+    azimuths_deg: npt.NDArray[np.float64]
+    """The azimuths of the tilt, degrees."""
+    images: npt.NDArray[np.float64]
+    """The normalised images, [angle, azimuth, energy, iy, ix] (equal to psf.npy)."""
+    corner: npt.NDArray[np.float64]
+    """Each window's first sensor pixel (ix, iy), [angle, azimuth, energy, 2]."""
+    fraction_in_window: npt.NDArray[np.float64]
+    """Each window's share of the flux on the sensor, [angle, azimuth, energy]."""
+    centroid_mm: npt.NDArray[np.float64]
+    """Each image's centroid on the sensor (local mm), [angle, azimuth, energy, 2]."""
+    pixel_pitch_mm: tuple[float, float]
+    """The sensor's pixel pitch (x, y), mm."""
+    focal_length_mm: float
+    """The sensor's focal length, mm."""
+    window: int
+    """Pixels per side of each window."""
+    seconds: float
+    """Seconds spent tracing."""
+    @property
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the library."""
+    def save(self, folder: _Path) -> None:
+        """Writes the files of ``traxer psf`` into ``folder``: psf.fits (one image
+        per HDU, the layout SIXTE reads), psf.npy and psf.json, all at once."""
 
 class SolarEmission:
     """A solar axion emission table w(r, E) on a radius × energy grid."""

@@ -16,6 +16,7 @@ mod convert;
 mod effective_area;
 mod errors;
 mod grid;
+mod psf;
 mod result;
 mod run;
 mod scene;
@@ -30,8 +31,8 @@ use pyo3::prelude::*;
 /// Load a scene with `traxer.Scene(path, defines={...})` and trace it with
 /// `scene.trace(photons, seed=1)`; the result holds each sensor's image as numpy
 /// arrays and `result.save(folder)` writes the same files as `traxer trace`.
-/// Also: `traxer.reflectivity`, `traxer.eef`, `Scene.effective_area` and
-/// `traxer.SolarEmission`.
+/// Also: `traxer.reflectivity`, `traxer.eef`, `Scene.effective_area`,
+/// `Scene.psf_library` and `traxer.SolarEmission`.
 #[pymodule]
 #[pyo3(name = "traxer")]
 fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -55,6 +56,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<result::SensorImage>()?;
     m.add_class::<grid::GridImage>()?;
     m.add_class::<effective_area::EffectiveArea>()?;
+    m.add_class::<psf::PsfLibrary>()?;
     m.add_class::<solar::SolarEmission>()?;
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;

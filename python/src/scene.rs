@@ -265,6 +265,50 @@ impl Scene {
         };
         crate::effective_area::run(py, self.loaded.clone(), sweep, progress)
     }
+
+    /// The PSF library, as `traxer psf`: the scene's parallel beam (its only
+    /// source) tilted to each of `angles_arcmin` towards each of `azimuths_deg`
+    /// at each of `energies_keV`, `photons` photons per point (default 200 000)
+    /// with the trace's random streams, so that a point equals a trace of the
+    /// scene set to that angle and energy; a window of `window` pixels around
+    /// each image's centroid, normalised to 1. Energies and angles may be
+    /// astropy Quantities. Returns a `traxer.PsfLibrary`.
+    #[pyo3(signature = (energies_keV, angles_arcmin = None, azimuths_deg = None, photons = None, seed = 1, threads = 0, sensor = None, window = 101, progress = false))]
+    #[allow(non_snake_case, clippy::too_many_arguments)]
+    fn psf_library(
+        &self,
+        py: Python<'_>,
+        energies_keV: &Bound<'_, PyAny>,
+        angles_arcmin: Option<&Bound<'_, PyAny>>,
+        azimuths_deg: Option<&Bound<'_, PyAny>>,
+        photons: Option<&Bound<'_, PyAny>>,
+        seed: u64,
+        threads: usize,
+        sensor: Option<String>,
+        window: u32,
+        progress: bool,
+    ) -> PyResult<crate::psf::PsfLibrary> {
+        let listed = |name: &str, v: Option<&Bound<'_, PyAny>>, unit: Unit| match v
+            .filter(|a| !a.is_none())
+        {
+            Some(a) => numbers(name, a, unit),
+            None => Ok(vec![0.0]),
+        };
+        let grid = traxer::studies::psf::PsfGrid {
+            energies: numbers("energies_keV", energies_keV, Unit::KeV)?,
+            angles_arcmin: listed("angles_arcmin", angles_arcmin, Unit::Arcmin)?,
+            azimuths_deg: listed("azimuths_deg", azimuths_deg, Unit::Degree)?,
+            photons: match photons {
+                Some(p) => crate::convert::count("photons", p, 2)?,
+                None => 200_000,
+            },
+            seed,
+            threads: self::threads(threads)?,
+            sensor,
+            window,
+        };
+        crate::psf::run(py, self.loaded.clone(), grid, progress)
+    }
 }
 
 impl Scene {

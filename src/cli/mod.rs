@@ -31,6 +31,7 @@ pub mod info;
 pub mod inspect;
 pub mod merge;
 pub mod progress;
+pub mod psf;
 pub mod reflectivity;
 pub mod render;
 pub mod report;

@@ -406,7 +406,7 @@ pub(super) fn write_keys(
 /// a custom primary header (a primary HDU has no extension name; ds9 and
 /// astropy show it). The card is cut out and the header's padding after END
 /// grows by one card, so every offset after the header stays where it was.
-fn without_primary_extname(mut bytes: Vec<u8>) -> Vec<u8> {
+pub(super) fn without_primary_extname(mut bytes: Vec<u8>) -> Vec<u8> {
     const CARD: usize = 80;
     let cards = bytes.len() / CARD;
     let end = (0..cards).find(|&i| bytes[i * CARD..].starts_with(b"END     "));

@@ -122,11 +122,11 @@ struct Hits {
 }
 
 /// The beam of the scene, checked: the only source, parallel.
-fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
+pub(super) fn beam<'a>(scene: &'a Scene, study: &str) -> Result<&'a ParallelBeam, StudyError> {
     match scene.sources.as_slice() {
         [Source::Parallel(b)] => Ok(b),
         _ => Err(StudyError::Input(format!(
-            "{}: effective-area needs exactly one source, of type \"parallel\", whose aperture covers the telescope's entrance (the beam is tilted to each off-axis angle)",
+            "{}: {study} needs exactly one source, of type \"parallel\", whose aperture covers the telescope's entrance (the beam is tilted to each off-axis angle)",
             scene.path.display()
         ))),
     }
@@ -142,7 +142,7 @@ fn beam(scene: &Scene) -> Result<&ParallelBeam, StudyError> {
 /// shorter side, for a sensor centred on the beam's axis. The area there would
 /// count only the X-rays that stray onto the sensor, a plausible but wrong
 /// small number.
-fn image_stays_on_the_sensor(
+pub(super) fn image_stays_on_the_sensor(
     scene: &Scene,
     beam: &ParallelBeam,
     spec: &SensorSpec,
@@ -182,7 +182,7 @@ pub fn sweep(
     mut on_angle: impl FnMut(&AngleResult),
 ) -> Result<AreaResult, StudyError> {
     check(s)?;
-    let base = beam(scene)?;
+    let base = beam(scene, "effective-area")?;
     let sensor = pick_sensor(scene, s.sensor.as_deref())?;
     let spec = &scene.sensors[sensor];
     if spec.energy_bins.is_some() {

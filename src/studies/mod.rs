@@ -1,6 +1,6 @@
 //! Studies: scene parameters → trace → measure, repeated — focus scans
 //! ([`focus`]), analytic-versus-mesh comparisons ([`compare`]) and the
-//! figure-error fit ([`fit`], its errors and predictions [`fit_errors`]), the effective area ([`effective_area`]). Each
+//! figure-error fit ([`fit`], its errors and predictions [`fit_errors`]), the effective area ([`effective_area`]), the PSF library ([`psf`]). Each
 //! traces through `trace`, measures with `analysis`, reports progress through a
 //! callback and returns plain results; `output` writes them and the binary
 //! prints them.
@@ -12,6 +12,7 @@ pub mod fit;
 pub mod fit_errors;
 pub mod focus;
 mod measure;
+pub mod psf;
 pub mod sky;
 
 pub use measure::{measure_arcsec, pick_sensor, trace_and_measure, Diameters, Measured};

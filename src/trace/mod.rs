@@ -11,7 +11,7 @@
 mod photon;
 mod stats;
 
-pub use photon::{trace_photon, AtItsEnergy, Attenuation, Record, RecordedPhoton};
+pub use photon::{trace_photon, AtItsEnergy, Attenuation, Record, RecordedPhoton, WithTables};
 pub use stats::Statistics;
 
 use crate::progress::Progress;
@@ -277,10 +277,32 @@ pub fn trace_chunk<H: QueryHook>(
     list_cap: usize,
     hook: &mut H,
 ) -> Chunk {
+    let sources = &scene.sources;
+    trace_chunk_from(
+        scene,
+        (sources, &mut AtItsEnergy),
+        seed,
+        range,
+        list_cap,
+        hook,
+    )
+}
+
+/// As [`trace_chunk`], with `sources` in place of the scene's and weights by
+/// `att` (a study's beam tilted or at another energy, with reflectivity tables
+/// for it): photon i comes from source i mod n.
+pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
+    scene: &Scene,
+    (sources, att): (&[crate::source::Source], &mut A),
+    seed: u64,
+    range: std::ops::Range<u64>,
+    list_cap: usize,
+    hook: &mut H,
+) -> Chunk {
     let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
     let mut records = Vec::new();
     let mut listed = Vec::new();
-    let n_sources = scene.sources.len() as u64;
+    let n_sources = sources.len() as u64;
     if n_sources == 0 {
         // A scene for visible-light renders only: nothing is emitted.
         return Chunk {
@@ -291,9 +313,9 @@ pub fn trace_chunk<H: QueryHook>(
     }
     for i in range {
         let mut rng = PhotonRng::new(seed, i);
-        let photon = scene.sources[(i % n_sources) as usize].emit(&mut rng);
+        let photon = sources[(i % n_sources) as usize].emit(&mut rng);
         if let Some((record, local, dir)) =
-            trace_photon(scene, photon, &mut rng, &mut stats, hook, &mut AtItsEnergy)
+            trace_photon(scene, photon, &mut rng, &mut stats, hook, att)
         {
             if listed.len() < list_cap {
                 listed.push(RecordedPhoton {

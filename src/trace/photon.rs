@@ -53,6 +53,24 @@ pub trait Attenuation {
 /// Weights multiplied at the photon's own energy.
 pub struct AtItsEnergy;
 
+/// Weights multiplied at the photon's own energy, with these reflectivity
+/// tables (one per scene table, in its order) in place of the scene's: a study
+/// tracing energies the scene's sources do not emit builds them as the scene
+/// would for a source of those energies.
+pub struct WithTables<'a>(pub &'a [crate::xray::ReflectivityTable]);
+
+impl Attenuation for WithTables<'_> {
+    #[inline]
+    fn mirror(&mut self, _: &Scene, table: usize, photon: &mut Photon, theta: f64) {
+        photon.weight *= self.0[table].reflectivity(photon.energy, theta);
+    }
+
+    #[inline]
+    fn foil(&mut self, scene: &Scene, foil: usize, photon: &mut Photon, cos: f64) {
+        AtItsEnergy.foil(scene, foil, photon, cos);
+    }
+}
+
 impl Attenuation for AtItsEnergy {
     #[inline]
     fn mirror(&mut self, scene: &Scene, table: usize, photon: &mut Photon, theta: f64) {

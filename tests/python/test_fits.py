@@ -339,3 +339,68 @@ def test_effective_area_writes_the_vignetting_as_a_fits_table(tmp_path):
             assert row["VIGNET"] == pytest.approx(row["AREA"] / on, rel=1e-12)
         five = d[d["OFFAXIS"] == 5.0]["VIGNET"]
         assert np.all(five < 1.0) and np.all(five > 0.5)
+
+
+def test_psf_library_is_the_layout_sixte_reads_and_equals_plain_traces(tmp_path):
+    """`traxer psf` writes one image per HDU (the primary included) with the
+    keywords SIXTE's PSF reader takes (ENERGY in eV, THETA in arcmin, PHI in
+    degrees, CUNIT m, CDELT/CRPIX/CRVAL) and the OGIP CAL/GEN/92-027 classes;
+    each image is normalised to 1, equals psf.npy, and equals the window of a
+    plain `traxer trace` of the scene set to that angle and energy (the same
+    photons: to rounding); nominal position f·tan θ + CRVAL + pixel offset is
+    where the WCS A (the sensor's mm) puts the pixel."""
+    scene = REPO / "scenes" / "xmm_effective_area.toml"
+    out = tmp_path / "psf"
+    traxer("psf", scene, "--energies", "1.5,8", "--angles", "0,10", "--window", 51,
+           "-n", 20000, "--out", out, "-q")
+    stack = np.load(out / "psf.npy")
+    assert stack.shape == (2, 1, 2, 51, 51)
+    desc = json.loads((out / "psf.json").read_text())
+    with fits.open(out / "psf.fits") as f:
+        assert len(f) == 4
+        for k, h in enumerate(f):
+            p = desc["points"][k]
+            a, e = desc["angles_arcmin"].index(p["angle_arcmin"]), desc["energies_keV"].index(p["energy_keV"])
+            assert np.array_equal(h.data, stack[a, 0, e])
+            assert abs(h.data.sum() - 1.0) < 1e-12
+            head = h.header
+            assert head["ENERGY"] == p["energy_keV"] * 1000 and head["THETA"] == p["angle_arcmin"]
+            assert head["PHI"] == 0.0 and head["CUNIT1"] == "m" and head["CUNIT2"] == "m"
+            for key, value in [("HDUCLASS", "OGIP"), ("HDUCLAS1", "IMAGE"), ("HDUCLAS2", "PSF"),
+                               ("CTYPE1", "DETX"), ("CTYPE2", "DETY")]:
+                assert head[key] == value, key
+            assert head["CDELT1"] == 50e-6 and head["CRPIX1"] == 26.0
+            theta = np.radians(head["THETA"] / 60.0)
+            for px in [(0.0, 0.0), (50.0, 20.0)]:
+                mm = WCS(head, key="A").pixel_to_world_values(*px)
+                m = WCS(head, key=" ").pixel_to_world_values(*px)
+                nominal = [head["FOCALLEN"] * np.tan(theta), 0.0]
+                assert np.allclose([(m[i] + nominal[i]) * 1e3 for i in (0, 1)], mm, atol=1e-9)
+            # A plain trace of the scene at this angle and energy.
+            plain = tmp_path / f"trace{k}"
+            traxer("trace", scene, "-n", 20000, "-D", f"energy={p['energy_keV']}",
+                   "-D", f"off_axis={p['angle_arcmin'] / 60.0!r}", "--out", plain, "-q")
+            image = np.load(plain / "sensor.npy")
+            x0, y0 = p["window_corner_pixel"]
+            window = image[y0:y0 + 51, x0:x0 + 51]
+            assert np.allclose(h.data, window / window.sum(), rtol=1e-12, atol=1e-15)
+            assert abs(p["fraction_in_window"] - window.sum() / image.sum()) < 1e-12
+    # The 8 keV image differs from the 1.5 keV one (the energy is applied).
+    assert not np.allclose(stack[1, 0, 0], stack[1, 0, 1])
+
+
+def test_psf_library_refuses_what_it_cannot_place(tmp_path):
+    """A window larger than the sensor, and a sensor without a focal length
+    (the nominal position f·tan θ is undefined), are refused with exit code 2
+    and no files."""
+    out = tmp_path / "psf"
+    bad = subprocess.run([TRAXER, "psf", str(REPO / "scenes" / "xmm_effective_area.toml"),
+                          "--window", "3000", "-n", "100", "--out", str(out)],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "does not fit" in bad.stderr, bad.stderr
+    assert not (out / "psf.fits").exists()
+    plain = wolter_scene(tmp_path, True)  # energy bins, no focal length
+    bad = subprocess.run([TRAXER, "psf", str(plain), "-n", "100", "--out", str(out)],
+                         capture_output=True, text=True)
+    assert bad.returncode == 2 and "focal_length" in bad.stderr, bad.stderr
+    assert not (out / "psf.fits").exists()

@@ -747,3 +747,19 @@ def test_effective_area_save_writes_the_arfs_too(tmp_path):
         with _fits.open(tmp_path / "ea" / f"effective_area_{angle}arcmin.arf") as h:
             np.testing.assert_allclose(h["SPECRESP"].data["SPECRESP"],
                                        ea.area_cm2[0 if angle == "0" else 1], rtol=1e-6)
+
+
+def test_psf_library_in_python_equals_the_cli(tmp_path):
+    """`Scene.psf_library` gives the images of `traxer psf` bit for bit, and
+    `save` writes the same psf.npy."""
+    scene = REPO / "scenes" / "xmm_effective_area.toml"
+    lib = traxer.Scene(scene).psf_library([1.5, 6.4], angles_arcmin=[0, 5], photons=10_000,
+                                          window=41, seed=3)
+    assert lib.images.shape == (2, 1, 2, 41, 41)
+    assert np.allclose(lib.images.sum(axis=(-1, -2)), 1.0, rtol=1e-12)
+    cli("psf", scene, "--energies", "1.5,6.4", "--angles", "0,5", "-n", 10_000,
+        "--window", 41, "--seed", 3, "--out", tmp_path / "cli", "-q")
+    assert lib.images.tobytes() == np.load(tmp_path / "cli" / "psf.npy").tobytes()
+    lib.save(tmp_path / "py")
+    assert np.load(tmp_path / "py" / "psf.npy").tobytes() == lib.images.tobytes()
+    assert 0.9 < lib.fraction_in_window.min() <= 1.0

@@ -1,0 +1,153 @@
+//! `traxer psf`: the PSF library, the telescope's image over a grid of
+//! energies, off-axis angles and azimuths (`traxer::studies::psf`).
+
+use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
+use super::{load_xray_scene, progress};
+use anyhow::Context;
+use traxer::output::{write_psf_library, Provenance, PSF_FILES};
+use traxer::run::record::base_identity;
+use traxer::run::Study;
+use traxer::studies::psf::{check, library, points, PsfGrid, PsfImage};
+use traxer::trace::RunConfig;
+
+/// PSF library: images of a source at infinity over energies × off-axis angles ×
+/// azimuths, for X-ray simulators.
+///
+/// The scene's only source must be a parallel beam (as for effective-area); at
+/// each point it is tilted by the angle (arcmin) towards the azimuth (degrees,
+/// as its off_axis_azimuth) and emits the one energy; --photons photons are
+/// traced with the trace's random streams, so a point equals `traxer trace` of
+/// the scene set to that angle and energy. A --window of pixels around each
+/// image's centroid is kept, normalised to 1. Writes psf.fits (one image per
+/// HDU with ENERGY [eV], THETA [arcmin], PHI [deg] and DETX/DETY in m: the
+/// layout SIXTE reads, OGIP CAL/GEN/92-027), psf.npy [angle, azimuth, energy,
+/// iy, ix] and psf.json. Example (XMM-Newton at three energies, 0–15′):
+///   traxer psf scenes/xmm_effective_area.toml --energies 1.5,4,8 --angles 0:15:5 --window 201
+#[derive(clap::Args)]
+pub struct PsfArgs {
+    #[command(flatten)]
+    pub scene: SceneArgs,
+    /// Energies (keV): a,b,c or start:stop:step.
+    #[arg(value_name = "E", long, default_value = "1.5")]
+    pub energies: String,
+    /// Off-axis angles (arcmin): a,b,c or start:stop:step.
+    #[arg(
+        value_name = "ARCMIN",
+        long,
+        default_value = "0",
+        allow_hyphen_values = true
+    )]
+    pub angles: String,
+    /// Azimuths of the tilt (degrees): a,b,c or start:stop:step.
+    #[arg(
+        value_name = "DEG",
+        long,
+        default_value = "0",
+        allow_hyphen_values = true
+    )]
+    pub azimuths: String,
+    /// Photons traced per point.
+    #[arg(short = 'n', long, value_name = "N", default_value = "200000", value_parser = super::args::parse_count)]
+    pub photons: u64,
+    /// Sensor to image on (default: the scene's only sensor).
+    #[arg(value_name = "NAME", long)]
+    pub sensor: Option<String>,
+    /// Pixels per side of each image's window around its centroid.
+    #[arg(value_name = "PIXELS", long, default_value = "101")]
+    pub window: u32,
+    /// Continue the stopped library whose results folder is --out: run the same
+    /// command with --resume; the points it recorded (psf_checkpoint.json) are
+    /// not traced again.
+    #[arg(long)]
+    pub resume: bool,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+    #[command(flatten)]
+    pub output: OutputArgs,
+}
+
+pub fn run(a: PsfArgs) -> anyhow::Result<()> {
+    let g = PsfGrid {
+        energies: parse_values("energies", &a.energies)?,
+        angles_arcmin: parse_values("angles", &a.angles)?,
+        azimuths_deg: parse_values("azimuths", &a.azimuths)?,
+        photons: a.photons,
+        seed: a.sampling.seed,
+        threads: a.sampling.threads,
+        sensor: a.sensor.clone(),
+        window: a.window,
+    };
+    check(&g)?;
+    let (device, scene) = load_xray_scene(&a.scene)?;
+    let mut id = base_identity(&scene);
+    id.extend([
+        ("energies_kev".into(), serde_json::json!(g.energies)),
+        ("angles_arcmin".into(), serde_json::json!(g.angles_arcmin)),
+        ("azimuths_deg".into(), serde_json::json!(g.azimuths_deg)),
+        ("photons".into(), g.photons.into()),
+        ("seed".into(), g.seed.into()),
+        ("sensor".into(), serde_json::json!(g.sensor)),
+        ("window".into(), g.window.into()),
+    ]);
+    let out = a.output.scene_folder(&a.scene, "psf");
+    let study: Study<PsfImage> = Study::open(&out, "psf", &PSF_FILES, id.into(), a.resume)?;
+    let replay = study.replay();
+    super::signals::set_stop_message(format!(
+        "stopped; the points so far are in {}: run the same command with --resume to continue",
+        study.record_path().display()
+    ));
+    let quiet = a.output.quiet.quiet;
+    let n_points = points(&g).len() as u64;
+    let bar = progress::bar(g.photons.saturating_mul(n_points), "photons", quiet);
+    let result = library(&scene, &g, &replay, &|n| bar.inc(n), |p| {
+        if let Some(w) = study.point_done(p) {
+            tell!("warning: {w}");
+        }
+    });
+    bar.finish_and_clear();
+    let lib = result?;
+    let cfg = RunConfig {
+        threads: a.sampling.threads,
+        ..RunConfig::new(a.photons, a.sampling.seed)
+    };
+    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
+        .scene(&scene)
+        .run(&cfg, lib.threads);
+    let folder = study.folder;
+    write_psf_library(folder.path(), &lib, &g, &provenance)
+        .and_then(|_| folder.commit())
+        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    if !quiet {
+        print_library(&g, &lib, &out);
+    }
+    Ok(())
+}
+
+/// The library's summary on stdout: its points and the least share of the
+/// flux a window holds.
+fn print_library(g: &PsfGrid, lib: &traxer::studies::psf::PsfLibrary, out: &std::path::Path) {
+    say!(
+        "{} points ({} energies × {} angles × {} azimuths), {} photons each, in {:.2} s with {} threads",
+        lib.images.len(),
+        g.energies.len(),
+        g.angles_arcmin.len(),
+        g.azimuths_deg.len(),
+        g.photons,
+        lib.seconds,
+        lib.threads
+    );
+    let least = lib
+        .images
+        .iter()
+        .min_by(|x, y| x.enclosed().total_cmp(&y.enclosed()))
+        .expect("a library has points");
+    say!(
+        "  windows of {w} × {w} pixels hold {:.2} % of the flux on the sensor or more (least at {} keV, {}′, {}°)",
+        100.0 * least.enclosed(),
+        least.energy_kev,
+        least.angle_arcmin,
+        least.azimuth_deg,
+        w = lib.window
+    );
+    say!("wrote psf.fits, psf.npy, psf.json to {}", out.display());
+}

@@ -1,0 +1,219 @@
+//! The PSF library's files: `psf.fits`, `psf.npy` and `psf.json`.
+//!
+//! `psf.fits` follows the layout SIXTE's PSF reader takes (`libsixt/psf.c` of
+//! the SIXTE simulator; keywords of OGIP Calibration Memo CAL/GEN/92-027, "The
+//! Calibration Requirements for Spatial Point Spread Functions"): every HDU, the
+//! primary included, is one 2-D image for one (energy, off-axis angle,
+//! azimuth), normalised to a sum of 1, with `ENERGY` [eV], `THETA` [arcmin] and
+//! `PHI` [deg]; its axes `DETX`/`DETY` in metres (`CUNIT` m, `CDELT` the pixel
+//! pitch), the reference pixel `CRPIX` the window's centre and `CRVAL` that
+//! pixel's offset from the nominal image position f·tan θ (cos φ, sin φ), so
+//! that nominal position + CRVAL + (pixel − CRPIX)·CDELT is where traxer imaged
+//! it on the sensor (local axes). An alternative WCS `A` gives the sensor's
+//! own mm (`X`, `Y`), and `PSFFRAC` the window's share of the flux on the
+//! sensor (the images are normalised over the window).
+//!
+//! `psf.npy` holds the same normalised images as float64 [angle, azimuth,
+//! energy, iy, ix]; `psf.json` the grid, each window's place and share, and the
+//! provenance.
+
+use super::fits::{provenance_keys, without_primary_extname, write_keys, Keys};
+use super::npy::write_npy_f64;
+use super::run_files::write_json;
+use super::Provenance;
+use crate::files::atomic_write;
+use crate::studies::psf::{PsfGrid, PsfImage, PsfLibrary};
+use fitsio::images::{ImageDescription, ImageType};
+use fitsio::FitsFile;
+use serde_json::json;
+use std::path::Path;
+
+/// The files a PSF library writes.
+pub const PSF_FILES: [&str; 3] = ["psf.fits", "psf.npy", "psf.json"];
+
+/// Metres per mm.
+const M_PER_MM: f64 = 1e-3;
+
+/// The image normalised to a sum of 1 over its window.
+pub fn normalised(image: &PsfImage) -> Vec<f64> {
+    let sum: f64 = image.flux.iter().sum();
+    image.flux.iter().map(|v| v / sum).collect()
+}
+
+/// Writes the library's files into `dir`.
+pub fn write_psf_library(
+    dir: &Path,
+    lib: &PsfLibrary,
+    grid: &PsfGrid,
+    provenance: &Provenance,
+) -> std::io::Result<()> {
+    let path = dir.join(PSF_FILES[0]);
+    let tmp = tempfile::Builder::new().prefix("traxer-psf-").tempdir()?;
+    let tmp_file = tmp.path().join("psf.fits");
+    fits_file(&tmp_file, lib, provenance)
+        .map_err(|e| std::io::Error::other(format!("{}: writing FITS: {e}", path.display())))?;
+    atomic_write(&path, &without_primary_extname(std::fs::read(&tmp_file)?))?;
+    let w = lib.window as u64;
+    let shape = [
+        grid.angles_arcmin.len() as u64,
+        grid.azimuths_deg.len() as u64,
+        grid.energies.len() as u64,
+        w,
+        w,
+    ];
+    let stack: Vec<f64> = lib.images.iter().flat_map(normalised).collect();
+    write_npy_f64(&dir.join(PSF_FILES[1]), &shape, &stack)?;
+    write_json(&dir.join(PSF_FILES[2]), &description(lib, grid, provenance))
+}
+
+/// `psf.json`: what the files hold.
+fn description(lib: &PsfLibrary, grid: &PsfGrid, provenance: &Provenance) -> serde_json::Value {
+    json!({
+        "provenance": provenance,
+        "what": "the image of the scene's parallel beam tilted to each off-axis angle and azimuth at each energy, on the sensor, in a window around its centroid, normalised to a sum of 1 over the window",
+        "files": {
+            "psf.fits": "one image per HDU (the primary included) in the order of psf.npy, with ENERGY [eV], THETA [arcmin], PHI [deg], DETX/DETY in m (CRVAL: the reference pixel's offset from f·tan θ (cos φ, sin φ) on the sensor's axes) and WCS A in the sensor's mm; the layout SIXTE's PSF reader takes (OGIP CAL/GEN/92-027 keywords)",
+            "psf.npy": "float64 [angle, azimuth, energy, iy, ix], ix along the sensor's local x",
+        },
+        "sensor": lib.sensor,
+        "focal_length_mm": lib.focal_length_mm,
+        "pixel_pitch_mm": lib.pitch_mm,
+        "window_pixels": lib.window,
+        "energies_keV": grid.energies,
+        "angles_arcmin": grid.angles_arcmin,
+        "azimuths_deg": grid.azimuths_deg,
+        "photons_per_point": grid.photons,
+        "seed": grid.seed,
+        "seconds": lib.seconds,
+        "threads": lib.threads,
+        "points": lib.images.iter().map(|i| json!({
+            "energy_keV": i.energy_kev,
+            "angle_arcmin": i.angle_arcmin,
+            "azimuth_deg": i.azimuth_deg,
+            "window_corner_pixel": i.corner,
+            "centroid_mm": i.centroid_mm,
+            "fraction_in_window": i.enclosed(),
+            "sensor_flux": i.sensor_flux,
+            "photons_recorded": i.photons_recorded,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+fn fits_file(path: &Path, lib: &PsfLibrary, provenance: &Provenance) -> fitsio::errors::Result<()> {
+    let w = lib.window as usize;
+    let description = ImageDescription {
+        data_type: ImageType::Double,
+        dimensions: &[w, w],
+    };
+    let mut f = FitsFile::create(path)
+        .with_custom_primary(&description)
+        .open()?;
+    for (k, image) in lib.images.iter().enumerate() {
+        let hdu = match k {
+            0 => f.primary_hdu()?,
+            _ => f.create_image("PSF".to_string(), &description)?,
+        };
+        hdu.write_image(&mut f, &normalised(image))?;
+        write_keys(&mut f, &hdu, keys(lib, image, k, provenance))?;
+    }
+    Ok(())
+}
+
+/// The keywords of image `k`.
+fn keys(lib: &PsfLibrary, image: &PsfImage, k: usize, provenance: &Provenance) -> Keys {
+    let mut keys = Keys::default();
+    if k > 0 {
+        keys.int(
+            "EXTVER",
+            k as i64,
+            "number of this PSF image among the PSF HDUs",
+        );
+    }
+    keys.text("HDUCLASS", "OGIP", "format conforms to OGIP standard");
+    keys.text("HDUDOC", "CAL/GEN/92-027", "OGIP memo on spatial PSFs");
+    keys.text("HDUVERS", "1.0.0", "version of the format");
+    keys.text("HDUCLAS1", "IMAGE", "");
+    keys.text("HDUCLAS2", "PSF", "");
+    keys.text("HDUCLAS3", "PREDICTED", "a raytrace");
+    keys.text("HDUCLAS4", "NET", "normalised to a sum of 1 over the image");
+    keys.text(
+        "TELESCOP",
+        &provenance_scene(provenance),
+        "the scene traced",
+    );
+    keys.text("INSTRUME", &lib.sensor, "the sensor");
+    keys.float("ENERGY", image.energy_kev * 1e3, "[eV] photon energy");
+    keys.float("ENERG_LO", image.energy_kev, "[keV]");
+    keys.float("ENERG_HI", image.energy_kev, "[keV]");
+    keys.float("THETA", image.angle_arcmin, "[arcmin] off-axis angle");
+    keys.float("PHI", image.azimuth_deg, "[deg] azimuth of the tilt");
+    keys.float(
+        "FOCALLEN",
+        lib.focal_length_mm * M_PER_MM,
+        "[m] focal length",
+    );
+    let w = lib.window as f64;
+    let centre = 0.5 * (w + 1.0);
+    let (theta, phi) = (
+        (image.angle_arcmin / 60.0).to_radians(),
+        image.azimuth_deg.to_radians(),
+    );
+    let nominal = [
+        lib.focal_length_mm * theta.tan() * phi.cos(),
+        lib.focal_length_mm * theta.tan() * phi.sin(),
+    ];
+    for (axis, name) in [(0usize, "X"), (1, "Y")] {
+        let n = axis + 1;
+        let pitch = lib.pitch_mm[axis];
+        // The window's centre pixel on the sensor (local mm): sensor pixel i
+        // (from 0) has its centre at (i + 0.5)·pitch − size/2, and the window's
+        // pixel `centre` (from 1) is sensor pixel corner + centre − 1.
+        let at = (image.corner[axis] as f64 + centre - 0.5) * pitch - 0.5 * lib.size_mm[axis];
+        keys.text(
+            &format!("CTYPE{n}"),
+            &format!("DET{name}"),
+            "detector coordinates",
+        );
+        keys.text(&format!("CUNIT{n}"), "m", "");
+        keys.float(&format!("CRPIX{n}"), centre, "the window's centre pixel");
+        keys.float(
+            &format!("CRVAL{n}"),
+            (at - nominal[axis]) * M_PER_MM,
+            "[m] its offset from f tan(THETA) along PHI",
+        );
+        keys.float(&format!("CDELT{n}"), pitch * M_PER_MM, "[m] pixel pitch");
+        keys.text(
+            &format!("CTYPE{n}A"),
+            name,
+            "position on the sensor (local axes)",
+        );
+        keys.text(&format!("CUNIT{n}A"), "mm", "");
+        keys.float(&format!("CRPIX{n}A"), centre, "");
+        keys.float(
+            &format!("CRVAL{n}A"),
+            at,
+            "[mm] the centre pixel on the sensor",
+        );
+        keys.float(&format!("CDELT{n}A"), pitch, "[mm]");
+    }
+    keys.float(
+        "PSFFRAC",
+        image.enclosed(),
+        "share of the sensor's flux in this window",
+    );
+    keys.int(
+        "PSFPHOT",
+        image.photons_recorded as i64,
+        "photons recorded on the sensor",
+    );
+    provenance_keys(&mut keys, provenance, PSF_FILES[2]);
+    keys
+}
+
+/// The scene's file stem, for TELESCOP.
+fn provenance_scene(p: &Provenance) -> String {
+    p.scene_path
+        .as_deref()
+        .and_then(|s| Path::new(s).file_stem())
+        .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned())
+}

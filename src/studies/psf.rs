@@ -1,0 +1,311 @@
+//! The PSF library: the telescope's image of a source at infinity over a grid of
+//! energies, off-axis angles and azimuths, the form X-ray simulators read (one
+//! image per grid point, see `output::psf`).
+//!
+//! Each point traces the scene's parallel beam tilted to (θ, φ) at one energy,
+//! with the trace's own photon loop and random streams (photon i with (seed, i)),
+//! so that a point equals `traxer trace` of the scene set to that angle and
+//! energy; a window of the sensor's image around the image's centroid is kept.
+//!
+//! Data flow: front ends check a [`PsfGrid`], [`library`] traces point after point
+//! (a stopped library resumes from the points it recorded) and `output::psf`
+//! writes the FITS file, the npy stack and the JSON description.
+
+use super::area_sweep::{check as check_sweep, AreaSweep, MAX_SWEEP_POINTS};
+use super::effective_area::{beam, image_stays_on_the_sensor};
+use super::{pick_sensor, StudyError};
+use crate::analysis::{analyse, ImageGeometry};
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::scene::TABLE_THETA_MAX;
+use crate::source::{ParallelBeam, Source, Spectrum};
+use crate::trace::{chunk_range, trace_chunk_from, Tally, WithTables, CHUNK};
+use crate::xray::ReflectivityTable;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// What to trace.
+#[derive(Clone, Debug)]
+pub struct PsfGrid {
+    /// Energies (keV), increasing.
+    pub energies: Vec<f64>,
+    /// Off-axis angles (arcmin), each once.
+    pub angles_arcmin: Vec<f64>,
+    /// Azimuths of the tilt (degrees, from the beam frame's e1 towards e2, as
+    /// the source's `off_axis_azimuth`), each once.
+    pub azimuths_deg: Vec<f64>,
+    /// Photons per point.
+    pub photons: u64,
+    pub seed: u64,
+    /// Worker threads (0 = one per core).
+    pub threads: usize,
+    /// The sensor (default: the scene's only one).
+    pub sensor: Option<String>,
+    /// Pixels per side of each image's window.
+    pub window: u32,
+}
+
+/// One grid point: where its window lies on the sensor and what it holds.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PsfImage {
+    pub energy_kev: f64,
+    pub angle_arcmin: f64,
+    pub azimuth_deg: f64,
+    /// The window's first pixel (ix, iy) on the sensor.
+    pub corner: [u32; 2],
+    /// The sensor's image in the window ([iy][ix], `window` × `window`): sums
+    /// of photon weights, as the trace's `NAME.npy`.
+    pub flux: Vec<f64>,
+    /// The whole sensor's flux, and the photons recorded on it.
+    pub sensor_flux: f64,
+    pub photons_recorded: u64,
+    /// The flux-weighted centroid on the sensor (local mm).
+    pub centroid_mm: [f64; 2],
+}
+
+impl PsfImage {
+    /// The window's share of the sensor's flux.
+    pub fn enclosed(&self) -> f64 {
+        self.flux.iter().sum::<f64>() / self.sensor_flux
+    }
+}
+
+/// The library: its images in the order of [`points`], and the sensor's frame.
+#[derive(Clone, Debug)]
+pub struct PsfLibrary {
+    pub sensor: String,
+    pub window: u32,
+    /// Sensor pixel pitch (mm) along x and y.
+    pub pitch_mm: [f64; 2],
+    /// The sensor's active area (mm) along x and y.
+    pub size_mm: [f64; 2],
+    pub focal_length_mm: f64,
+    pub images: Vec<PsfImage>,
+    pub seconds: f64,
+    pub threads: usize,
+}
+
+/// The grid's points in the order they are traced and stored: angle, then
+/// azimuth, then energy (the last varies fastest).
+pub fn points(g: &PsfGrid) -> Vec<(f64, f64, f64)> {
+    let mut out = Vec::new();
+    for &a in &g.angles_arcmin {
+        for &phi in &g.azimuths_deg {
+            for &e in &g.energies {
+                out.push((a, phi, e));
+            }
+        }
+    }
+    out
+}
+
+/// Checks the grid's numbers (front ends call it before loading the scene).
+pub fn check(g: &PsfGrid) -> Result<(), StudyError> {
+    check_sweep(&AreaSweep {
+        energies: g.energies.clone(),
+        angles_arcmin: g.angles_arcmin.clone(),
+        photons: g.photons,
+        seed: g.seed,
+        threads: g.threads,
+        sensor: None,
+        radius_mm: None,
+    })?;
+    let bad = |m: String| Err(StudyError::Input(m));
+    if g.azimuths_deg.is_empty() || g.azimuths_deg.iter().any(|p| !p.is_finite()) {
+        return bad("azimuths are angles in degrees".into());
+    }
+    if let Some(k) =
+        (1..g.azimuths_deg.len()).find(|&k| g.azimuths_deg[..k].contains(&g.azimuths_deg[k]))
+    {
+        return bad(format!(
+            "azimuths: {}° is given twice (number {}); each azimuth once",
+            g.azimuths_deg[k],
+            k + 1
+        ));
+    }
+    if !(1..=4096).contains(&g.window) {
+        return bad(format!(
+            "window = {} pixels: expected 1 to 4096 pixels per side",
+            g.window
+        ));
+    }
+    let n = points(g).len() as u64;
+    let values = n.saturating_mul(g.window as u64 * g.window as u64);
+    if n > MAX_SWEEP_POINTS || values > crate::sensor::MAX_TOTAL_PIXELS {
+        return bad(format!(
+            "{n} points of {w} × {w} pixels: more than the {} values a library may hold; use fewer points or a smaller window",
+            crate::sensor::MAX_TOTAL_PIXELS,
+            w = g.window
+        ));
+    }
+    Ok(())
+}
+
+/// Traces the library. `replay`: the points a stopped library of the same
+/// settings finished (taken instead of traced); `on_point` sees each finished
+/// point; `progress` hears of every chunk of photons.
+pub fn library(
+    scene: &Scene,
+    g: &PsfGrid,
+    replay: &[PsfImage],
+    progress: &dyn Progress,
+    mut on_point: impl FnMut(&PsfImage),
+) -> Result<PsfLibrary, StudyError> {
+    check(g)?;
+    let base = beam(scene, "psf")?;
+    let sensor = pick_sensor(scene, g.sensor.as_deref())?;
+    let spec = &scene.sensors[sensor];
+    let Some(f) = spec.focal_length else {
+        return Err(StudyError::Input(format!(
+            "sensor `{}` has no focal_length: a PSF library places each image at f · tan θ from the axis; give the sensor its focal_length (mm)",
+            spec.name
+        )));
+    };
+    if g.window > spec.pixels[0] || g.window > spec.pixels[1] {
+        return Err(StudyError::Input(format!(
+            "a window of {w} × {w} pixels does not fit on sensor `{}` ({} × {} pixels); use a smaller --window",
+            spec.name,
+            spec.pixels[0],
+            spec.pixels[1],
+            w = g.window
+        )));
+    }
+    image_stays_on_the_sensor(scene, base, spec, &g.angles_arcmin)?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(g.threads)
+        .build()?;
+    let start = Instant::now();
+    let mut images: Vec<PsfImage> = Vec::new();
+    for (k, (angle, azimuth, energy)) in points(g).into_iter().enumerate() {
+        let same = |r: &&PsfImage| {
+            [r.angle_arcmin, r.azimuth_deg, r.energy_kev].map(f64::to_bits)
+                == [angle, azimuth, energy].map(f64::to_bits)
+        };
+        let image = match replay.get(k).filter(same) {
+            Some(r) => r.clone(),
+            None => {
+                let tilted = Source::Parallel(ParallelBeam::new(
+                    base.aperture.clone(),
+                    base.axis,
+                    angle / 60.0,
+                    azimuth,
+                    Spectrum::Line(energy),
+                ));
+                let tables = tables_at(scene, energy)?;
+                let tally = pool.install(|| trace_point(scene, (&tilted, &tables), g, progress));
+                let flux = tally.images[sensor].flux_summed(spec);
+                let counts = tally.images[sensor].total_counts();
+                windowed(spec, &flux, counts, g.window, (angle, azimuth, energy))?
+            }
+        };
+        on_point(&image);
+        images.push(image);
+    }
+    Ok(PsfLibrary {
+        sensor: spec.name.clone(),
+        window: g.window,
+        pitch_mm: spec.pitch(),
+        size_mm: spec.size,
+        focal_length_mm: f,
+        images,
+        seconds: start.elapsed().as_secs_f64(),
+        threads: pool.current_num_threads(),
+    })
+}
+
+/// The scene's reflectivity tables as the scene builds them for a source of
+/// energy `energy` alone; refuses an energy a foil or a gas cannot describe.
+fn tables_at(scene: &Scene, energy: f64) -> Result<Vec<ReflectivityTable>, StudyError> {
+    let bad = |what: String, e: String| StudyError::Input(format!("{energy} keV: {what}: {e}"));
+    for f in &scene.foils {
+        f.attenuation_per_nm(energy)
+            .map_err(|e| bad(format!("foil of {}", f.material.name), e.to_string()))?;
+    }
+    for s in &scene.sensors {
+        if let Some(gas) = &s.gas {
+            gas.attenuation_per_mm(energy)
+                .map_err(|e| bad(format!("the gas of sensor `{}`", s.name), e.to_string()))?;
+        }
+    }
+    scene
+        .reflectivity
+        .iter()
+        .map(|t| {
+            ReflectivityTable::cached(&t.coating, energy, energy, TABLE_THETA_MAX)
+                .map_err(|e| bad(format!("coating `{}`", t.coating.name), e.to_string()))
+        })
+        .collect()
+}
+
+/// Traces one point's photons from `source`, with `tables`: the tally of a
+/// plain trace of the scene with that source (exact sums, so the chunks'
+/// order is free).
+fn trace_point(
+    scene: &Scene,
+    (source, tables): (&Source, &[ReflectivityTable]),
+    g: &PsfGrid,
+    progress: &dyn Progress,
+) -> Tally {
+    let shared = std::sync::Mutex::new(Tally::new(scene));
+    (0..g.photons.div_ceil(CHUNK))
+        .into_par_iter()
+        .for_each(|c| {
+            let range = chunk_range(0, c, g.photons);
+            let n = range.end - range.start;
+            let sources = std::slice::from_ref(source);
+            let att = &mut WithTables(tables);
+            let chunk = trace_chunk_from(scene, (sources, att), g.seed, range, 0, &mut ());
+            shared
+                .lock()
+                .expect("no worker panics while holding the tally")
+                .add_records(&chunk.records, &chunk.stats);
+            progress.advance(n);
+        });
+    shared
+        .into_inner()
+        .expect("no worker panics while holding the tally")
+}
+
+/// The window of `window` pixels around the image's centroid (moved inwards
+/// where it would cross the sensor's edge), or a refusal when no photon
+/// reached the sensor.
+fn windowed(
+    spec: &crate::sensor::SensorSpec,
+    flux: &[f64],
+    counts: u64,
+    window: u32,
+    (angle, azimuth, energy): (f64, f64, f64),
+) -> Result<PsfImage, StudyError> {
+    let Some((q, _)) = analyse(flux, &ImageGeometry::of_sensor(spec), spec.focal_length) else {
+        return Err(StudyError::Input(format!(
+            "no X-ray reached sensor `{}` at {energy} keV, {angle}′ off axis, azimuth {azimuth}°: there is no PSF to write; leave out that point",
+            spec.name
+        )));
+    };
+    let corner: [u32; 2] = std::array::from_fn(|k| {
+        let centre_pixel = ((q.centroid_mm[k] / spec.size[k] + 0.5) * spec.pixels[k] as f64)
+            .floor()
+            .clamp(0.0, (spec.pixels[k] - 1) as f64) as u32;
+        centre_pixel
+            .saturating_sub(window / 2)
+            .min(spec.pixels[k] - window)
+    });
+    let nx = spec.pixels[0] as usize;
+    let w = window as usize;
+    let mut out = Vec::with_capacity(w * w);
+    for iy in corner[1] as usize..corner[1] as usize + w {
+        let row = iy * nx + corner[0] as usize;
+        out.extend_from_slice(&flux[row..row + w]);
+    }
+    Ok(PsfImage {
+        energy_kev: energy,
+        angle_arcmin: angle,
+        azimuth_deg: azimuth,
+        corner,
+        flux: out,
+        sensor_flux: flux.iter().sum(),
+        photons_recorded: counts,
+        centroid_mm: q.centroid_mm,
+    })
+}
