@@ -250,3 +250,25 @@ fn a_study_record_edited_or_of_changed_inputs_is_not_resumed() {
     run_ok(&mut command(&["--resume"]));
     assert!(out.join("focus.csv").is_file());
 }
+
+#[test]
+fn a_psf_library_killed_and_resumed_is_the_uninterrupted_library() {
+    let command = |out: &Path, extra: &[&str]| {
+        let mut c = traxer();
+        c.arg("psf")
+            .arg(repo().join("scenes/xmm_effective_area.toml"))
+            .args([
+                "--energies",
+                "1.5,4,8",
+                "--angles",
+                "0:15:5",
+                "--window",
+                "41",
+            ])
+            .args(["-n", "100000", "-q", "-o"])
+            .arg(out)
+            .args(extra);
+        c
+    };
+    check_kill_and_resume(command, 3, &["psf.npy", "psf.json"]);
+}
