@@ -212,7 +212,9 @@ class SensorImage:
     by_process: Optional[dict[str, npt.NDArray[np.float64]]]
     """With a Sun emitting Primakoff and ABC: {process: flux [iy, ix]} for
     "primakoff" and "abc", from the same photons as ``flux`` (they add up to
-    its sum over bands), equal to NAME_PROCESS.npy; None for a source of one
+    its sum over bands), and ABC's four processes ("atomic", "electron_ion",
+    "electron_electron", "compton", adding up to "abc"), equal to
+    NAME_PROCESS.npy; ABC alone has the four; None for a source of one
     process. Each scales as its coupling squared (g_aγ², g_ae²): the image for
     other couplings is their sum so scaled, equal to a trace with them."""
 

@@ -57,7 +57,7 @@ pub fn feed(
     while !stop.load(Ordering::Relaxed) && tally.traced < limit && !scene.sources.is_empty() {
         let hi = tally.traced.saturating_add(CHUNK).min(limit);
         let chunk = trace_chunk(scene, seed, tally.traced..hi, 0, &mut ());
-        tally.add_chunk(chunk, 0);
+        tally.add_chunk(scene, chunk, 0);
         tally.traced = hi;
         if last.elapsed() >= every {
             publish(&tally, false);

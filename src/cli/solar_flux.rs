@@ -27,8 +27,10 @@ use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 /// emission.csv (the table), spectrum.csv and spectrum.png (dΦ/dE at
 /// --distance-au, total and per process), radial_profile.csv,
 /// projected_profile.csv, profiles.png and solar_flux.json (fluxes, radii holding
-/// 50/80/90/99 % of the emission in 3D and on the sky). The built-in tables are
-/// made by scripts/solar_table.sh.
+/// 50/80/90/99 % of the emission in 3D and on the sky); with --model and ABC
+/// also abc_process_shares.csv (each ABC process's share of every cell, which
+/// a trace splits ABC images by). The built-in tables are made by
+/// scripts/solar_table.sh.
 #[derive(clap::Args)]
 #[command(mut_arg("out", |a| a.default_value("out/solar")))]
 pub struct SolarFluxArgs {
@@ -82,14 +84,28 @@ struct Emission {
     coupling: String,
     origin: serde_json::Value,
     csv: String,
+    /// ABC's process shares per cell ([`SHARES_FILE`]), for an ABC emission
+    /// computed from a solar model.
+    shares_csv: Option<String>,
 }
+
+/// The file of ABC's process shares per cell that `--model` with ABC writes
+/// (`scripts/solar_table.sh` ships it as the built-in table's).
+const SHARES_FILE: &str = "abc_process_shares.csv";
 
 pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     traxer::source::sun::check_distance_au("--distance-au", a.distance_au).map_err(InputError)?;
     let (g_agamma, g_ae) = couplings(&a)?;
     let out = a.output.folder("solar");
-    let folder = traxer::run::results_folder(&out, &SOLAR_FLUX_FILES)?;
+    let mut files = SOLAR_FLUX_FILES.to_vec();
+    if a.model.is_some() && g_ae.is_some() {
+        files.push(SHARES_FILE);
+    }
+    let folder = traxer::run::results_folder(&out, &files)?;
     let e = emission(&a, g_agamma, g_ae)?;
+    if let Some(csv) = &e.shares_csv {
+        traxer::files::atomic_write(&folder.path().join(SHARES_FILE), csv.as_bytes())?;
+    }
     let info = SolarFluxInfo {
         description: &e.description,
         coupling: &e.coupling,
@@ -182,6 +198,7 @@ fn emission(
             coupling: "the table's coupling".into(),
             origin: json!({"table": path.display().to_string(), "table_sha256": sha256_hex(text.as_bytes())}),
             csv: text,
+            shares_csv: None,
         }
     } else {
         let b = builtin_emission(g_agamma, g_ae)?;
@@ -198,6 +215,7 @@ fn emission(
             coupling: b.coupling,
             origin: json!({"builtin": a.emission.as_deref().unwrap_or("primakoff")}),
             csv,
+            shares_csv: None,
         }
     })
 }
@@ -275,7 +293,24 @@ fn from_model(
         a.emission.as_deref().unwrap_or("primakoff"),
         a.radii
     );
+    let shares_csv = e
+        .couplings
+        .iter()
+        .find_map(|c| c.shares.as_ref())
+        .map(|s| {
+            traxer::source::sun::shares::to_csv(
+                s,
+                &format!(
+                    "Share of each ABC process (atomic, electron-ion, electron-electron, Compton) in each cell\n\
+                     of the ABC table computed with it (`traxer solar-flux --emission {} --model {name} --radii {} --energies {energies_text}`,\n\
+                     emission.csv), one row per cell in the table's order (radius-major), four decimals.",
+                    a.emission.as_deref().unwrap_or("primakoff"),
+                    a.radii
+                ),
+            )
+        });
     Ok(Emission {
+        shares_csv,
         csv: e.table.to_csv(&header),
         table: e.table,
         parts: e.parts,

@@ -1,6 +1,8 @@
 //! A sensor's image per emission process (`NAME_primakoff.npy`, `NAME_abc.npy`
-//! for a Sun with both couplings) and its summary: each process's flux and
-//! photons, and how to build the image for other couplings from them.
+//! for a Sun with both couplings; `NAME_atomic.npy`, `NAME_electron_ion.npy`,
+//! `NAME_electron_electron.npy`, `NAME_compton.npy` for ABC's four processes)
+//! and its summary: each process's flux and photons, and how to build the
+//! image for other couplings from them.
 //!
 //! Data flow: `run_files` asks [`process_images`] for the scaled images (also
 //! written into the FITS file as extensions) and [`write_process_images`] for
@@ -29,7 +31,7 @@ pub fn process_images(
 fn coupling_of(process: &str) -> Option<&'static str> {
     match process {
         "primakoff" => Some("g_agamma"),
-        "abc" => Some("g_ae"),
+        "abc" | "atomic" | "electron_ion" | "electron_electron" | "compton" => Some("g_ae"),
         _ => None,
     }
 }
@@ -50,7 +52,7 @@ pub fn write_process_images(
     let shape = [spec.pixels[1] as u64, spec.pixels[0] as u64];
     let files = process_file_names(&spec.name, &spec.processes);
     let totals = image.processes.totals();
-    let all: f64 = totals.iter().sum();
+    let all = image.total_flux();
     let mut entries = Vec::new();
     for (k, ((name, img), file)) in images.iter().zip(&files).enumerate() {
         let p = dir.join(file);
@@ -60,14 +62,14 @@ pub fn write_process_images(
             "name": name,
             "file": file,
             "total_flux": totals[k] * scale,
-            "fraction_of_flux": if all > 0.0 { totals[k] / all } else { 0.0 },
+            "fraction_of_total_flux": if all > 0.0 { totals[k] / all } else { 0.0 },
             "photons": image.processes.counts[k],
             "scales_as": coupling_of(name).map(|g| format!("{g}²")),
         }));
     }
     Ok(json!({
-        "what": "the image of each emission process, from the same photons as the total (they add up to it, summed over energy bands); each process's table was drawn for half the photons, so each image has the statistics of half the run whatever the couplings, and the photons' paths do not depend on the couplings",
-        "recombine": "the image for other couplings is Σ (g/g_run)² × image of the process, g_run the coupling of this run (sources[].coupling): primakoff scales as g_agamma², abc as g_ae²; it equals a trace with those couplings to rounding",
+        "what": "the image of each emission process, from the same photons as the total, summed over energy bands: primakoff and abc (with both couplings) add up to the total, and ABC's four processes (atomic, electron_ion, electron_electron, compton) add up to abc, each photon's weight split by its emission cell's shares (data/solar/abc_b16_agss09met_process_shares.csv, to 1e-4); with both couplings each coupling's table was drawn for half the photons, so each image has the statistics of half the run whatever the couplings, and the photons' paths do not depend on the couplings",
+        "recombine": "the image for other couplings is (g_agamma/g_agamma_run)² × primakoff + (g_ae/g_ae_run)² × abc, the couplings of this run in sources[].coupling; it equals a trace with those couplings to rounding; ABC's four processes scale as g_ae² like abc",
         "processes": entries,
     }))
 }

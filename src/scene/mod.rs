@@ -192,6 +192,15 @@ impl Scene {
         })
     }
 
+    /// The emission of the scene's Sun (which splits photons among the process
+    /// images), or `None` without a Sun.
+    pub fn sun_emission(&self) -> Option<&crate::source::SunEmission> {
+        self.sources.iter().find_map(|s| match s {
+            Source::Sun(sun) => Some(sun.emission_draw.as_ref()),
+            _ => None,
+        })
+    }
+
     /// Index of the object with this name.
     pub fn object_index(&self, name: &str) -> Option<usize> {
         self.objects.iter().position(|o| o.name == name)

@@ -207,13 +207,13 @@ impl SensorImage {
         sum_bands(&self.flux(), spec.pixel_count())
     }
 
-    /// One photon: its pixel (band included), weight, emission process, path
-    /// class and first and last mirror, and for a gas detector its energy and
-    /// conversion.
+    /// One photon: its pixel (band included), weight and its shares among the
+    /// process images, path class and first and last mirror, and for a gas
+    /// detector its energy and conversion.
     #[inline]
     pub fn record(
         &mut self,
-        (pixel, weight, process): (u32, f64, u8),
+        (pixel, weight, shares): (u32, f64, &crate::source::ProcessWeights),
         class: PathClass,
         (first, last): (u32, u32),
         (energy_kev, conversion): (f64, Option<&ConversionRecord>),
@@ -221,17 +221,12 @@ impl SensorImage {
         if let (Some(tally), Some(c)) = (&mut self.conversion, conversion) {
             tally.record(weight, energy_kev, c);
         }
-        let weight = WeightSum::of(weight);
-        self.flux_sum[pixel as usize].add(weight);
+        let fixed = WeightSum::of(weight);
+        self.flux_sum[pixel as usize].add(fixed);
         self.counts[pixel as usize] += 1;
-        self.processes
-            .record(process, pixel as usize % self.plane.max(1), weight);
-        self.paths.record(
-            pixel as usize % self.plane.max(1),
-            weight,
-            class,
-            (first, last),
-        );
+        let in_plane = pixel as usize % self.plane.max(1);
+        self.processes.record(in_plane, (weight, fixed), shares);
+        self.paths.record(in_plane, fixed, class, (first, last));
     }
 
     /// Adds the image of another part of the same run (exact, in any order).

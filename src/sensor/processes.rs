@@ -16,7 +16,8 @@ use super::exact::{self, WeightSum};
 pub struct ProcessTally {
     /// One image of `plane` pixels per process.
     pub images: Vec<Vec<WeightSum>>,
-    /// Photons recorded per process.
+    /// Photons recorded per process (for ABC's four: photons with a share of
+    /// their weight in it).
     pub counts: Vec<u64>,
 }
 
@@ -29,13 +30,29 @@ impl ProcessTally {
         }
     }
 
-    /// A photon of `process` with `weight` (already in fixed point) in pixel
-    /// `pixel` of the plane; nothing without process images.
+    /// A photon of weight `weight` (and `fixed`, the same in fixed point) in
+    /// pixel `pixel` of the plane, shared among the images as `shares` says:
+    /// a share of 1 adds `fixed` itself, so a process drawn alone adds exactly
+    /// what the total adds.
     #[inline]
-    pub fn record(&mut self, process: u8, pixel: usize, weight: WeightSum) {
-        if let Some(image) = self.images.get_mut(process as usize) {
-            image[pixel].add(weight);
-            self.counts[process as usize] += 1;
+    pub fn record(
+        &mut self,
+        pixel: usize,
+        (weight, fixed): (f64, WeightSum),
+        shares: &crate::source::ProcessWeights,
+    ) {
+        for &(k, share) in shares.iter() {
+            let Some(image) = self.images.get_mut(k as usize) else {
+                continue;
+            };
+            image[pixel].add(if share == 1.0 {
+                fixed
+            } else {
+                WeightSum::of(weight * share)
+            });
+            if share > 0.0 {
+                self.counts[k as usize] += 1;
+            }
         }
     }
 

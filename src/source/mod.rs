@@ -16,7 +16,7 @@ pub use annulus::{AnnulusSector, ApertureDesc};
 pub use parallel::{ParallelBeam, ParallelDesc};
 pub use point::{PointDesc, PointSource};
 pub use spectrum::{EnergyDesc, Spectrum, SpectrumTable};
-pub use sun::{SunDesc, SunEmission, SunSource};
+pub use sun::{ProcessWeights, SunDesc, SunEmission, SunSource};
 
 use crate::geometry::{within_world, WORLD_LIMIT_MM};
 use crate::random::PhotonRng;
@@ -111,9 +111,11 @@ pub struct Photon {
     pub energy: f64,
     /// Starts at the source's sampling weight; interactions only multiply it.
     pub weight: f64,
-    /// Which of the source's processes emitted it (index into the Sun's
-    /// [`SunEmission::process_names`]; 0 for every other source).
+    /// Which part of the source's emission it was drawn from (a Sun's coupling,
+    /// see [`SunEmission`]; 0 for every other source) …
     pub process: u8,
+    /// … and which cell of that part's emission table (0 for other sources).
+    pub cell: u32,
 }
 
 #[derive(Clone, Debug)]

@@ -75,6 +75,7 @@ impl ParallelBeam {
             energy: self.spectrum.sample(rng),
             weight: 1.0,
             process: 0,
+            cell: 0,
         }
     }
 }

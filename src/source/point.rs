@@ -77,6 +77,7 @@ impl PointSource {
             energy: self.spectrum.sample(rng),
             weight: self.target.area() * cos_t / (4.0 * std::f64::consts::PI * d2),
             process: 0,
+            cell: 0,
         }
     }
 }

@@ -259,7 +259,7 @@ fn trace_point(
             shared
                 .lock()
                 .expect("no worker panics while holding the tally")
-                .add_records(&chunk.records, &chunk.stats);
+                .add_records(scene, &chunk.records, &chunk.stats);
             progress.advance(n);
         });
     shared

@@ -107,20 +107,25 @@ impl Tally {
         self.traced += other.traced;
     }
 
-    /// Adds the photons of the next chunk (chunks are added in photon order);
-    /// keeps the first `photon_list` recorded photons. Does not count `traced`.
-    pub fn add_chunk(&mut self, chunk: Chunk, photon_list: usize) {
-        self.add_records(&chunk.records, &chunk.stats);
+    /// Adds the photons of the next chunk of `scene` (chunks are added in
+    /// photon order); keeps the first `photon_list` recorded photons. Does not
+    /// count `traced`.
+    pub fn add_chunk(&mut self, scene: &Scene, chunk: Chunk, photon_list: usize) {
+        self.add_records(scene, &chunk.records, &chunk.stats);
         self.add_listed(chunk.listed, photon_list);
     }
 
-    /// Adds the sensor records and statistics of a chunk. The sums are exact, so
-    /// chunks may come in any order.
-    pub fn add_records(&mut self, records: &[Record], stats: &Statistics) {
+    /// Adds the sensor records and statistics of a chunk of `scene` (whose Sun
+    /// says how each photon's weight splits among the process images). The sums
+    /// are exact, so chunks may come in any order.
+    pub fn add_records(&mut self, scene: &Scene, records: &[Record], stats: &Statistics) {
+        let emission = scene.sun_emission();
         for r in records {
             let h = &r.history;
+            let shares =
+                emission.map_or_else(Default::default, |e| e.process_weights(r.process, r.cell));
             self.images[r.sensor as usize].record(
-                (r.pixel, r.weight, r.process),
+                (r.pixel, r.weight, &shares),
                 h.class(),
                 (h.first_mirror, h.last_mirror),
                 (r.energy, r.conversion.as_ref()),
@@ -222,7 +227,7 @@ pub fn run_part(
                     shared
                         .lock()
                         .expect("no worker panics while holding the tally")
-                        .add_records(&r.records, &r.stats);
+                        .add_records(scene, &r.records, &r.stats);
                     progress.advance(n);
                     r.listed
                 })

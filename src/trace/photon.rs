@@ -22,9 +22,12 @@ pub struct Record {
     pub history: History,
     /// Where a gas detector's photon converted (`None` for other sensors).
     pub conversion: Option<ConversionRecord>,
-    /// Which of the source's processes emitted it ([`Photon::process`]).
+    /// Which part and cell of the source's emission it came from
+    /// ([`Photon::process`], [`Photon::cell`]).
     #[serde(default)]
     pub process: u8,
+    #[serde(default)]
+    pub cell: u32,
 }
 
 /// Everything known about a recorded photon, for photon lists.
@@ -228,6 +231,7 @@ fn record_on_sensor(
                 history,
                 conversion,
                 process: photon.process,
+                cell: photon.cell,
             };
             Some((record, local, photon.dir))
         }

@@ -45,12 +45,22 @@ fn max_abs(v: &[f64]) -> f64 {
 fn process_images_add_up_to_the_total_and_recombine_to_a_trace_with_other_couplings() {
     let n = 100_000;
     let run = cast_electron(&[]);
-    assert_eq!(run.sensors[0].processes, ["primakoff", "abc"]);
+    assert_eq!(
+        run.sensors[0].processes,
+        [
+            "primakoff",
+            "abc",
+            "atomic",
+            "electron_ion",
+            "electron_electron",
+            "compton"
+        ]
+    );
     let (total, parts, counts) = trace_images(&run, n, 5);
-    // Both processes were drawn for about half the photons each: binomial,
+    // Both couplings were drawn for about half the photons each: binomial,
     // n/2 ± 5σ of the recorded ones (σ ≤ √n / 2).
-    let recorded: u64 = counts.iter().sum();
-    for c in &counts {
+    let recorded: u64 = counts[..2].iter().sum();
+    for c in &counts[..2] {
         let half = recorded as f64 / 2.0;
         assert!(
             (*c as f64 - half).abs() < 5.0 * (recorded as f64).sqrt() / 2.0,
@@ -130,4 +140,129 @@ fn each_process_image_is_the_image_of_that_emission_alone() {
     // of the flux (2.57e9 against 3.6e7 cm⁻² s⁻¹ at 1 AU).
     let abc: f64 = parts[1].iter().sum();
     assert!(abc > 50.0 * a && abc < 200.0 * a, "{abc} vs {a}");
+}
+
+/// A 0.1 mm pinhole 10 m in front of a film, every photon on the film: the
+/// camera obscura of the Sun, with `emission`.
+fn pinhole(dir: &std::path::Path, emission: &str) -> Scene {
+    scene_in(
+        dir,
+        &format!(
+            r#"
+[materials.film]
+type = "sensor"
+size = [80.0, 80.0]
+pixels = [400, 400]
+
+[[sources]]
+type = "sun"
+emission = "{emission}"
+target = {{ center = [0, 0, 0], radius = 0.05 }}
+
+[[objects]]
+name = "film"
+material = "film"
+shape = {{ type = "rectangle", size = [80.0, 80.0] }}
+transform = [ {{ translate = [0, 0, -10000] }} ]
+"#
+        ),
+    )
+}
+
+#[test]
+fn abc_process_images_split_the_sun_as_its_processes_emit() {
+    // The Sun through a pinhole with ABC alone: four images, atomic,
+    // electron–ion, electron–electron and Compton, adding up to the total.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = pinhole(dir.path(), "abc");
+    assert_eq!(
+        scene.sensors[0].processes,
+        ["atomic", "electron_ion", "electron_electron", "compton"]
+    );
+    let n = 200_000;
+    let (total, parts, _) = trace_images(&scene, n, 8);
+    let sum: Vec<f64> = (0..total.len())
+        .map(|k| parts.iter().map(|p| p[k]).sum())
+        .collect();
+    let diff: Vec<f64> = sum.iter().zip(&total).map(|(a, b)| a - b).collect();
+    assert!(max_abs(&diff) <= 1e-13 * max_abs(&total));
+    // Each process's share of the flux through the pinhole is its share of the
+    // flux at Earth, from the per-process spectra (computed with the process
+    // tables, not with the shares the trace splits by). Every photon reaches
+    // the film, so only the spread of the shares over the cells drawn is
+    // noise: the shares lie in [0, 1], σ ≤ 0.5/√n = 0.11 % of the total;
+    // tolerance 5σ plus the shares' four decimals.
+    let spectra = traxer::source::sun::builtin::abc_process_spectra();
+    let edges = traxer::source::sun::builtin::abc_table().energy_edges();
+    let at_earth: Vec<f64> = spectra
+        .iter()
+        .map(|s| {
+            s.iter()
+                .zip(edges.windows(2))
+                .map(|(f, w)| f * (w[1] - w[0]))
+                .sum()
+        })
+        .collect();
+    let all: f64 = at_earth.iter().sum();
+    let flux: f64 = total.iter().sum();
+    for (p, part) in parts.iter().enumerate() {
+        let got = part.iter().sum::<f64>() / flux;
+        let want = at_earth[p] / all;
+        assert!(
+            (got - want).abs() < 5.0 * 0.5 / (n as f64).sqrt() + 1e-4,
+            "process {p}: {got} of the flux, {want} at Earth"
+        );
+    }
+    // Where they come from: the processes follow density and temperature
+    // differently (within 0.1 R_sun, projected, lies 49 % of the atomic
+    // emission, 53 % of electron–ion, 51 % of electron–electron, 58 % of
+    // Compton), so their images differ in size: the images' RMS radii must
+    // order as the processes' radial tables (the ABC table times the shares)
+    // say, for every pair whose enclosed fractions differ by more than 0.01.
+    let table = traxer::source::sun::builtin::abc_table();
+    let shares = traxer::source::sun::shares::builtin_shares();
+    let rms = |img: &[f64]| {
+        let (mut s, mut w) = (0.0, 0.0);
+        for (k, v) in img.iter().enumerate() {
+            let (x, y) = ((k % 400) as f64 * 0.2 - 39.9, (k / 400) as f64 * 0.2 - 39.9);
+            s += v * (x * x + y * y);
+            w += v;
+        }
+        (s / w).sqrt()
+    };
+    let mut by_table = Vec::new();
+    for p in 0..4 {
+        let rates: Vec<f64> = table
+            .rates
+            .iter()
+            .zip(shares.iter())
+            .map(|(r, s)| r * s[p])
+            .collect();
+        let t = traxer::source::sun::EmissionTable::new(
+            table.radii.clone(),
+            table.energies.clone(),
+            rates,
+        )
+        .unwrap();
+        let sampler = traxer::source::sun::EmissionSampler::new(&t, 0.0, 30.0).unwrap();
+        by_table.push(sampler.enclosed_projected(0.1));
+    }
+    let radii: Vec<f64> = parts.iter().map(|p| rms(p)).collect();
+    eprintln!("enclosed within 0.1 R_sun {by_table:?}, RMS radii {radii:?} mm");
+    let spread = by_table.iter().cloned().fold(f64::MIN, f64::max)
+        - by_table.iter().cloned().fold(f64::MAX, f64::min);
+    assert!(
+        spread > 0.05,
+        "the processes come from different radii: {by_table:?}"
+    );
+    for a in 0..4 {
+        for b in 0..4 {
+            if by_table[a] > by_table[b] + 0.01 {
+                assert!(
+                    radii[a] < radii[b],
+                    "{a} more compact than {b}: {radii:?}, {by_table:?}"
+                );
+            }
+        }
+    }
 }

@@ -90,6 +90,25 @@ fn shared_solar_the_builtin_abc_table_reproduces_the_full_computation() {
             "rate {k}: shipped {a:e}, computed {b:e}"
         );
     }
+    // The shipped shares of the four processes in every cell: the computation's
+    // own to their four decimals (±5e-5 each, and reading rescales them to add
+    // up to 1, which moves each by at most the four roundings: ±2.5e-4).
+    let shipped_shares = traxer::source::sun::shares::builtin_shares();
+    let computed = again.couplings[0]
+        .shares
+        .as_ref()
+        .expect("ABC from a model has shares");
+    assert_eq!(shipped_shares.len(), computed.len());
+    for (k, (a, b)) in shipped_shares.iter().zip(computed.iter()).enumerate() {
+        for p in 0..4 {
+            assert!(
+                (a[p] - b[p]).abs() <= 2.5e-4,
+                "cell {k}, process {p}: shipped {}, computed {}",
+                a[p],
+                b[p]
+            );
+        }
+    }
     let spectra = abc_process_spectra();
     for (p, s) in spectra.iter().enumerate() {
         for (j, (x, y)) in s.iter().zip(&again.parts[p].spectrum_1au).enumerate() {

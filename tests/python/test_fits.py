@@ -223,14 +223,15 @@ def test_the_sky_wcs_puts_an_off_axis_sun_where_it_was(tmp_path):
 
 def test_process_images_are_extensions_with_the_primary_wcs(tmp_path):
     """A Sun with Primakoff and ABC: chip.fits holds the total as its primary
-    image and one image extension per process (PRIMAKOFF, ABC), equal to
-    chip_primakoff.npy and chip_abc.npy, adding up to the total, with the same
-    WCS (mm, focal plane, sky) as the primary."""
+    image and one image extension per process (PRIMAKOFF, ABC and ABC's four
+    processes), equal to chip_PROCESS.npy, PRIMAKOFF and ABC adding up to the
+    total, with the same WCS (mm, focal plane, sky) as the primary."""
     out = tmp_path / "electron"
     traxer("trace", REPO / "scenes" / "cast_axion_electron_image.toml", "-n", 30000,
            "--out", out, "-q", "--fits")
     with fits.open(out / "chip.fits") as f:
-        assert [h.name for h in f] == ["PRIMARY", "PRIMAKOFF", "ABC"]
+        assert [h.name for h in f] == ["PRIMARY", "PRIMAKOFF", "ABC", "ATOMIC", "ELECTRON_ION",
+                                       "ELECTRON_ELECTRON", "COMPTON"]
         total = f[0].data
         for h in f[1:]:
             assert h.header["PROCESS"] == h.name.lower()

@@ -208,9 +208,12 @@ def test_images_by_process_build_the_image_for_other_couplings(tmp_path):
     scene = REPO / "scenes" / "cast_axion_electron_image.toml"
     run = traxer.Scene(scene).trace(30_000, seed=2)  # g_aγ = 1e-12, g_ae = 1e-13
     chip = run["chip"]
-    assert list(chip.by_process) == ["primakoff", "abc"]
+    assert list(chip.by_process) == ["primakoff", "abc", "atomic", "electron_ion",
+                                     "electron_electron", "compton"]
     assert np.allclose(chip.by_process["primakoff"] + chip.by_process["abc"], chip.flux,
                        rtol=1e-13, atol=0)
+    four = sum(chip.by_process[p] for p in ["atomic", "electron_ion", "electron_electron", "compton"])
+    assert np.allclose(four, chip.by_process["abc"], rtol=1e-13, atol=0)
     g_agamma, g_ae = 4e-12, 0.5e-13
     image = (g_agamma / 1e-12) ** 2 * chip.by_process["primakoff"] \
         + (g_ae / 1e-13) ** 2 * chip.by_process["abc"]

@@ -265,6 +265,8 @@ pub struct CouplingPart {
     pub name: String,
     pub reference: EmissionTable,
     pub factor: f64,
+    /// ABC's four processes' shares in each cell of `reference`, if known.
+    pub shares: Option<super::shares::ProcessShares>,
 }
 
 /// An emission for chosen couplings: the table to sample, its parts (Primakoff,
@@ -278,11 +280,13 @@ pub struct AxionEmission {
     pub coupling: String,
 }
 
-/// ABC at its reference coupling: the table and its spectrum per process.
+/// ABC at its reference coupling: the table, its spectrum per process and its
+/// processes' shares in each cell.
 pub struct AbcAtReference<'a> {
     pub table: &'a EmissionTable,
     pub process_spectra_1au: &'a [Vec<f64>; 4],
     pub description: &'a str,
+    pub shares: Option<super::shares::ProcessShares>,
 }
 
 /// Primakoff (table at g_aγ = 1e-10 GeV⁻¹, description, coupling in GeV⁻¹) and/or
@@ -326,6 +330,7 @@ pub fn compose(
             name: "primakoff".into(),
             reference,
             factor,
+            shares: None,
         });
         parts.push(EmissionPart {
             name: "primakoff".into(),
@@ -343,6 +348,7 @@ pub fn compose(
             name: "abc".into(),
             reference: a.table.clone(),
             factor,
+            shares: a.shares.clone(),
         });
         for (name, s) in super::abc::PROCESSES.iter().zip(a.process_spectra_1au) {
             parts.push(EmissionPart {
@@ -396,6 +402,7 @@ pub fn builtin_emission(
                     table: abc_table(),
                     process_spectra_1au: abc_process_spectra(),
                     description: ABC_DESCRIPTION,
+                    shares: Some(super::shares::builtin_shares().clone()),
                 },
                 g,
             )
@@ -446,6 +453,7 @@ pub fn model_emission(
                         table: &a.total,
                         process_spectra_1au: s,
                         description: &a_description,
+                        shares: Some(std::sync::Arc::new(super::shares::shares_of(&a.processes))),
                     },
                     g,
                 )

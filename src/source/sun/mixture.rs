@@ -21,6 +21,7 @@
 use super::builtin::CouplingPart;
 use super::emission::EmissionTable;
 use super::sampler::EmissionSampler;
+use super::shares::ProcessShares;
 use crate::random::PhotonRng;
 
 /// One table photons are drawn from.
@@ -33,6 +34,29 @@ struct Draw {
     /// The weight a photon drawn from it carries: its share of the luminosity
     /// over the probability of drawing it.
     weight: f64,
+    /// ABC's four processes' shares in each cell of its table, if it is ABC.
+    shares: Option<ProcessShares>,
+}
+
+/// The process images one photon adds to, with the share of its weight each
+/// takes: its coupling's image (share 1) and ABC's four processes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ProcessWeights {
+    pub len: usize,
+    /// (image index in [`SunEmission::process_names`], share of the weight).
+    pub entries: [(u8, f64); 5],
+}
+
+impl ProcessWeights {
+    fn push(&mut self, image: usize, share: f64) {
+        self.entries[self.len] = (image as u8, share);
+        self.len += 1;
+    }
+
+    /// The entries in use.
+    pub fn iter(&self) -> impl Iterator<Item = &(u8, f64)> {
+        self.entries[..self.len].iter()
+    }
 }
 
 /// The emission a Sun draws from, restricted to its energy range.
@@ -44,9 +68,14 @@ pub struct SunEmission {
 }
 
 impl SunEmission {
-    /// One table drawn from directly (an emission table file, or one coupling);
-    /// `None` if it emits nothing in [e_min, e_max].
-    pub fn single(table: &EmissionTable, e_min: f64, e_max: f64) -> Option<SunEmission> {
+    /// One table drawn from directly (an emission table file, or one
+    /// coupling, with ABC's `shares` if it is ABC); `None` if it emits nothing
+    /// in [e_min, e_max].
+    pub fn single(
+        table: &EmissionTable,
+        (e_min, e_max): (f64, f64),
+        shares: Option<ProcessShares>,
+    ) -> Option<SunEmission> {
         let sampler = EmissionSampler::new(table, e_min, e_max)?;
         let luminosity = sampler.luminosity;
         Some(SunEmission {
@@ -55,6 +84,7 @@ impl SunEmission {
                 sampler,
                 luminosity,
                 weight: 1.0,
+                shares,
             }],
             luminosity,
         })
@@ -73,6 +103,7 @@ impl SunEmission {
                     sampler,
                     luminosity,
                     weight: 0.0,
+                    shares: p.shares.clone(),
                 })
             })
             .filter(|d| d.luminosity > 0.0 && d.luminosity.is_finite())
@@ -88,13 +119,38 @@ impl SunEmission {
         Some(SunEmission { draws, luminosity })
     }
 
-    /// The names of the parts drawn separately, whose images a trace records
-    /// beside the total; empty when there is one.
+    /// The processes whose images a trace records beside the total: the
+    /// couplings drawn separately (when there are two), then ABC's four
+    /// processes (when ABC's shares are known); empty for a table alone.
     pub fn process_names(&self) -> Vec<String> {
-        match self.draws.len() {
+        let mut names: Vec<String> = match self.draws.len() {
             1 => Vec::new(),
             _ => self.draws.iter().map(|d| d.name.clone()).collect(),
+        };
+        if self.draws.iter().any(|d| d.shares.is_some()) {
+            names.extend(super::abc::PROCESSES.iter().map(|p| p.to_string()));
         }
+        names
+    }
+
+    /// The images a photon drawn from part `process`, cell `cell`, adds to.
+    #[inline]
+    pub fn process_weights(&self, process: u8, cell: u32) -> ProcessWeights {
+        let mut w = ProcessWeights::default();
+        let n = self.draws.len();
+        let Some(d) = self.draws.get(process as usize) else {
+            return w;
+        };
+        if n > 1 {
+            w.push(process as usize, 1.0);
+        }
+        if let Some(share) = d.shares.as_ref().and_then(|s| s.get(cell as usize)) {
+            let first = if n > 1 { n } else { 0 };
+            for (k, &s) in share.iter().enumerate() {
+                w.push(first + k, s);
+            }
+        }
+        w
     }
 
     /// Each part's axions per second in the energy range, in the order of
@@ -104,11 +160,12 @@ impl SunEmission {
     }
 
     /// (radius as a fraction of R_sun, energy in keV), the weight the photon
-    /// carries, and the index of the part it was drawn from. The first uniform
-    /// number both picks the part and, rescaled (exactly, for two parts), the
-    /// cell: a photon takes as many random numbers as with one table.
+    /// carries, and the index of the part and the cell it was drawn from. The
+    /// first uniform number both picks the part and, rescaled (exactly, for
+    /// two parts), the cell: a photon takes as many random numbers as with one
+    /// table.
     #[inline]
-    pub fn sample(&self, rng: &mut PhotonRng) -> ((f64, f64), f64, u8) {
+    pub fn sample(&self, rng: &mut PhotonRng) -> ((f64, f64), f64, (u8, u32)) {
         let u = rng.uniform();
         let n = self.draws.len();
         let (k, u) = match n {
@@ -120,7 +177,8 @@ impl SunEmission {
             }
         };
         let d = &self.draws[k];
-        (d.sampler.sample_from(u, rng).0, d.weight, k as u8)
+        let (point, cell) = d.sampler.sample_from(u, rng);
+        (point, d.weight, (k as u8, cell as u32))
     }
 
     /// Fraction of the emission seen within projected radius `rho` (fraction of

@@ -28,9 +28,10 @@ pub mod model;
 pub mod opacity_project;
 pub mod primakoff;
 pub mod sampler;
+pub mod shares;
 
 pub use emission::{EmissionTable, AU_CM, R_SUN_CM};
-pub use mixture::SunEmission;
+pub use mixture::{ProcessWeights, SunEmission};
 pub use model::{SolarDataError, SolarModel};
 pub use sampler::EmissionSampler;
 
@@ -161,11 +162,7 @@ impl SunDesc {
                     .map_err(|e| InvalidSource(format!("sun: {e}")))?;
             let e = builtin::builtin_emission(g_agamma, g_ae)
                 .map_err(|e| InvalidSource(format!("sun: {e}")))?;
-            let couplings = match e.couplings.len() {
-                1 => Vec::new(),
-                _ => e.couplings,
-            };
-            return Ok((e.table, e.description, e.coupling, couplings));
+            return Ok((e.table, e.description, e.coupling, e.couplings));
         }
         let path = dir.join(&self.emission);
         if !path.is_file() {
@@ -223,9 +220,11 @@ impl SunDesc {
             Some([a, b]) if a.is_finite() && b.is_finite() && a < b => (a.max(t_min), b.min(t_max)),
             Some(_) => return Err("sun: energy_range = [min, max] with min < max (keV)".into()),
         };
-        let draw = match couplings.is_empty() {
-            true => SunEmission::single(&table, e_min, e_max),
-            false => SunEmission::by_coupling(&couplings, e_min, e_max),
+        // One coupling: its table as it is (the sum of one), with ABC's shares.
+        let draw = match couplings.as_slice() {
+            [] => SunEmission::single(&table, (e_min, e_max), None),
+            [one] => SunEmission::single(&table, (e_min, e_max), one.shares.clone()),
+            _ => SunEmission::by_coupling(&couplings, e_min, e_max),
         };
         let emission_draw = draw.ok_or_else(|| {
             InvalidSource(format!(
@@ -278,7 +277,7 @@ impl SunSource {
 
     #[inline]
     pub fn emit(&self, rng: &mut PhotonRng) -> Photon {
-        let ((r, energy), weight, process) = self.emission_draw.sample(rng);
+        let ((r, energy), weight, (process, cell)) = self.emission_draw.sample(rng);
         // A uniform direction from the Sun's centre.
         let z = 2.0 * rng.uniform() - 1.0;
         let phi = std::f64::consts::TAU * rng.uniform();
@@ -296,6 +295,7 @@ impl SunSource {
             energy,
             weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2 * weight,
             process,
+            cell,
         }
     }
 
