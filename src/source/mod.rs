@@ -52,6 +52,7 @@ message_error!(
 /// emission = "primakoff"            # built in (B16-AGSS09met, g_aγ = 1e-10 GeV⁻¹), or
 ///                                   # an emission table CSV (Radius, Energy [keV], emRates)
 /// coupling = "g_ae = 1e-13"         # with a CSV: what it is computed for (reported)
+/// solar_model = "b16_agss09met"     # built in: or "b16_gs98" (the solar-model systematic)
 /// distance_au = 0.989               # Sun–Earth distance (default 0.989)
 /// direction = [0, 0, 1]             # from the target towards the Sun (the bore axis)
 /// offset_arcmin = [0.0, 0.0]        # pointing offset of the Sun's centre

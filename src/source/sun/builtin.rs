@@ -11,60 +11,28 @@
 use super::emission::{EmissionTable, AU_CM};
 use super::model::{SolarDataError, SolarModel};
 use super::opacity_project::OpacityTables;
-use std::path::Path;
-use std::sync::OnceLock;
-
-const PRIMAKOFF_CSV: &str = include_str!(concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/data/solar/primakoff_b16_agss09met.csv"
-));
-const ABC_CSV: &str = include_str!(concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/data/solar/abc_b16_agss09met.csv"
-));
-const ABC_SPECTRUM_CSV: &str = include_str!(concat!(
-    env!("CARGO_MANIFEST_DIR"),
-    "/data/solar/abc_b16_agss09met_spectrum.csv"
-));
 
 /// The reference coupling of the Primakoff table, GeV⁻¹.
 pub const G_AGAMMA_REFERENCE_PER_GEV: f64 = 1e-10;
 /// The reference coupling of the ABC table.
 pub use super::abc::G_AE_REFERENCE;
+pub use super::tables::BuiltinModel;
 
-/// What the built-in tables are, for summaries.
-pub const PRIMAKOFF_DESCRIPTION: &str = "Primakoff emission (Raffelt 1986, Debye–Hückel screening) of the B16-AGSS09met standard solar model (Vinyoles et al. 2017), data/solar/primakoff_b16_agss09met.csv";
-pub const ABC_DESCRIPTION: &str = "axion–electron ABC emission (atomic from Opacity Project cross sections, electron–ion and electron–electron bremsstrahlung, Compton; Redondo 2013) of the B16-AGSS09met standard solar model, data/solar/abc_b16_agss09met.csv";
-
-/// The built-in Primakoff table (g_aγ = 1e-10 GeV⁻¹), parsed once.
+/// The built-in Primakoff table of B16-AGSS09met (g_aγ = 1e-10 GeV⁻¹).
 pub fn primakoff_table() -> &'static EmissionTable {
-    static TABLE: OnceLock<EmissionTable> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        EmissionTable::parse_csv(
-            PRIMAKOFF_CSV,
-            Path::new("data/solar/primakoff_b16_agss09met.csv"),
-        )
-        .expect("the shipped Primakoff table is valid (tested)")
-    })
+    &super::tables::tables(BuiltinModel::B16Agss09met).primakoff
 }
 
-/// The built-in ABC table (g_ae = 1e-13), parsed once.
+/// The built-in ABC table of B16-AGSS09met (g_ae = 1e-13).
 pub fn abc_table() -> &'static EmissionTable {
-    static TABLE: OnceLock<EmissionTable> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        EmissionTable::parse_csv(ABC_CSV, Path::new("data/solar/abc_b16_agss09met.csv"))
-            .expect("the shipped ABC table is valid (tested)")
-    })
+    &super::tables::tables(BuiltinModel::B16Agss09met).abc
 }
 
-/// The ABC spectrum at 1 AU per process on the ABC table's energies
-/// (cm⁻² s⁻¹ keV⁻¹, g_ae = 1e-13), in the order of [`super::abc::PROCESSES`].
+/// The ABC spectrum of B16-AGSS09met at 1 AU per process on the ABC table's
+/// energies (cm⁻² s⁻¹ keV⁻¹, g_ae = 1e-13), in the order of
+/// [`super::abc::PROCESSES`].
 pub fn abc_process_spectra() -> &'static [Vec<f64>; 4] {
-    static SPECTRA: OnceLock<[Vec<f64>; 4]> = OnceLock::new();
-    SPECTRA.get_or_init(|| {
-        parse_process_spectra(ABC_SPECTRUM_CSV, &abc_table().energies)
-            .expect("the shipped ABC spectrum is valid (tested)")
-    })
+    &super::tables::tables(BuiltinModel::B16Agss09met).abc_spectra
 }
 
 /// Reads the per-process columns `flux_<process>_per_cm2_s_keV` of a
@@ -394,15 +362,31 @@ pub fn builtin_emission(
     g_agamma: Option<f64>,
     g_ae: Option<f64>,
 ) -> Result<AxionEmission, SolarDataError> {
+    builtin_emission_of(BuiltinModel::B16Agss09met, g_agamma, g_ae)
+}
+
+/// As [`builtin_emission`], from the built-in tables of `model`. ABC's
+/// process shares are shipped for B16-AGSS09met only: with B16-GS98 a trace
+/// records no images of ABC's four processes.
+pub fn builtin_emission_of(
+    model: BuiltinModel,
+    g_agamma: Option<f64>,
+    g_ae: Option<f64>,
+) -> Result<AxionEmission, SolarDataError> {
+    let t = super::tables::tables(model);
+    let shares = match model {
+        BuiltinModel::B16Agss09met => Some(super::shares::builtin_shares().clone()),
+        BuiltinModel::B16Gs98 => None,
+    };
     compose(
-        g_agamma.map(|g| (primakoff_table(), PRIMAKOFF_DESCRIPTION, g)),
+        g_agamma.map(|g| (&t.primakoff, t.primakoff_description.as_str(), g)),
         g_ae.map(|g| {
             (
                 AbcAtReference {
-                    table: abc_table(),
-                    process_spectra_1au: abc_process_spectra(),
-                    description: ABC_DESCRIPTION,
-                    shares: Some(super::shares::builtin_shares().clone()),
+                    table: &t.abc,
+                    process_spectra_1au: &t.abc_spectra,
+                    description: &t.abc_description,
+                    shares,
                 },
                 g,
             )

@@ -29,6 +29,7 @@ pub mod opacity_project;
 pub mod primakoff;
 pub mod sampler;
 pub mod shares;
+pub mod tables;
 
 pub use emission::{EmissionTable, AU_CM, R_SUN_CM};
 pub use mixture::{ProcessWeights, SunEmission};
@@ -82,6 +83,10 @@ pub struct SunDesc {
     /// What coupling a CSV table is computed for (reported in summaries).
     #[serde(default)]
     pub coupling: Option<String>,
+    /// The standard solar model of a built-in emission: "b16_agss09met" (the
+    /// default) or "b16_gs98" (the solar-model systematic).
+    #[serde(default)]
+    pub solar_model: Option<String>,
     /// Sun–Earth distance in astronomical units.
     #[serde(default = "default_distance")]
     pub distance_au: f64,
@@ -160,7 +165,12 @@ impl SunDesc {
             let (g_agamma, g_ae) =
                 builtin::checked_couplings(&self.emission, self.g_agamma, self.g_ae, &names)
                     .map_err(|e| InvalidSource(format!("sun: {e}")))?;
-            let e = builtin::builtin_emission(g_agamma, g_ae)
+            let model = match &self.solar_model {
+                None => builtin::BuiltinModel::B16Agss09met,
+                Some(m) => builtin::BuiltinModel::parse(m)
+                    .map_err(|e| InvalidSource(format!("sun: solar_model = {e}")))?,
+            };
+            let e = builtin::builtin_emission_of(model, g_agamma, g_ae)
                 .map_err(|e| InvalidSource(format!("sun: {e}")))?;
             return Ok((e.table, e.description, e.coupling, e.couplings));
         }
@@ -173,6 +183,9 @@ impl SunDesc {
                 builtin::unknown_emission(&self.emission, "emission", " = "),
                 path.display()
             )));
+        }
+        if self.solar_model.is_some() {
+            return Err("sun: solar_model picks the tables of a built-in emission (\"primakoff\", \"abc\", \"primakoff+abc\"); an emission table file is already computed from its own model".into());
         }
         if self.g_agamma.is_some() || self.g_ae.is_some() {
             return Err("sun: g_agamma and g_ae scale the built-in emissions (\"primakoff\", \"abc\", \"primakoff+abc\"); for an emission table file, give its coupling as text in coupling".into());
