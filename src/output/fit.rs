@@ -69,6 +69,25 @@ impl FitReport<'_> {
 /// The files of a fit.
 pub const FIT_FILES: [&str; 3] = ["history.csv", "figure_error.toml", "fit.json"];
 
+/// The fitted parameters' covariance as the preset's `covariance` table (read
+/// back by `xray::figure_covariance`), or nothing without free parameters.
+fn covariance_toml(report: &FitReport) -> String {
+    let e = report.errors;
+    if e.names.is_empty() {
+        return String::new();
+    }
+    let c = crate::xray::figure_covariance::FigureCovariance {
+        parameters: e.names.iter().map(|n| n.to_string()).collect(),
+        matrix: e.covariance.clone(),
+    };
+    format!(
+        "\n# The covariance of the fitted parameters (Monte Carlo and a {:.1} % uncertainty of\n# each target combined), for parameter sets drawn from it.\n[figure_errors.{}.covariance]\n{}",
+        100.0 * e.target_fraction,
+        report.preset_name,
+        toml::to_string(&c).expect("names and numbers serialise")
+    )
+}
+
 /// Writes history.csv, figure_error.toml and fit.json into `dir`.
 pub fn write_fit(
     dir: &Path,
@@ -120,6 +139,7 @@ pub fn write_fit(
         p.out_of_plane,
         toml::Value::String(source.clone())
     );
+    let preset = preset + &covariance_toml(report);
     let toml_path = dir.join(FIT_FILES[1]);
     atomic_write(&toml_path, preset.as_bytes())?;
     let (s, sp) = (report.settings, report.spread);

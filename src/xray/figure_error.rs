@@ -157,6 +157,10 @@ pub struct FigureErrorEntry {
     /// How the numbers were obtained (free text; fits write their settings here).
     #[serde(default)]
     pub source: Option<String>,
+    /// The fitted parameters' covariance, if the fit estimated it (see
+    /// [`super::figure_covariance`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub covariance: Option<super::figure_covariance::FigureCovariance>,
 }
 
 impl FigureErrorEntry {
@@ -198,11 +202,39 @@ impl FigureErrorLibrary {
         spec: &FigureErrorSpec,
     ) -> Result<Option<FigureError>, InvalidFigureError> {
         let f = match spec {
-            FigureErrorSpec::Preset(name) => self.get(name)?,
+            FigureErrorSpec::Preset(name) => {
+                if let Some(c) = self
+                    .figure_errors
+                    .get(name)
+                    .and_then(|e| e.covariance.as_ref())
+                {
+                    c.checked()
+                        .map_err(|e| InvalidFigureError(format!("figure error `{name}`: {e}")))?;
+                }
+                self.get(name)?
+            }
             FigureErrorSpec::Inline(f) => *f,
         };
         f.validate()?;
         Ok((!f.is_perfect()).then_some(f))
+    }
+
+    /// The preset `name` with its covariance: refused if it has none, or if the
+    /// covariance is not one (what is wrong, by name).
+    pub fn with_covariance(
+        &self,
+        name: &str,
+    ) -> Result<(FigureError, super::figure_covariance::FigureCovariance), InvalidFigureError> {
+        let f = self.get(name)?;
+        let entry = self.figure_errors.get(name);
+        let c = entry.and_then(|e| e.covariance.clone()).ok_or_else(|| {
+            InvalidFigureError(format!(
+                "figure error `{name}` has no covariance: run `traxer fit-figure-error` with --target-error and use its figure_error.toml, or add [figure_errors.{name}.covariance] (docs/telescope.md)"
+            ))
+        })?;
+        c.checked()
+            .map_err(|e| InvalidFigureError(format!("figure error `{name}`: {e}")))?;
+        Ok((f, c))
     }
 
     /// The preset `name` (`"none"` is always the perfect figure).

@@ -14,6 +14,7 @@ pub mod coating;
 pub mod coating_spec;
 pub mod compound;
 pub mod elements;
+pub mod figure_covariance;
 pub mod figure_error;
 pub mod foil;
 pub mod gas;

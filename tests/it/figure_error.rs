@@ -353,6 +353,24 @@ fn fit_command_writes_history_and_a_loadable_preset() {
         }
         ref m => panic!("{m:?}"),
     }
+    // The preset carries the fit's covariance, read back as written in fit.json.
+    let lib: traxer::xray::FigureErrorLibrary = toml::from_str(&preset).unwrap();
+    let (_, cov) = lib.with_covariance("mine").unwrap();
+    let errors = &fit["parameter_errors"];
+    let names: Vec<&str> = errors["names"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    assert_eq!(cov.parameters, names);
+    for (a, row) in cov.matrix.iter().enumerate() {
+        for (b, x) in row.iter().enumerate() {
+            let y = errors["covariance"][a][b].as_f64().unwrap();
+            assert!((x - y).abs() <= 1e-12 * y.abs(), "[{a}][{b}] {x} vs {y}");
+        }
+    }
+    assert!(cov.matrix[0][0] > 0.0, "a fitted width has an error");
     // A misspelt bound is a usage error.
     let err = crate::common::run_fails(
         crate::common::traxer()
@@ -519,4 +537,21 @@ fn fit_errors_carry_back_to_the_targets_and_predictions_are_written() {
         2,
     );
     assert!(err.contains("bare TOML key"), "{err}");
+}
+
+#[test]
+fn a_preset_whose_covariance_is_no_covariance_is_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |matrix: &str| {
+        format!(
+            "[figure_errors.mine]\nin_plane_narrow = 50.0\nin_plane_wide = 0.0\nwide_fraction = 0.0\nout_of_plane = 0.0\n\n[figure_errors.mine.covariance]\nparameters = [\"in_plane_narrow\", \"wide_fraction\"]\nmatrix = {matrix}\n\n[[sources]]\ntype = \"parallel\"\naperture = {{ center = [0, 0, 10], radius = 1.0 }}\nenergy = {{ line = 1.49 }}\n\n[materials.m]\ntype = \"mirror\"\nfigure_error = \"mine\"\n\n[[objects]]\nmaterial = \"m\"\nshape = {{ type = \"disk\", radius = 5.0 }}\n"
+        )
+    };
+    let err = crate::common::load_error(dir.path(), &scene("[[4.0, 3.0], [3.0, 1.0]]"));
+    assert!(
+        err.contains("mine") && err.contains("positive semi-definite"),
+        "{err}"
+    );
+    // A covariance loads.
+    crate::common::scene_in(dir.path(), &scene("[[4.0, 0.1], [0.1, 0.01]]"));
 }
