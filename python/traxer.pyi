@@ -377,10 +377,12 @@ class SolarEmission:
         emission: Literal["primakoff", "abc", "primakoff+abc"] = "primakoff",
         g_agamma: _Number = 1e-10,
         g_ae: _Number = 1e-13,
+        solar_model: Literal["b16_agss09met", "b16_gs98"] = "b16_agss09met",
     ) -> SolarEmission:
-        """The built-in emission of the B16-AGSS09met standard solar model:
-        "primakoff" (g_aγ in GeV⁻¹), "abc" (the axion–electron processes, g_ae)
-        or "primakoff+abc"; fluxes scale as the couplings squared."""
+        """The built-in emission of the B16-AGSS09met standard solar model (or
+        ``solar_model="b16_gs98"``): "primakoff" (g_aγ in GeV⁻¹), "abc" (the
+        axion–electron processes, g_ae) or "primakoff+abc"; fluxes scale as the
+        couplings squared."""
     @staticmethod
     def from_model(
         path: _Path,

@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use traxer::files::atomic_write;
 use traxer::source::sun::builtin::{
-    self, builtin_emission, model_emission, AxionEmission, EmissionPart,
+    self, builtin_emission_of, model_emission, AxionEmission, BuiltinModel, EmissionPart,
 };
 use traxer::source::sun::opacity_project::OpacityTables;
 use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
@@ -74,19 +74,22 @@ fn au(distance_au: Option<&Bound<'_, PyAny>>) -> PyResult<f64> {
 
 #[pymethods]
 impl SolarEmission {
-    /// The built-in emission of the B16-AGSS09met standard solar model:
-    /// "primakoff" (g_aγ in GeV⁻¹), "abc" (the axion–electron processes, g_ae) or
-    /// "primakoff+abc"; fluxes scale as the couplings squared. `g_agamma` may be
-    /// a Quantity in 1/GeV.
+    /// The built-in emission of the B16-AGSS09met standard solar model (or
+    /// `solar_model="b16_gs98"`): "primakoff" (g_aγ in GeV⁻¹), "abc" (the
+    /// axion–electron processes, g_ae) or "primakoff+abc"; fluxes scale as the
+    /// couplings squared. `g_agamma` may be a Quantity in 1/GeV.
     #[staticmethod]
-    #[pyo3(signature = (emission = "primakoff", g_agamma = None, g_ae = None), text_signature = "(emission=\"primakoff\", g_agamma=1e-10, g_ae=1e-13)")]
+    #[pyo3(signature = (emission = "primakoff", g_agamma = None, g_ae = None, solar_model = "b16_agss09met"), text_signature = "(emission=\"primakoff\", g_agamma=1e-10, g_ae=1e-13, solar_model=\"b16_agss09met\")")]
     fn builtin(
         emission: &str,
         g_agamma: Option<&Bound<'_, PyAny>>,
         g_ae: Option<&Bound<'_, PyAny>>,
+        solar_model: &str,
     ) -> PyResult<SolarEmission> {
         let (p, a) = couplings(emission, g_agamma, g_ae)?;
-        Ok(builtin_emission(p, a).map_err(lib)?.into())
+        let model =
+            BuiltinModel::parse(solar_model).map_err(|e| input(format!("solar_model = {e}")))?;
+        Ok(builtin_emission_of(model, p, a).map_err(lib)?.into())
     }
 
     /// The emission of a standard solar model file in the B16 format, on

@@ -9,7 +9,7 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::files::sha256_hex;
 use traxer::output::{write_solar_flux, Provenance, SolarFluxInfo, SOLAR_FLUX_FILES};
-use traxer::source::sun::builtin::{self, builtin_emission, model_emission, EmissionPart};
+use traxer::source::sun::builtin::{self, model_emission, EmissionPart};
 use traxer::source::sun::opacity_project::OpacityTables;
 use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 
@@ -41,6 +41,9 @@ pub struct SolarFluxArgs {
     /// A standard solar model in the B16 format to compute the emission of.
     #[arg(value_name = "FILE", long, conflicts_with = "table")]
     pub model: Option<PathBuf>,
+    /// The built-in tables' solar model: b16_agss09met (default) or b16_gs98.
+    #[arg(value_name = "NAME", long, conflicts_with_all = ["model", "table"])]
+    pub solar_model: Option<String>,
     /// With --model and ABC: the Opacity Project folder (opacity/, ionisation/).
     #[arg(value_name = "DIR", long, requires = "model")]
     pub opacities: Option<PathBuf>,
@@ -201,7 +204,12 @@ fn emission(
             shares_csv: None,
         }
     } else {
-        let b = builtin_emission(g_agamma, g_ae)?;
+        let model = match &a.solar_model {
+            None => builtin::BuiltinModel::B16Agss09met,
+            Some(m) => builtin::BuiltinModel::parse(m)
+                .map_err(|e| InputError(format!("--solar-model {e}")))?,
+        };
+        let b = builtin::builtin_emission_of(model, g_agamma, g_ae)?;
         let csv = b.table.to_csv(&format!(
             "The built-in emission of traxer {}: {} ({})",
             env!("CARGO_PKG_VERSION"),
@@ -213,7 +221,7 @@ fn emission(
             parts: b.parts,
             description: b.description,
             coupling: b.coupling,
-            origin: json!({"builtin": a.emission.as_deref().unwrap_or("primakoff")}),
+            origin: json!({"builtin": a.emission.as_deref().unwrap_or("primakoff"), "solar_model": model.name()}),
             csv,
             shares_csv: None,
         }

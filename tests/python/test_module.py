@@ -766,3 +766,15 @@ def test_psf_library_in_python_equals_the_cli(tmp_path):
     lib.save(tmp_path / "py")
     assert np.load(tmp_path / "py" / "psf.npy").tobytes() == lib.images.tobytes()
     assert 0.9 < lib.fraction_in_window.min() <= 1.0
+
+
+def test_builtin_emission_of_the_gs98_model_is_brighter():
+    """solar_model="b16_gs98" takes the B16-GS98 tables: its Primakoff flux at
+    1 AU (3.738e11 cm⁻² s⁻¹) is 5.3 % above AGSS09met's, ABC's 5.7 %; a name
+    that is not a model is refused."""
+    for emission, ratio in [("primakoff", 1.053), ("abc", 1.057)]:
+        gs98 = traxer.SolarEmission.builtin(emission, solar_model="b16_gs98").flux()
+        agss = traxer.SolarEmission.builtin(emission).flux()
+        assert abs(gs98 / agss - ratio) < 0.002, (emission, gs98 / agss)
+    with pytest.raises(traxer.InputError, match="b16_gs98"):
+        traxer.SolarEmission.builtin(solar_model="gs98")
