@@ -50,7 +50,7 @@ pub fn write_psf_library(
     let path = dir.join(PSF_FILES[0]);
     let tmp = tempfile::Builder::new().prefix("traxer-psf-").tempdir()?;
     let tmp_file = tmp.path().join("psf.fits");
-    fits_file(&tmp_file, lib, provenance)
+    fits_file(&tmp_file, (lib, grid), provenance)
         .map_err(|e| std::io::Error::other(format!("{}: writing FITS: {e}", path.display())))?;
     atomic_write(&path, &without_primary_extname(std::fs::read(&tmp_file)?))?;
     let w = lib.window as u64;
@@ -99,7 +99,43 @@ fn description(lib: &PsfLibrary, grid: &PsfGrid, provenance: &Provenance) -> ser
     })
 }
 
-fn fits_file(path: &Path, lib: &PsfLibrary, provenance: &Provenance) -> fitsio::errors::Result<()> {
+/// The whole grid in the first HDU's header: how many energies, angles and
+/// azimuths, and each value (`PSFE1`… in keV, `PSFT1`… in arcmin, `PSFP1`… in
+/// degrees; up to 999 per axis, as keyword names hold 8 characters), the HDUs
+/// following in the order angle, azimuth, energy.
+fn grid_keys(keys: &mut Keys, grid: &PsfGrid) {
+    keys.int(
+        "NPSFIMG",
+        crate::studies::psf::points(grid).len() as i64,
+        "PSF images in this file, one per HDU",
+    );
+    keys.text(
+        "PSFORDER",
+        "THETA,PHI,ENERGY",
+        "HDU order: energy varies fastest",
+    );
+    for (count, prefix, values, unit) in [
+        ("NPSFE", "PSFE", &grid.energies, "[keV] energy"),
+        (
+            "NPSFT",
+            "PSFT",
+            &grid.angles_arcmin,
+            "[arcmin] off-axis angle",
+        ),
+        ("NPSFP", "PSFP", &grid.azimuths_deg, "[deg] azimuth"),
+    ] {
+        keys.int(count, values.len() as i64, "values in the grid");
+        for (k, v) in values.iter().enumerate().filter(|_| values.len() <= 999) {
+            keys.float(&format!("{prefix}{}", k + 1), *v, unit);
+        }
+    }
+}
+
+fn fits_file(
+    path: &Path,
+    (lib, grid): (&PsfLibrary, &PsfGrid),
+    provenance: &Provenance,
+) -> fitsio::errors::Result<()> {
     let w = lib.window as usize;
     let description = ImageDescription {
         data_type: ImageType::Double,
@@ -114,7 +150,11 @@ fn fits_file(path: &Path, lib: &PsfLibrary, provenance: &Provenance) -> fitsio::
             _ => f.create_image("PSF".to_string(), &description)?,
         };
         hdu.write_image(&mut f, &normalised(image))?;
-        write_keys(&mut f, &hdu, keys(lib, image, k, provenance))?;
+        let mut keys = keys(lib, image, k, provenance);
+        if k == 0 {
+            grid_keys(&mut keys, grid);
+        }
+        write_keys(&mut f, &hdu, keys)?;
     }
     Ok(())
 }

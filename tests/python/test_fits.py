@@ -359,6 +359,9 @@ def test_psf_library_is_the_layout_sixte_reads_and_equals_plain_traces(tmp_path)
     desc = json.loads((out / "psf.json").read_text())
     with fits.open(out / "psf.fits") as f:
         assert len(f) == 4
+        grid = f[0].header
+        assert (grid["NPSFIMG"], grid["NPSFE"], grid["NPSFT"], grid["NPSFP"]) == (4, 2, 2, 1)
+        assert [grid["PSFE1"], grid["PSFE2"], grid["PSFT2"], grid["PSFP1"]] == [1.5, 8.0, 10.0, 0.0]
         for k, h in enumerate(f):
             p = desc["points"][k]
             a, e = desc["angles_arcmin"].index(p["angle_arcmin"]), desc["energies_keV"].index(p["energy_keV"])
