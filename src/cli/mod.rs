@@ -39,6 +39,7 @@ pub mod resume;
 pub mod signals;
 pub mod solar_flux;
 pub mod synopsis;
+pub mod systematics;
 pub mod tessellate;
 pub mod trace;
 pub mod view;

@@ -79,6 +79,7 @@ fn covariance_toml(report: &FitReport) -> String {
     let c = crate::xray::figure_covariance::FigureCovariance {
         parameters: e.names.iter().map(|n| n.to_string()).collect(),
         matrix: e.covariance.clone(),
+        unconstrained: e.unconstrained(),
     };
     format!(
         "\n# The covariance of the fitted parameters (Monte Carlo and a {:.1} % uncertainty of\n# each target combined), for parameter sets drawn from it.\n[figure_errors.{}.covariance]\n{}",

@@ -32,6 +32,8 @@ pub use psf::{normalised as normalised_psf, write_psf_library, PSF_FILES};
 mod provenance;
 mod run_files;
 mod solar_flux;
+mod systematics;
+pub use systematics::{write_systematics, SYSTEMATICS_FILES};
 
 pub use crate::sensor::{class_file_names, file_stem, sensor_file_names};
 pub use arf::{arf_name, energy_bins};

@@ -53,13 +53,14 @@ pub(super) fn build(
             "max_interactions must be at least 1",
         ));
     }
+    let figure_errors = FigureErrorLibrary::shipped().merged(&desc.figure_errors);
     let mut materials = Materials::new(
         std::mem::take(&mut desc.materials),
         CoatingLibrary::shipped().merged(&CoatingLibrary {
             materials: desc.optical_materials.clone(),
             coatings: desc.coatings.clone(),
         }),
-        FigureErrorLibrary::shipped().merged(&desc.figure_errors),
+        figure_errors.clone(),
     );
     let dir = path.parent().unwrap_or(Path::new("."));
     let inputs = InputFiles::default();
@@ -104,6 +105,7 @@ pub(super) fn build(
         overrides: overrides.clone(),
         vars,
         objects,
+        figure_errors,
         sensors: materials.sensors,
         foils: materials.foils,
         roughness: materials.roughness,

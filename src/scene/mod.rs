@@ -61,6 +61,10 @@ pub struct Scene {
     /// SHA-256: part of a run's identity.
     pub inputs: InputHashes,
     pub objects: Vec<Object>,
+    /// The figure-error presets the scene could name (the shipped ones and its
+    /// own `[figure_errors]`), with their covariances, for studies that vary
+    /// the figure.
+    pub figure_errors: crate::xray::FigureErrorLibrary,
     pub sensors: Vec<SensorSpec>,
     /// Thin foils (windows, filters), indexed by `Material::Foil::foil`.
     pub foils: Vec<crate::xray::Foil>,

@@ -65,6 +65,22 @@ pub fn set_figure_error(scene: &mut Scene, fe: Option<FigureError>) {
     }
 }
 
+/// Gives the mirrors whose figure error is `from` the figure error `to` (the
+/// others keep theirs).
+pub fn set_figure_error_where(
+    scene: &mut Scene,
+    from: Option<FigureError>,
+    to: Option<FigureError>,
+) {
+    for o in &mut scene.objects {
+        if let Material::Mirror { figure_error, .. } = &mut o.material {
+            if *figure_error == from {
+                *figure_error = to.filter(|f| !f.is_perfect());
+            }
+        }
+    }
+}
+
 /// Budget and settings of a fit.
 #[derive(Clone, Debug)]
 pub struct FitSettings {

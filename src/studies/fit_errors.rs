@@ -139,6 +139,16 @@ impl ParameterErrors {
         }
     }
 
+    /// The free parameters [`ParameterErrors::assess`] found unconstrained.
+    pub fn unconstrained(&self) -> Vec<String> {
+        self.names
+            .iter()
+            .zip(&self.verdicts)
+            .filter(|(_, v)| v.starts_with("unconstrained"))
+            .map(|(n, _)| n.to_string())
+            .collect()
+    }
+
     /// Parameter `k` as a physicist should quote it: value and errors to the
     /// precision of the combined error, with its verdict.
     pub fn quoted(&self, k: usize) -> String {

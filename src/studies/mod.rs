@@ -14,6 +14,7 @@ pub mod focus;
 mod measure;
 pub mod psf;
 pub mod sky;
+pub mod systematics;
 
 pub use measure::{measure_arcsec, pick_sensor, trace_and_measure, Diameters, Measured};
 

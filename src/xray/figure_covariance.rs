@@ -55,6 +55,13 @@ pub struct FigureCovariance {
     pub parameters: Vec<String>,
     /// Their covariance, one row per parameter.
     pub matrix: Vec<Vec<f64>>,
+    /// The parameters the fit found unconstrained (their 1σ spans half their
+    /// search range or more: the value is where the optimiser stopped). A
+    /// systematics study holds them at the preset's values and draws the
+    /// others given them, since a normal distribution of such a parameter
+    /// says nothing about the telescope.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub unconstrained: Vec<String>,
 }
 
 impl FigureCovariance {
@@ -90,6 +97,48 @@ impl FigureCovariance {
             }
         }
         Ok((index, cholesky(c)?))
+    }
+
+    /// The distribution of the other parameters when those named in `held`
+    /// are fixed at their preset values: the conditional covariance (the
+    /// Schur complement, C_oo − C_oh C_hh⁻¹ C_ho, taken one held parameter at
+    /// a time). `None` when every parameter is held.
+    pub fn given(&self, held: &[String]) -> Result<Option<FigureCovariance>, String> {
+        self.checked()?;
+        if let Some(h) = held.iter().find(|h| !PARAMETERS.contains(&h.as_str())) {
+            return Err(format!(
+                "unknown figure parameter `{h}` (expected {PARAMETERS:?})"
+            ));
+        }
+        let mut names = self.parameters.clone();
+        let mut c = self.matrix.clone();
+        for h in held {
+            let Some(k) = names.iter().position(|n| n == h) else {
+                continue; // not in the covariance: held already
+            };
+            let ckk = c[k][k];
+            let keep: Vec<usize> = (0..names.len()).filter(|&i| i != k).collect();
+            c = keep
+                .iter()
+                .map(|&a| {
+                    keep.iter()
+                        .map(|&b| match ckk > 0.0 {
+                            true => c[a][b] - c[a][k] * c[k][b] / ckk,
+                            false => c[a][b],
+                        })
+                        .collect()
+                })
+                .collect();
+            names.remove(k);
+        }
+        if names.is_empty() {
+            return Ok(None);
+        }
+        Ok(Some(FigureCovariance {
+            parameters: names,
+            matrix: c,
+            unconstrained: Vec::new(),
+        }))
     }
 
     /// `count` parameter sets drawn from the normal distribution around
@@ -166,6 +215,7 @@ mod tests {
         FigureCovariance {
             parameters: parameters.iter().map(|s| s.to_string()).collect(),
             matrix,
+            unconstrained: Vec::new(),
         }
     }
 
@@ -245,5 +295,45 @@ mod tests {
         )
         .checked()
         .is_ok());
+    }
+
+    #[test]
+    fn holding_a_parameter_leaves_the_others_conditional_variance() {
+        // Closed form for three normal variables: holding x3 leaves the
+        // covariance C_ab − C_a3 C_3b / C_33; for a pair, σ₁²(1 − ρ²).
+        let c = cov(
+            &["in_plane_narrow", "in_plane_wide", "wide_fraction"],
+            vec![
+                vec![225.0, 40.0, 0.6],
+                vec![40.0, 400.0, 1.5],
+                vec![0.6, 1.5, 0.01],
+            ],
+        );
+        let g = c.given(&["in_plane_wide".into()]).unwrap().unwrap();
+        assert_eq!(g.parameters, ["in_plane_narrow", "wide_fraction"]);
+        let want = [
+            [225.0 - 40.0 * 40.0 / 400.0, 0.6 - 40.0 * 1.5 / 400.0],
+            [0.6 - 1.5 * 40.0 / 400.0, 0.01 - 1.5 * 1.5 / 400.0],
+        ];
+        for (a, row) in want.iter().enumerate() {
+            for (b, w) in row.iter().enumerate() {
+                assert!((g.matrix[a][b] - w).abs() < 1e-12 * w.abs().max(1.0));
+            }
+        }
+        // Holding both in turn equals holding them together: narrow alone
+        // with C_11 − c Σ⁻¹ cᵀ over the pair (2 × 2 inverse by hand).
+        let both = c
+            .given(&["in_plane_wide".into(), "wide_fraction".into()])
+            .unwrap()
+            .unwrap();
+        let (a, b, d) = (400.0, 1.5, 0.01);
+        let det = a * d - b * b;
+        let (u, v) = (40.0, 0.6);
+        let quad = (u * u * d - 2.0 * u * v * b + v * v * a) / det;
+        assert!((both.matrix[0][0] - (225.0 - quad)).abs() < 1e-9);
+        // Every parameter held: nothing left to draw; an unknown name refused.
+        let all: Vec<String> = c.parameters.clone();
+        assert!(c.given(&all).unwrap().is_none());
+        assert!(c.given(&["width".into()]).unwrap_err().contains("unknown"));
     }
 }

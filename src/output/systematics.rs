@@ -1,0 +1,220 @@
+//! The files of a systematics study (`studies::systematics`): the table of
+//! every variation (`systematics.csv`), each source's effect and the study's
+//! description (`systematics.json`), the maps as npy (`map_*.npy`) and FITS
+//! (`systematics.fits`: the mean image, then the nominal one, the total σ and
+//! each source's σ as extensions), and the mean and σ images as PNG.
+
+use super::colormap::Scale;
+use super::fits::{write_maps_fits, Map};
+use super::image_plot::{write_image_figure, ImageFigure};
+use super::npy::write_npy_f64;
+use super::run_files::{flux_unit, write_json};
+use super::{write_csv, Provenance};
+use crate::studies::systematics::{summary::metrics, Systematics, METRICS};
+use serde_json::json;
+use std::path::Path;
+
+/// The files a systematics study writes.
+pub const SYSTEMATICS_FILES: [&str; 10] = [
+    "systematics.csv",
+    "systematics.json",
+    "systematics.fits",
+    "map_nominal.npy",
+    "map_mean.npy",
+    "map_sigma.npy",
+    "map_sigma_by_source.npy",
+    "map_variations.npy",
+    "map_mean.png",
+    "map_sigma.png",
+];
+
+/// Writes the study's files into `dir`; `scene_name` titles the pictures.
+pub fn write_systematics(
+    dir: &Path,
+    s: &Systematics,
+    scene_name: &str,
+    provenance: &Provenance,
+) -> std::io::Result<()> {
+    let f = SYSTEMATICS_FILES;
+    write_table(&dir.join(f[0]), s)?;
+    write_json(&dir.join(f[1]), &description(s, provenance))?;
+    let [nx, ny] = s.frame.pixels;
+    let unit = flux_unit(s.facts.absolute);
+    let mut maps = vec![
+        Map {
+            name: String::new(),
+            data: &s.mean_map,
+            what: "mean image: nominal plus each source's mean shift".into(),
+        },
+        Map {
+            name: "NOMINAL".into(),
+            data: &s.nominal_map,
+            what: "the nominal scene's image".into(),
+        },
+        Map {
+            name: "SIGMA".into(),
+            data: &s.sigma_map,
+            what: "total systematic sigma: the sources' in quadrature".into(),
+        },
+    ];
+    for (e, m) in s.sources.iter().zip(&s.sigma_maps) {
+        maps.push(Map {
+            name: format!("SIGMA_{}", e.name.to_uppercase().replace(':', "_")),
+            data: m,
+            what: format!("sigma of {}", e.name),
+        });
+    }
+    let frame = if s.frame.grid.is_some() {
+        "position from the detector grid's centre"
+    } else {
+        "position on the sensor"
+    };
+    write_maps_fits(
+        &dir.join(f[2]),
+        [ny, nx],
+        (s.frame.first_mm, s.frame.step_mm, frame),
+        &unit,
+        &maps,
+        (provenance, f[1]),
+    )?;
+    let dims = [ny as u64, nx as u64];
+    write_npy_f64(&dir.join(f[3]), &dims, &s.nominal_map)?;
+    write_npy_f64(&dir.join(f[4]), &dims, &s.mean_map)?;
+    write_npy_f64(&dir.join(f[5]), &dims, &s.sigma_map)?;
+    let stack = |v: Vec<&Vec<f64>>| -> (Vec<u64>, Vec<f64>) {
+        let shape = vec![v.len() as u64, ny as u64, nx as u64];
+        (shape, v.into_iter().flatten().copied().collect())
+    };
+    let (shape, data) = stack(s.sigma_maps.iter().collect());
+    write_npy_f64(&dir.join(f[6]), &shape, &data)?;
+    let (shape, data) = stack(s.outcomes.iter().map(|o| &o.map).collect());
+    write_npy_f64(&dir.join(f[7]), &shape, &data)?;
+    for (file, values, what) in [
+        (f[8], &s.mean_map, "mean image"),
+        (f[9], &s.sigma_map, "systematic σ (all sources)"),
+    ] {
+        write_image_figure(&dir.join(file), &figure(s, values, (scene_name, what)))?;
+    }
+    Ok(())
+}
+
+/// The PNG of one map.
+fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -> ImageFigure<'a> {
+    let fr = &s.frame;
+    let extent = std::array::from_fn(|k| {
+        let a = fr.first_mm[k] - 0.5 * fr.step_mm[k];
+        [a, a + fr.pixels[k] as f64 * fr.step_mm[k]]
+    });
+    let names: Vec<&str> = s.sources.iter().map(|e| e.name.as_str()).collect();
+    let on_grid = fr.grid.is_some();
+    ImageFigure {
+        title: format!("{scene}: {what}, sensor {}", s.facts.sensor),
+        subtitle: format!(
+            "{} variations · sources: {}",
+            s.outcomes.len(),
+            names.join(", ")
+        ),
+        values,
+        pixels: fr.pixels,
+        extent_mm: extent,
+        focal_length_mm: None,
+        unit: format!(
+            "{} per {}",
+            if s.facts.absolute {
+                "axions s⁻¹"
+            } else {
+                "weight"
+            },
+            if on_grid {
+                "detector pixel"
+            } else {
+                "map pixel"
+            }
+        ),
+        scale: Scale::Linear,
+        axes: if on_grid {
+            ["grid x".into(), "grid y".into()]
+        } else {
+            ["sensor x".into(), "sensor y".into()]
+        },
+        orientation: if on_grid {
+            "axes of the detector pixel grid, from its centre".into()
+        } else {
+            "the sensor's local axes, from its centre".into()
+        },
+    }
+}
+
+/// `systematics.csv`: one row per variation.
+fn write_table(path: &Path, s: &Systematics) -> std::io::Result<()> {
+    let mut header = vec!["source", "variation", "settings"];
+    header.extend(METRICS);
+    header.push("photons_on_sensor");
+    let rows = s.outcomes.iter().zip(&s.plan.variations).map(|(o, v)| {
+        let mut row = vec![o.source.clone(), o.label.clone(), settings(v)];
+        row.extend(metrics(o).iter().map(|x| match x.is_nan() {
+            true => String::new(),
+            false => format!("{x:e}"),
+        }));
+        row.push(o.photons_recorded.to_string());
+        row
+    });
+    write_csv(path, &header, rows)
+}
+
+/// A variation's settings in words: its overrides, or its figure parameters.
+fn settings(v: &crate::studies::systematics::Variation) -> String {
+    match v.figure {
+        Some(f) => format!(
+            "in_plane_narrow={} in_plane_wide={} wide_fraction={} out_of_plane={}",
+            f.in_plane_narrow, f.in_plane_wide, f.wide_fraction, f.out_of_plane
+        ),
+        None => v.defines.join(" "),
+    }
+}
+
+/// `systematics.json`.
+fn description(s: &Systematics, provenance: &Provenance) -> serde_json::Value {
+    let effects: Vec<_> = s
+        .sources
+        .iter()
+        .map(|e| {
+            let by: serde_json::Map<String, serde_json::Value> = METRICS
+                .iter()
+                .zip(&e.effects)
+                .map(|(m, x)| (m.to_string(), json!({"sigma": x.sigma, "shift": x.shift})))
+                .collect();
+            json!({"name": e.name, "kind": e.kind, "what": e.what, "variations": e.variations, "effects": by})
+        })
+        .collect();
+    let nominal = metrics(&s.outcomes[0]);
+    json!({
+        "provenance": provenance,
+        "what": "the image's systematic uncertainty: the scene traced under each source of uncertainty with the same photons (common random numbers); each source's standard deviation sigma (draws: their sample standard deviation; a low and a high value taken as ±1σ: the root mean square of their differences to the nominal; an alternative model: its difference to the nominal) and mean shift (draws: their mean minus the nominal; a range: the mean of low and high minus the nominal; an alternative: it minus the nominal), the sources combined in quadrature",
+        "units": {
+            "flux": if s.facts.absolute { "axions per second on the sensor" } else { "summed photon weights on the sensor" },
+            "central_flux": format!("the same in the central {} × {} mm square around the sensor's centre", s.facts.central_mm, s.facts.central_mm),
+            "diameters": "arcsec (HPD, 80 %, 90 % encircled flux)",
+            "centroid": "mm on the sensor",
+        },
+        "sensor": s.facts.sensor,
+        "central_mm": s.facts.central_mm,
+        "nominal": METRICS.iter().zip(nominal).map(|(m, x)| (m.to_string(), json!(x))).collect::<serde_json::Map<_, _>>(),
+        "sources": effects,
+        "total_sigma": METRICS.iter().zip(&s.total_sigma).map(|(m, x)| (m.to_string(), json!(x))).collect::<serde_json::Map<_, _>>(),
+        "skipped": s.plan.skipped.iter().map(|(n, r)| json!({"source": n, "reason": r})).collect::<Vec<_>>(),
+        "notes": s.plan.notes,
+        "map": s.frame,
+        "files": {
+            "systematics.csv": "one row per traced variation: its source, settings and quantities",
+            "systematics.fits": "primary: the mean image; extensions NOMINAL, SIGMA (total) and SIGMA_<SOURCE>; WCS in mm on the map's frame",
+            "map_nominal.npy": "float64 [iy, ix]: the nominal image on the map",
+            "map_mean.npy": "float64 [iy, ix]: the nominal image plus each source's mean shift",
+            "map_sigma.npy": "float64 [iy, ix]: the total systematic sigma per pixel",
+            "map_sigma_by_source.npy": "float64 [source, iy, ix] in the order of sources",
+            "map_variations.npy": "float64 [variation, iy, ix]: every traced variation's image, in the order of systematics.csv",
+        },
+        "seconds": s.facts.seconds,
+        "threads": s.facts.threads,
+    })
+}

@@ -1,0 +1,298 @@
+//! Which variations of the scene a systematics study traces: from the sources
+//! of uncertainty asked for (or every one the scene supports) and the scene's
+//! variables, the list of variations, each a set of `-D` overrides and, for
+//! the mirror figure, a parameter set drawn from the preset's covariance.
+
+use super::super::StudyError;
+use crate::scene::Scene;
+use crate::xray::figure_covariance::PARAMETERS as FIGURE_PARAMETERS;
+use crate::xray::FigureError;
+use serde::Serialize;
+
+/// How a source's variations give its standard deviation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    /// Random draws: their sample standard deviation.
+    Draws,
+    /// A low and a high value, taken as ±1σ: the root mean square of their
+    /// differences to the nominal value.
+    Range,
+    /// One alternative (another solar model): its difference to the nominal
+    /// image, taken as 1σ.
+    Alternative,
+}
+
+/// One source of uncertainty.
+#[derive(Clone, Debug, Serialize)]
+pub struct SourcePlan {
+    /// Its name in the table (`figure`, `solar_model`, `pointing_x`, ...).
+    pub name: String,
+    pub kind: Kind,
+    /// What is varied, in words, with the values.
+    pub what: String,
+}
+
+/// One traced variation of the scene.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Variation {
+    /// The source it belongs to (`nominal` for the unchanged scene).
+    pub source: String,
+    /// Which variation of it (`+1′`, `draw 3`, `b16_gs98`).
+    pub label: String,
+    /// The `-D NAME=VALUE` overrides it adds to the study's own.
+    pub defines: Vec<String>,
+    /// The mirrors' figure error, for a figure draw.
+    pub figure: Option<FigureError>,
+}
+
+/// The study's plan: its sources and the variations, the nominal first.
+#[derive(Clone, Debug, Serialize)]
+pub struct Plan {
+    pub sources: Vec<SourcePlan>,
+    pub variations: Vec<Variation>,
+    /// Sources the scene cannot vary (not asked for by name), with the reason.
+    pub skipped: Vec<(String, String)>,
+    /// Notes on the figure draws (held parameters, draws moved onto the
+    /// parameters' domain).
+    pub notes: Vec<String>,
+}
+
+/// What to vary.
+#[derive(Clone, Debug)]
+pub struct Request {
+    /// Sources by name; `None`: every one the scene supports.
+    pub sources: Option<Vec<String>>,
+    /// Parameter sets drawn from the figure-error covariance.
+    pub figure_draws: usize,
+    /// The figure-error preset (default: the scene variable `figure_error`).
+    pub figure_preset: Option<String>,
+    /// Figure parameters held at the preset's values (the others drawn from
+    /// their distribution given them); `None`: the preset's `unconstrained`.
+    pub figure_hold: Option<Vec<String>>,
+    /// The Sun's centre moved by ± this (arcmin) in x and in y.
+    pub pointing_arcmin: f64,
+    /// The telescope's axis tilted by ± this (arcmin) towards x and towards y.
+    pub tilt_arcmin: f64,
+    /// The alternative solar model.
+    pub solar_model: String,
+    /// The gas pressure's range (mbar); `None`: nominal ± 50 mbar.
+    pub gas_pressure_mbar: Option<[f64; 2]>,
+    /// The gas temperature's range (K); `None`: nominal ± 10 K.
+    pub gas_temperature_k: Option<[f64; 2]>,
+    /// Other scene variables with their ranges.
+    pub vary: Vec<(String, [f64; 2])>,
+    /// Seed of the figure draws.
+    pub seed: u64,
+}
+
+/// The sources a study can vary, in the order of its table.
+pub const SOURCES: [&str; 8] = [
+    "figure",
+    "solar_model",
+    "pointing_x",
+    "pointing_y",
+    "tilt_x",
+    "tilt_y",
+    "gas_pressure",
+    "gas_temperature",
+];
+
+/// Default gas ranges around the scene's values: ± 50 mbar, ± 10 K.
+pub const GAS_PRESSURE_SPAN_MBAR: f64 = 50.0;
+pub const GAS_TEMPERATURE_SPAN_K: f64 = 10.0;
+
+/// The scene variables a source sets.
+fn variables(source: &str) -> &'static [&'static str] {
+    match source {
+        "figure" => &[],
+        "solar_model" => &["solar_model"],
+        "pointing_x" => &["offset_x"],
+        "pointing_y" => &["offset_y"],
+        "tilt_x" => &["telescope_tilt_x"],
+        "tilt_y" => &["telescope_tilt_y"],
+        "gas_pressure" => &["gas_pressure_mbar"],
+        _ => &["gas_temperature_k"],
+    }
+}
+
+/// The plan for `scene` (the nominal scene, loaded with the study's own
+/// overrides).
+pub fn plan(scene: &Scene, r: &Request) -> Result<Plan, StudyError> {
+    let bad = |m: String| Err(StudyError::Input(m));
+    if let Some(names) = &r.sources {
+        if let Some(n) = names.iter().find(|n| !SOURCES.contains(&n.as_str())) {
+            return bad(format!(
+                "unknown source of uncertainty `{n}` (known: {}); vary any scene variable with --vary NAME=LOW:HIGH",
+                SOURCES.join(", ")
+            ));
+        }
+    }
+    let mut p = Plan {
+        sources: Vec::new(),
+        variations: vec![Variation {
+            source: "nominal".into(),
+            label: "nominal".into(),
+            defines: Vec::new(),
+            figure: None,
+        }],
+        skipped: Vec::new(),
+        notes: Vec::new(),
+    };
+    for source in SOURCES {
+        let asked = r.sources.as_ref().map(|s| s.iter().any(|n| n == source));
+        if asked == Some(false) {
+            continue;
+        }
+        match variations_of(scene, r, source, &mut p.notes) {
+            Ok((what, kind, vs)) => {
+                p.sources.push(SourcePlan {
+                    name: source.into(),
+                    kind,
+                    what,
+                });
+                p.variations.extend(vs);
+            }
+            Err(reason) if asked.is_none() => p.skipped.push((source.into(), reason)),
+            Err(reason) => return bad(format!("cannot vary {source}: {reason}")),
+        }
+    }
+    for (name, range) in &r.vary {
+        let (what, vs) = range_of(scene, name, *range, &format!("vary:{name}"), "")?;
+        p.sources.push(SourcePlan {
+            name: format!("vary:{name}"),
+            kind: Kind::Range,
+            what,
+        });
+        p.variations.extend(vs);
+    }
+    if p.sources.is_empty() {
+        return bad("no source of uncertainty to vary: the scene supports none of those asked for (give --vary NAME=LOW:HIGH)".into());
+    }
+    Ok(p)
+}
+
+/// A source's variations, or why the scene cannot vary it.
+fn variations_of(
+    scene: &Scene,
+    r: &Request,
+    source: &str,
+    notes: &mut Vec<String>,
+) -> Result<(String, Kind, Vec<Variation>), String> {
+    if let Some(v) = variables(source)
+        .iter()
+        .find(|v| !scene.vars.contains_key(**v))
+    {
+        return Err(format!("the scene has no variable `{v}`"));
+    }
+    let number = |v: &str| scene_number(scene, v);
+    let around = |v: &str, d: f64| -> Result<[f64; 2], String> {
+        let x = number(v)?;
+        Ok([x - d, x + d])
+    };
+    let range = |var: &str, lh: [f64; 2], unit: &str| {
+        range_of(scene, var, lh, source, unit)
+            .map(|(w, vs)| (w, Kind::Range, vs))
+            .map_err(|e| e.to_string())
+    };
+    match source {
+        "figure" => super::figure::draws(scene, r, notes),
+        "solar_model" => {
+            let nominal = scene.vars["solar_model"].as_str().unwrap_or_default();
+            if nominal == r.solar_model {
+                return Err(format!(
+                    "the scene already uses solar model `{nominal}`: nothing to compare"
+                ));
+            }
+            Ok((
+                format!("solar model {} instead of {nominal}", r.solar_model),
+                Kind::Alternative,
+                vec![Variation {
+                    source: source.into(),
+                    label: r.solar_model.clone(),
+                    defines: vec![format!("solar_model={}", r.solar_model)],
+                    figure: None,
+                }],
+            ))
+        }
+        "pointing_x" | "pointing_y" => {
+            let var = variables(source)[0];
+            range(var, around(var, r.pointing_arcmin)?, "′")
+        }
+        "tilt_x" | "tilt_y" => {
+            // The scene's tilt variables are in degrees.
+            let var = variables(source)[0];
+            range(var, around(var, r.tilt_arcmin / 60.0)?, "°").map(|(_, k, vs)| {
+                (
+                    format!(
+                        "{var} ± {}′ (± {:.5}°)",
+                        r.tilt_arcmin,
+                        r.tilt_arcmin / 60.0
+                    ),
+                    k,
+                    vs,
+                )
+            })
+        }
+        "gas_pressure" => {
+            let var = variables(source)[0];
+            let lh = match r.gas_pressure_mbar {
+                Some(lh) => lh,
+                None => around(var, GAS_PRESSURE_SPAN_MBAR)?,
+            };
+            range(var, lh, " mbar")
+        }
+        _ => {
+            let var = variables(source)[0];
+            let lh = match r.gas_temperature_k {
+                Some(lh) => lh,
+                None => around(var, GAS_TEMPERATURE_SPAN_K)?,
+            };
+            range(var, lh, " K")
+        }
+    }
+}
+
+/// A scene variable's value as a number.
+fn scene_number(scene: &Scene, var: &str) -> Result<f64, String> {
+    match scene.vars.get(var) {
+        Some(toml::Value::Float(x)) => Ok(*x),
+        Some(toml::Value::Integer(i)) => Ok(*i as f64),
+        Some(v) => Err(format!("variable `{var}` is {v}, not a number")),
+        None => Err(format!("the scene has no variable `{var}`")),
+    }
+}
+
+/// The two variations of `var` at `low` and `high`.
+fn range_of(
+    scene: &Scene,
+    var: &str,
+    [low, high]: [f64; 2],
+    source: &str,
+    unit: &str,
+) -> Result<(String, Vec<Variation>), StudyError> {
+    let nominal = scene_number(scene, var).map_err(|e| {
+        let known: Vec<&str> = scene.vars.keys().map(String::as_str).collect();
+        StudyError::Input(format!("{e} (the scene's variables: {})", known.join(", ")))
+    })?;
+    if !(low.is_finite() && high.is_finite() && low < high) {
+        return Err(StudyError::Input(format!(
+            "{var}: the range {low}:{high} must be LOW:HIGH with LOW < HIGH"
+        )));
+    }
+    let at = |x: f64| Variation {
+        source: source.into(),
+        label: format!("{var} = {x}"),
+        defines: vec![format!("{var}={x:?}")],
+        figure: None,
+    };
+    Ok((
+        format!("{var} from {low} to {high}{unit} (nominal {nominal})"),
+        vec![at(low), at(high)],
+    ))
+}
+
+/// The figure parameters' names, for messages.
+pub fn figure_parameter_names() -> String {
+    FIGURE_PARAMETERS.join(", ")
+}

@@ -1,0 +1,187 @@
+//! Each source's effect, from its traced variations: on the image quality,
+//! the centroid and the flux (the table), and on each pixel of the map (the
+//! standard-deviation images).
+//!
+//! A source's standard deviation σ: for random draws (the figure), their
+//! sample standard deviation; for a low and a high value taken as ±1σ (the
+//! pointing, the tilt, the gas, `--vary`), the root mean square of their two
+//! differences to the nominal value (half their difference for a linear
+//! effect; for an even one, such as the flux lost to a pointing offset either
+//! way, the loss itself, where half the difference would say nothing); for one
+//! alternative (the solar model), its difference to the nominal image. The
+//! sources are independent: the total σ is their sum in quadrature. The mean
+//! image is the nominal one plus each source's mean shift (the draws' mean,
+//! the midpoint of a range; an alternative counts as symmetric, no shift).
+
+use super::plan::{Kind, Plan};
+use super::{MapFrame, Outcome};
+use serde::Serialize;
+
+/// The quantities of the table, in the order of [`metrics`].
+pub const METRICS: [&str; 7] = [
+    "flux",
+    "central_flux",
+    "hpd_arcsec",
+    "d80_arcsec",
+    "d90_arcsec",
+    "centroid_x_mm",
+    "centroid_y_mm",
+];
+
+/// An outcome's quantities in the order of [`METRICS`] (NaN where it has
+/// none: no flux, or no focal length for the diameters).
+pub fn metrics(o: &Outcome) -> [f64; 7] {
+    let d = o.diameters.map_or([f64::NAN; 3], |d| [d.hpd, d.d80, d.d90]);
+    let c = o.centroid_mm.unwrap_or([f64::NAN; 2]);
+    [o.flux, o.central_flux, d[0], d[1], d[2], c[0], c[1]]
+}
+
+/// One quantity's change under a source.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct Effect {
+    /// The source's standard deviation of the quantity.
+    pub sigma: f64,
+    /// Its signed mean change: the draws' mean minus the nominal value; the
+    /// mean of low and high minus the nominal; the alternative minus the
+    /// nominal.
+    pub shift: f64,
+}
+
+/// A source's effect on every quantity.
+#[derive(Clone, Debug, Serialize)]
+pub struct SourceEffect {
+    pub name: String,
+    pub kind: Kind,
+    pub what: String,
+    /// Indices of its variations among the outcomes.
+    pub variations: Vec<usize>,
+    /// One per [`METRICS`].
+    pub effects: Vec<Effect>,
+}
+
+/// Facts of the run the summary carries.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunFacts {
+    pub sensor: String,
+    pub central_mm: f64,
+    /// Whether fluxes are in axions s⁻¹ (a Sun) or summed weights.
+    pub absolute: bool,
+    pub seconds: f64,
+    pub threads: usize,
+}
+
+/// The study's result.
+#[derive(Clone, Debug)]
+pub struct Systematics {
+    pub plan: Plan,
+    /// One per variation, in the plan's order (the nominal first).
+    pub outcomes: Vec<Outcome>,
+    pub frame: MapFrame,
+    pub sources: Vec<SourceEffect>,
+    /// The sources' σ in quadrature, one per [`METRICS`].
+    pub total_sigma: Vec<f64>,
+    /// Maps ([iy][ix]): the nominal image, the mean, the total σ and each
+    /// source's σ (in the order of `sources`).
+    pub nominal_map: Vec<f64>,
+    pub mean_map: Vec<f64>,
+    pub sigma_map: Vec<f64>,
+    pub sigma_maps: Vec<Vec<f64>>,
+    pub facts: RunFacts,
+}
+
+/// A source's σ and shift of the values `x` (its variations') against the
+/// nominal `x0`.
+fn effect(kind: Kind, x0: f64, x: &[f64]) -> Effect {
+    match kind {
+        Kind::Draws => {
+            let n = x.len() as f64;
+            let mean = x.iter().sum::<f64>() / n;
+            let var = x.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0);
+            Effect {
+                sigma: var.sqrt(),
+                shift: mean - x0,
+            }
+        }
+        Kind::Range => {
+            let (lo, hi) = (x[0] - x0, x[1] - x0);
+            Effect {
+                sigma: (0.5 * (lo * lo + hi * hi)).sqrt(),
+                shift: 0.5 * (lo + hi),
+            }
+        }
+        Kind::Alternative => Effect {
+            sigma: (x[0] - x0).abs(),
+            shift: x[0] - x0,
+        },
+    }
+}
+
+/// The summary of the traced variations.
+pub fn summarise(
+    plan: &Plan,
+    outcomes: Vec<Outcome>,
+    frame: MapFrame,
+    facts: RunFacts,
+) -> Systematics {
+    let nominal = metrics(&outcomes[0]);
+    let nominal_map = outcomes[0].map.clone();
+    let n_pix = nominal_map.len();
+    let mut mean_map = nominal_map.clone();
+    let mut sigma_sq = vec![0.0; n_pix];
+    let mut sigma_maps = Vec::new();
+    let mut sources = Vec::new();
+    for sp in &plan.sources {
+        let idx: Vec<usize> = (0..outcomes.len())
+            .filter(|&k| outcomes[k].source == sp.name)
+            .collect();
+        let values: Vec<[f64; 7]> = idx.iter().map(|&k| metrics(&outcomes[k])).collect();
+        let effects = (0..METRICS.len())
+            .map(|m| {
+                let x: Vec<f64> = values.iter().map(|v| v[m]).collect();
+                effect(sp.kind, nominal[m], &x)
+            })
+            .collect();
+        let mut sigma = vec![0.0; n_pix];
+        let mut x = vec![0.0; idx.len()];
+        for p in 0..n_pix {
+            for (j, &k) in idx.iter().enumerate() {
+                x[j] = outcomes[k].map[p];
+            }
+            let e = effect(sp.kind, nominal_map[p], &x);
+            sigma[p] = e.sigma;
+            sigma_sq[p] += e.sigma * e.sigma;
+            if sp.kind != Kind::Alternative {
+                mean_map[p] += e.shift;
+            }
+        }
+        sigma_maps.push(sigma);
+        sources.push(SourceEffect {
+            name: sp.name.clone(),
+            kind: sp.kind,
+            what: sp.what.clone(),
+            variations: idx,
+            effects,
+        });
+    }
+    let total_sigma = (0..METRICS.len())
+        .map(|m| {
+            sources
+                .iter()
+                .map(|s| s.effects[m].sigma.powi(2))
+                .sum::<f64>()
+                .sqrt()
+        })
+        .collect();
+    Systematics {
+        plan: plan.clone(),
+        outcomes,
+        frame,
+        sources,
+        total_sigma,
+        nominal_map,
+        mean_map,
+        sigma_map: sigma_sq.into_iter().map(f64::sqrt).collect(),
+        sigma_maps,
+        facts,
+    }
+}
