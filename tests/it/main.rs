@@ -43,6 +43,7 @@ mod solar;
 mod sources;
 mod streams;
 mod study_resume;
+mod systematics;
 mod table_cache;
 mod telescopes;
 mod toolchain;

@@ -272,3 +272,28 @@ fn a_psf_library_killed_and_resumed_is_the_uninterrupted_library() {
     };
     check_kill_and_resume(command, 3, &["psf.npy", "psf.json"]);
 }
+
+#[test]
+fn a_systematics_study_killed_and_resumed_is_the_uninterrupted_study() {
+    let command = |out: &Path, extra: &[&str]| {
+        let mut c = traxer();
+        c.arg("systematics")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args(["-n", "200000", "--sources", "figure", "--figure-draws", "5"])
+            .args(["--vary", "sensor_z=-1529:-1509", "-q", "-o"])
+            .arg(out)
+            .args(extra);
+        c
+    };
+    check_kill_and_resume(
+        command,
+        3,
+        &[
+            "systematics.csv",
+            "systematics.json",
+            "map_variations.npy",
+            "map_sigma.npy",
+            "map_mean.npy",
+        ],
+    );
+}

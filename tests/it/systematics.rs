@@ -1,0 +1,217 @@
+//! `traxer systematics`: the figure draws' spread of the HPD is the spread the
+//! fit's error propagation predicts; the files agree with each other and with
+//! the physics of a known variation; refusals name what is wrong.
+
+use crate::common::{repo, run_fails, run_ok, traxer};
+use traxer::studies::systematics::{self, Kind, Request, Settings};
+use traxer::xray::figure_covariance::FigureCovariance;
+
+fn request(sources: &[&str], draws: usize) -> Request {
+    Request {
+        sources: Some(sources.iter().map(|s| s.to_string()).collect()),
+        figure_draws: draws,
+        figure_preset: None,
+        figure_hold: None,
+        pointing_arcmin: 1.0,
+        tilt_arcmin: 1.0,
+        solar_model: "b16_gs98".into(),
+        gas_pressure_mbar: None,
+        gas_temperature_k: None,
+        vary: Vec::new(),
+        seed: 5,
+    }
+}
+
+#[test]
+fn the_figure_draws_spread_the_hpd_as_the_fits_error_propagation_predicts() {
+    use traxer::studies::fit::{Bounds, FitSettings, LocalAlgorithm};
+    use traxer::studies::fit_errors::sensitivity;
+    // The PANTER Al Kα scene with the shipped preset, given a covariance of
+    // the narrow width alone (σ = 10″). The fit's prediction of the HPD's
+    // spread is linear propagation, σ_HPD = |∂HPD/∂narrow| · 10″, the
+    // derivative by the fit's own central differences
+    // (fit_errors::sensitivity, 1 M photons: ≈ 4 % error); the study's is the
+    // sample standard deviation of 40 draws of 200 000 photons, whose relative
+    // 1σ error is 1/√(2·39) = 11 % (the photons' own noise, ≈ 1.3″ about a
+    // straight line through the draws, adds in quadrature to the ≈ 6″
+    // spread: 2 %). Required: within 35 % (3σ of the two errors combined).
+    let dev = crate::common::device();
+    let path = repo().join("scenes/panter_al_ka.toml");
+    let mut scene = traxer::scene::Scene::load(&dev, &path, &[]).unwrap();
+    let sigma = 10.0;
+    let entry = scene
+        .figure_errors
+        .figure_errors
+        .get_mut("llnl_panter")
+        .unwrap();
+    entry.covariance = Some(FigureCovariance {
+        parameters: vec!["in_plane_narrow".into()],
+        matrix: vec![vec![sigma * sigma]],
+        unconstrained: Vec::new(),
+    });
+    let nominal = entry.parameters();
+    let plan = systematics::plan(&scene, &request(&["figure"], 40)).unwrap();
+    assert_eq!(plan.variations.len(), 41);
+    assert_eq!(plan.sources[0].kind, Kind::Draws);
+    let settings = Settings {
+        photons: 200_000,
+        seed: 5,
+        threads: 0,
+        sensor: None,
+        central_mm: 5.0,
+    };
+    let load = |_: &[String]| unreachable!("figure draws reuse the loaded scene");
+    let s = systematics::run(&mut scene, &load, &plan, &settings, &[], &(), |_| {}).unwrap();
+    let study = s.sources[0].effects[2].sigma;
+    let fit = FitSettings {
+        bounds: Bounds {
+            lower: [0.0, nominal.in_plane_wide, nominal.wide_fraction, 0.0],
+            upper: [120.0, nominal.in_plane_wide, nominal.wide_fraction, 0.0],
+        },
+        target: traxer::studies::Diameters {
+            hpd: 206.0,
+            d80: 397.0,
+            d90: 549.0,
+        },
+        run: traxer::trace::RunConfig::new(1_000_000, 3),
+        sensor: 0,
+        global_evaluations: 0,
+        local_evaluations: 0,
+        local_algorithm: LocalAlgorithm::Sbplx,
+    };
+    let j = sensitivity(&mut scene, &fit, &nominal, &()).unwrap();
+    let predicted = j.rows[0][0].abs() * sigma;
+    eprintln!("HPD spread: study {study:.2}″, predicted {predicted:.2}″");
+    assert!(
+        predicted > 3.0,
+        "the test needs a visible spread: {predicted}"
+    );
+    assert!(
+        (study / predicted - 1.0).abs() < 0.35,
+        "study {study} vs predicted {predicted}"
+    );
+    // The scene's mirrors are back at the preset after the draws.
+    let again = systematics::run(
+        &mut scene,
+        &load,
+        &plan,
+        &settings,
+        &s.outcomes[..1],
+        &(),
+        |_| {},
+    )
+    .unwrap();
+    assert_eq!(
+        again.outcomes, s.outcomes,
+        "the same draws, the same photons"
+    );
+}
+
+fn study(out: &std::path::Path, extra: &[&str]) -> std::process::Command {
+    let mut c = traxer();
+    c.arg("systematics")
+        .arg(repo().join("scenes/panter_al_ka.toml"))
+        .args(["-n", "30000", "--sources", "figure", "--figure-draws", "4"])
+        .args(["--vary", "sensor_z=-1559:-1479", "-q", "-o"])
+        .arg(out)
+        .args(extra);
+    c
+}
+
+#[test]
+fn the_files_agree_and_a_defocus_range_gives_its_rms_difference() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s");
+    run_ok(&mut study(&out, &[]));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("systematics.json")).unwrap())
+            .unwrap();
+    let csv = std::fs::read_to_string(out.join("systematics.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 1 + 4 + 2, "{csv}");
+    assert_eq!(rows[0][0], "nominal");
+    // The defocus range: σ is the RMS of the two HPD changes, the shift their
+    // mean (recomputed here from the table's rows).
+    let hpd = |r: &Vec<&str>| r[5].parse::<f64>().unwrap();
+    let (d_lo, d_hi) = (hpd(&rows[5]) - hpd(&rows[0]), hpd(&rows[6]) - hpd(&rows[0]));
+    let vary = &json["sources"][1];
+    assert_eq!(vary["name"], "vary:sensor_z");
+    let e = &vary["effects"]["hpd_arcsec"];
+    let rms = (0.5 * (d_lo * d_lo + d_hi * d_hi)).sqrt();
+    assert!(
+        (e["sigma"].as_f64().unwrap() / rms - 1.0).abs() < 1e-6,
+        "{e}"
+    );
+    // Defocus by ±40 mm, far beyond the depth of focus (the shells' rays
+    // converge at 2·R/f ≈ 0.1 rad: 4 mm of blur, 550″), widens the image on
+    // both sides of the focus: both changes are positive.
+    assert!(d_lo > 0.0 && d_hi > 0.0, "{d_lo} {d_hi}");
+    assert!((e["shift"].as_f64().unwrap() - 0.5 * (d_lo + d_hi)).abs() < 1e-6 * rms);
+    // The maps: each variation's map holds its flux (a binned sensor image);
+    // σ² is the sum of the sources' σ²; the nominal map is variation 0.
+    let npy = |f: &str| traxer::output::read_npy(&out.join(f)).unwrap();
+    let (shape, v) = npy("map_variations.npy");
+    let n_pix = (shape[1] * shape[2]) as usize;
+    for (k, r) in rows.iter().enumerate() {
+        let sum: f64 = v[k * n_pix..(k + 1) * n_pix].iter().sum();
+        let flux: f64 = r[3].parse().unwrap();
+        assert!((sum / flux - 1.0).abs() < 1e-12, "row {k}: {sum} vs {flux}");
+    }
+    assert_eq!(npy("map_nominal.npy").1, v[..n_pix]);
+    let total = npy("map_sigma.npy").1;
+    let (by_shape, by) = npy("map_sigma_by_source.npy");
+    assert_eq!(by_shape[0], 2);
+    for p in 0..n_pix {
+        let sq = by[p].powi(2) + by[n_pix + p].powi(2);
+        assert!((total[p].powi(2) - sq).abs() <= 1e-12 * sq.max(1e-300));
+    }
+    for f in [
+        "systematics.fits",
+        "map_mean.png",
+        "map_sigma.png",
+        "map_mean.npy",
+    ] {
+        assert!(out.join(f).is_file(), "{f}");
+    }
+}
+
+#[test]
+fn sources_the_scene_cannot_vary_are_refused_by_name() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = |args: &[&str]| {
+        let mut c = traxer();
+        c.arg("systematics")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args(["-n", "1000", "-q", "-o"])
+            .arg(dir.path().join("x"))
+            .args(args);
+        c
+    };
+    let err = run_fails(&mut base(&["--sources", "pointing_x"]), 2);
+    assert!(
+        err.contains("cannot vary pointing_x") && err.contains("offset_x"),
+        "{err}"
+    );
+    let err = run_fails(&mut base(&["--sources", "wobble"]), 2);
+    assert!(
+        err.contains("unknown source of uncertainty `wobble`"),
+        "{err}"
+    );
+    let err = run_fails(&mut base(&["--vary", "no_such=1:2"]), 2);
+    assert!(
+        err.contains("no variable `no_such`") && err.contains("sensor_z"),
+        "{err}"
+    );
+    let err = run_fails(&mut base(&["--vary", "sensor_z=3:1"]), 2);
+    assert!(err.contains("LOW must be below HIGH"), "{err}");
+    let err = run_fails(
+        &mut base(&["--sources", "figure", "--figure-preset", "xmm_newton"]),
+        2,
+    );
+    assert!(err.contains("has no covariance"), "{err}");
+    assert!(!dir.path().join("x").exists(), "nothing written");
+}
