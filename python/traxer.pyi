@@ -149,6 +149,36 @@ class Scene:
         a window of ``window`` pixels around each image's centroid, normalised
         to 1. Energies and angles may be astropy Quantities.
         """
+    def systematics(
+        self,
+        photons: Optional[int | float] = None,
+        seed: int = 1,
+        threads: int = 0,
+        sensor: Optional[str] = None,
+        sources: Optional[list[str]] = None,
+        figure_draws: int = 20,
+        figure_preset: Optional[str] = None,
+        figure_hold: Optional[list[str]] = None,
+        pointing_arcmin: float = 1.0,
+        tilt_arcmin: float = 1.0,
+        solar_model: str = "b16_gs98",
+        gas_pressure_mbar: Optional[tuple[float, float]] = None,
+        gas_temperature_k: Optional[tuple[float, float]] = None,
+        vary: Optional[dict[str, tuple[float, float]]] = None,
+        central_mm: float = 5.0,
+        progress: bool = False,
+    ) -> Systematics:
+        """The image's systematic uncertainty, as ``traxer systematics``: the
+        scene traced under each source of uncertainty with the same photons
+        (``photons`` per variation, default 1 000 000). Sources (default: every
+        one the scene's variables support): "figure" (``figure_draws``
+        parameter sets from the preset's covariance; ``figure_hold`` the
+        parameters held, default those the fit found unconstrained),
+        "solar_model", "pointing_x"/"pointing_y" (± ``pointing_arcmin``),
+        "tilt_x"/"tilt_y" (± ``tilt_arcmin``), "gas_pressure"/"gas_temperature"
+        (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); ``vary``: a
+        dict of other scene variables and their (low, high).
+        """
 
 class SensorImage:
     """One sensor's image of a trace.
@@ -362,6 +392,37 @@ class PsfLibrary:
     def save(self, folder: _Path) -> None:
         """Writes the files of ``traxer psf`` into ``folder``: psf.fits (one image
         per HDU, the layout SIXTE reads), psf.npy and psf.json, all at once."""
+
+class Systematics:
+    """The image's systematic uncertainty: the scene traced under each source of
+    uncertainty with the same photons (``Scene.systematics``)."""
+
+    nominal: npt.NDArray[np.float64]
+    """The nominal scene's map, [iy, ix], on the sensor's detector grid (or its
+    image binned to at most 256 pixels a side)."""
+    mean: npt.NDArray[np.float64]
+    """The nominal map plus each source's mean shift."""
+    sigma: npt.NDArray[np.float64]
+    """The total systematic σ per map pixel (the sources in quadrature)."""
+    sigma_by_source: dict[str, npt.NDArray[np.float64]]
+    """Each source's σ map, by source name."""
+    variations: npt.NDArray[np.float64]
+    """Every traced variation's map, [variation, iy, ix], in the order of ``table``."""
+    seconds: float
+    """Seconds spent tracing."""
+    @property
+    def summary(self) -> dict[str, Any]:
+        """Each source's effect, the nominal values and the total (systematics.json)."""
+    @property
+    def table(self) -> list[dict[str, Any]]:
+        """One dict per traced variation: source, variation, its settings and quantities."""
+    @property
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the study."""
+    def save(self, folder: _Path) -> None:
+        """Writes the files of ``traxer systematics`` into ``folder``:
+        systematics.csv, systematics.json, systematics.fits, the map_*.npy and
+        the PNGs, all at once."""
 
 class SolarEmission:
     """A solar axion emission table w(r, E) on a radius × energy grid."""

@@ -21,6 +21,7 @@ mod result;
 mod run;
 mod scene;
 mod solar;
+mod systematics;
 mod units;
 
 use pyo3::prelude::*;
@@ -32,7 +33,7 @@ use pyo3::prelude::*;
 /// `scene.trace(photons, seed=1)`; the result holds each sensor's image as numpy
 /// arrays and `result.save(folder)` writes the same files as `traxer trace`.
 /// Also: `traxer.reflectivity`, `traxer.eef`, `Scene.effective_area`,
-/// `Scene.psf_library` and `traxer.SolarEmission`.
+/// `Scene.psf_library`, `Scene.systematics` and `traxer.SolarEmission`.
 #[pymodule]
 #[pyo3(name = "traxer")]
 fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -57,6 +58,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<grid::GridImage>()?;
     m.add_class::<effective_area::EffectiveArea>()?;
     m.add_class::<psf::PsfLibrary>()?;
+    m.add_class::<systematics::Systematics>()?;
     m.add_class::<solar::SolarEmission>()?;
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;

@@ -309,6 +309,90 @@ impl Scene {
         };
         crate::psf::run(py, self.loaded.clone(), grid, progress)
     }
+
+    /// The image's systematic uncertainty, as `traxer systematics`: the scene
+    /// traced under each source of uncertainty with the same photons. Sources
+    /// (default: every one the scene's variables support): "figure" (
+    /// `figure_draws` parameter sets from the preset's covariance),
+    /// "solar_model", "pointing_x"/"pointing_y" (± `pointing_arcmin`),
+    /// "tilt_x"/"tilt_y" (± `tilt_arcmin`), "gas_pressure"/"gas_temperature"
+    /// (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); `vary`: a
+    /// dict of other scene variables and their (low, high). Returns a
+    /// `traxer.Systematics`.
+    #[pyo3(signature = (photons = None, seed = 1, threads = 0, sensor = None, sources = None, figure_draws = 20, figure_preset = None, figure_hold = None, pointing_arcmin = 1.0, tilt_arcmin = 1.0, solar_model = "b16_gs98", gas_pressure_mbar = None, gas_temperature_k = None, vary = None, central_mm = 5.0, progress = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn systematics(
+        &self,
+        py: Python<'_>,
+        photons: Option<&Bound<'_, PyAny>>,
+        seed: u64,
+        threads: usize,
+        sensor: Option<String>,
+        sources: Option<Vec<String>>,
+        figure_draws: usize,
+        figure_preset: Option<String>,
+        figure_hold: Option<Vec<String>>,
+        pointing_arcmin: f64,
+        tilt_arcmin: f64,
+        solar_model: &str,
+        gas_pressure_mbar: Option<(f64, f64)>,
+        gas_temperature_k: Option<(f64, f64)>,
+        vary: Option<std::collections::BTreeMap<String, (f64, f64)>>,
+        central_mm: f64,
+        progress: bool,
+    ) -> PyResult<crate::systematics::Systematics> {
+        let pair = |p: (f64, f64)| [p.0, p.1];
+        for (what, x) in [
+            ("pointing_arcmin", pointing_arcmin),
+            ("tilt_arcmin", tilt_arcmin),
+        ] {
+            if !(x.is_finite() && x > 0.0) {
+                return Err(crate::errors::input(format!(
+                    "{what} = {x}: expected a positive angle in arcmin"
+                )));
+            }
+        }
+        for (what, r) in [
+            ("gas_pressure_mbar", gas_pressure_mbar),
+            ("gas_temperature_k", gas_temperature_k),
+        ] {
+            if let Some((l, h)) = r {
+                if !(l.is_finite() && h.is_finite() && l < h) {
+                    return Err(crate::errors::input(format!(
+                        "{what} = ({l}, {h}): expected (low, high) with low < high"
+                    )));
+                }
+            }
+        }
+        let req = traxer::studies::systematics::Request {
+            sources,
+            figure_draws,
+            figure_preset,
+            figure_hold,
+            pointing_arcmin,
+            tilt_arcmin,
+            solar_model: solar_model.to_string(),
+            gas_pressure_mbar: gas_pressure_mbar.map(pair),
+            gas_temperature_k: gas_temperature_k.map(pair),
+            vary: vary
+                .unwrap_or_default()
+                .into_iter()
+                .map(|(k, v)| (k, pair(v)))
+                .collect(),
+            seed,
+        };
+        let settings = traxer::studies::systematics::Settings {
+            photons: match photons {
+                Some(p) => crate::convert::count("photons", p, 1)?,
+                None => 1_000_000,
+            },
+            seed,
+            threads: self::threads(threads)?,
+            sensor,
+            central_mm,
+        };
+        crate::systematics::run(py, self.loaded.clone(), (req, settings), progress)
+    }
 }
 
 impl Scene {

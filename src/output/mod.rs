@@ -33,7 +33,9 @@ mod provenance;
 mod run_files;
 mod solar_flux;
 mod systematics;
-pub use systematics::{write_systematics, SYSTEMATICS_FILES};
+pub use systematics::{
+    description as systematics_description, write_systematics, SYSTEMATICS_FILES,
+};
 
 pub use crate::sensor::{class_file_names, file_stem, sensor_file_names};
 pub use arf::{arf_name, energy_bins};

@@ -173,8 +173,9 @@ fn settings(v: &crate::studies::systematics::Variation) -> String {
     }
 }
 
-/// `systematics.json`.
-fn description(s: &Systematics, provenance: &Provenance) -> serde_json::Value {
+/// `systematics.json`: each source's effect, the nominal values, the total,
+/// the map's frame and what the files hold.
+pub fn description(s: &Systematics, provenance: &Provenance) -> serde_json::Value {
     let effects: Vec<_> = s
         .sources
         .iter()

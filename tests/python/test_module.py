@@ -778,3 +778,29 @@ def test_builtin_emission_of_the_gs98_model_is_brighter():
         assert abs(gs98 / agss - ratio) < 0.002, (emission, gs98 / agss)
     with pytest.raises(traxer.InputError, match="b16_gs98"):
         traxer.SolarEmission.builtin(solar_model="gs98")
+
+
+def test_systematics_in_python_equals_the_cli(tmp_path):
+    """`Scene.systematics` traces the variations of `traxer systematics` with
+    the same photons: the same table and maps bit for bit; `save` writes the
+    CLI's files; the total σ is the sources' in quadrature; and a source the
+    scene cannot vary is refused by name."""
+    scene = REPO / "scenes" / "panter_al_ka.toml"
+    s = traxer.Scene(scene).systematics(photons=20_000, sources=["figure"], figure_draws=3,
+                                        vary={"sensor_z": (-1539.0, -1499.0)}, seed=2)
+    assert [r["source"] for r in s.table] == ["nominal"] + ["figure"] * 3 + ["vary:sensor_z"] * 2
+    assert s.variations.shape[0] == 6 and s.nominal.shape == s.variations.shape[1:]
+    assert set(s.sigma_by_source) == {"figure", "vary:sensor_z"}
+    np.testing.assert_allclose(
+        s.sigma ** 2, s.sigma_by_source["figure"] ** 2 + s.sigma_by_source["vary:sensor_z"] ** 2,
+        rtol=1e-12, atol=0)
+    cli("systematics", scene, "-n", 20_000, "--sources", "figure", "--figure-draws", 3,
+        "--vary", "sensor_z=-1539:-1499", "--seed", 2, "--out", tmp_path / "cli", "-q")
+    assert s.variations.tobytes() == np.load(tmp_path / "cli" / "map_variations.npy").tobytes()
+    s.save(tmp_path / "py")
+    for f in ("systematics.csv", "map_sigma.npy", "map_mean.npy"):
+        assert (tmp_path / "py" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+    summary = json.loads((tmp_path / "cli" / "systematics.json").read_text())
+    assert s.summary["sources"] == summary["sources"]
+    with pytest.raises(traxer.InputError, match="cannot vary pointing_x"):
+        traxer.Scene(scene).systematics(photons=1000, sources=["pointing_x"])
