@@ -209,7 +209,12 @@ fn sources_the_scene_cannot_vary_are_refused_by_name() {
     let err = run_fails(&mut base(&["--vary", "sensor_z=3:1"]), 2);
     assert!(err.contains("LOW must be below HIGH"), "{err}");
     let err = run_fails(
-        &mut base(&["--sources", "figure", "--figure-preset", "xmm_newton"]),
+        &mut base(&[
+            "--sources",
+            "figure",
+            "--figure-preset",
+            "llnl_panter_rough",
+        ]),
         2,
     );
     assert!(err.contains("has no covariance"), "{err}");
