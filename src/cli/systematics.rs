@@ -157,28 +157,18 @@ fn request(a: &SystematicsArgs) -> Result<Request, InputError> {
 }
 
 pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
-    let req = request(&a)?;
-    let settings = Settings {
-        photons: a.photons,
-        seed: a.sampling.seed,
-        threads: a.sampling.threads,
-        sensor: a.sensor.clone(),
-        central_mm: a.central,
-    };
+    let (req, settings) = (request(&a)?, settings(&a));
     systematics::check(&settings)?;
     let (device, mut scene) = load_xray_scene(&a.scene)?;
     let plan = systematics::plan(&scene, &req)?;
-    let mut id = base_identity(&scene);
-    id.extend([
-        ("photons".into(), a.photons.into()),
-        ("seed".into(), a.sampling.seed.into()),
-        ("sensor".into(), serde_json::json!(a.sensor)),
-        ("central_mm".into(), a.central.into()),
-        ("variations".into(), serde_json::json!(plan.variations)),
-    ]);
     let out = a.output.scene_folder(&a.scene, "systematics");
-    let study: Study<Outcome> =
-        Study::open(&out, "systematics", &SYSTEMATICS_FILES, id.into(), a.resume)?;
+    let study: Study<Outcome> = Study::open(
+        &out,
+        "systematics",
+        &SYSTEMATICS_FILES,
+        identity(&a, &scene, &plan),
+        a.resume,
+    )?;
     study.check_scene(&scene)?;
     super::signals::set_stop_message(format!(
         "stopped; the variations so far are in {}: run the same command with --resume to continue",
@@ -197,12 +187,13 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
     };
     let n = plan.variations.len() as u64;
     let bar = progress::bar(a.photons.saturating_mul(n), "photons", quiet);
+    let replay = study.replay();
     let result = systematics::run(
         &mut scene,
         &load,
         &plan,
         &settings,
-        &study.replay(),
+        &replay,
         &|k| bar.inc(k),
         |o| {
             if let Some(w) = study.point_done(o) {
@@ -212,20 +203,11 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
     );
     bar.finish_and_clear();
     let s = result?;
-    let cfg = RunConfig {
-        threads: a.sampling.threads,
-        ..RunConfig::new(a.photons, a.sampling.seed)
-    };
     let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
         .scene(&scene)
-        .run(&cfg, s.facts.threads);
-    let name = a
-        .scene
-        .scene
-        .file_name()
-        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+        .run(&run_config(&a), s.facts.threads);
     let folder = study.folder;
-    write_systematics(folder.path(), &s, &name, &provenance)
+    write_systematics(folder.path(), &s, &file_name(&a.scene.scene), &provenance)
         .and_then(|_| folder.commit())
         .with_context(|| format!("cannot write the results into {}", out.display()))?;
     if !quiet {
@@ -237,6 +219,44 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// How each variation is traced.
+fn settings(a: &SystematicsArgs) -> Settings {
+    Settings {
+        photons: a.photons,
+        seed: a.sampling.seed,
+        threads: a.sampling.threads,
+        sensor: a.sensor.clone(),
+        central_mm: a.central,
+    }
+}
+
+/// Each variation's run, for the provenance.
+fn run_config(a: &SystematicsArgs) -> RunConfig {
+    RunConfig {
+        threads: a.sampling.threads,
+        ..RunConfig::new(a.photons, a.sampling.seed)
+    }
+}
+
+/// What must be equal for a recorded variation to be this study's.
+fn identity(a: &SystematicsArgs, scene: &Scene, plan: &systematics::Plan) -> serde_json::Value {
+    let mut id = base_identity(scene);
+    id.extend([
+        ("photons".into(), a.photons.into()),
+        ("seed".into(), a.sampling.seed.into()),
+        ("sensor".into(), serde_json::json!(a.sensor)),
+        ("central_mm".into(), a.central.into()),
+        ("variations".into(), serde_json::json!(plan.variations)),
+    ]);
+    id.into()
+}
+
+/// A path's file name, for titles.
+fn file_name(p: &std::path::Path) -> String {
+    p.file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned())
 }
 
 /// What will be traced.

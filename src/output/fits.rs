@@ -63,11 +63,11 @@ pub struct SensorFits<'a> {
 }
 
 /// An image extension: its name, dimensions (slowest first), data and keys.
-struct Extension<'a> {
-    name: String,
-    dims: Vec<usize>,
-    data: &'a [f64],
-    keys: Keys,
+pub(super) struct Extension<'a> {
+    pub name: String,
+    pub dims: Vec<usize>,
+    pub data: &'a [f64],
+    pub keys: Keys,
 }
 
 /// Writes a sensor's image as the FITS file `path`.
@@ -181,50 +181,9 @@ pub fn write_grid_fits(
     write_fits(path, &[gy, gx], flux, keys, Vec::new())
 }
 
-/// One map of [`write_maps_fits`]: its extension name (none for the first,
-/// the primary) and what it is.
-pub(super) struct Map<'a> {
-    pub name: String,
-    pub data: &'a [f64],
-    pub what: String,
-}
-
-/// Writes maps of `dims` ([ny, nx]) on one linear frame in mm (`first` pixel
-/// centre, `step`; `frame` says which) as the FITS file `path`: the first as
-/// the primary image, the others as extensions, each with the WCS, BUNIT and
-/// a CONTENT card; the provenance keys in the primary.
-pub(super) fn write_maps_fits(
-    path: &Path,
-    dims: [usize; 2],
-    (first, step, frame): ([f64; 2], [f64; 2], &str),
-    unit: &FluxUnit,
-    maps: &[Map],
-    (provenance, json_name): (&Provenance, &str),
-) -> std::io::Result<()> {
-    let keys_of = |m: &Map| {
-        let mut keys = Keys::default();
-        keys.text("BUNIT", unit.bunit, unit.comment);
-        keys.text("CONTENT", &m.what, "");
-        mm_axes(&mut keys, first, step, frame);
-        keys
-    };
-    let mut primary = keys_of(&maps[0]);
-    provenance_keys(&mut primary, provenance, json_name);
-    let extensions = maps[1..]
-        .iter()
-        .map(|m| Extension {
-            name: m.name.clone(),
-            dims: dims.to_vec(),
-            data: m.data,
-            keys: keys_of(m),
-        })
-        .collect();
-    write_fits(path, &dims, maps[0].data, primary, extensions)
-}
-
 /// The primary WCS: X and Y in mm, `first` the first pixel's centre, `step`
 /// the pitch.
-fn mm_axes(keys: &mut Keys, first: [f64; 2], step: [f64; 2], what: &str) {
+pub(super) fn mm_axes(keys: &mut Keys, first: [f64; 2], step: [f64; 2], what: &str) {
     for (i, name) in ["X", "Y"].iter().enumerate() {
         let axis = LinearAxis {
             ctype: name,
@@ -383,7 +342,7 @@ fn sky_axes(keys: &mut Keys, image: &SensorFits, frame: &PixelFrame) {
 
 /// Writes `data` of `dims` (slowest first) with `keys` as the FITS file `path`,
 /// followed by the image `extensions`, atomically.
-fn write_fits(
+pub(super) fn write_fits(
     path: &Path,
     dims: &[usize],
     data: &[f64],

@@ -17,6 +17,7 @@ mod eef_plot;
 mod effective_area;
 mod fit;
 mod fits;
+mod fits_maps;
 mod fits_read;
 mod focus;
 mod history;

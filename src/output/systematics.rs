@@ -5,7 +5,7 @@
 //! each source's σ as extensions), and the mean and σ images as PNG.
 
 use super::colormap::Scale;
-use super::fits::{write_maps_fits, Map};
+use super::fits_maps::{write_maps_fits, Map};
 use super::image_plot::{write_image_figure, ImageFigure};
 use super::npy::write_npy_f64;
 use super::run_files::{flux_unit, write_json};
