@@ -11,8 +11,10 @@ use std::process::ExitCode;
 
 /// X-ray raytracer for grazing-incidence telescopes (CAST, BabyIAXO), on Intel Embree.
 ///
-/// Units everywhere: millimetres, keV, degrees. Start with
-/// `traxer trace scenes/wolter1_parallel.toml` (results in out/wolter1_parallel).
+/// Units everywhere: millimetres, keV, degrees. Start where the README does:
+/// `traxer trace scenes/panter_al_ka.toml` traces the CAST LLNL telescope at the
+/// PANTER test facility (results in out/panter_al_ka; ./scripts/run-example.sh
+/// builds traxer and runs it).
 #[derive(Parser)]
 #[command(name = "traxer", version = concat!(env!("CARGO_PKG_VERSION"), " (", env!("TRAXER_GIT_HASH"), ")"))]
 struct Cli {

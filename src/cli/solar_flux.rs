@@ -32,7 +32,7 @@ use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
 /// a trace splits ABC images by). The built-in tables are made by
 /// scripts/solar_table.sh.
 #[derive(clap::Args)]
-#[command(mut_arg("out", |a| a.default_value("out/solar")))]
+#[command(mut_arg("out", |a| a.default_value("out/solar").help("Output folder, created if missing")))]
 pub struct SolarFluxArgs {
     /// primakoff, abc or primakoff+abc [default: primakoff; with --table, the
     /// table is the emission and --emission is refused].

@@ -12,9 +12,14 @@ use traxer::run::{RunSettings, Shard, TraceJob};
 /// shape [ny, nx], or [bands, ny, nx] with energy bins), NAME_counts.npy (photons
 /// per pixel), NAME.png and NAME_log.png (viridis), NAME_eef.png (encircled energy
 /// with the 50/80/90 % diameters), NAME_projections.csv (x and y profiles),
-/// NAME.json (provenance, sensor geometry, image quality, statistics);
-/// summary.json for the whole run; and run_state.bin, the exact sums for `traxer
-/// merge`. The same seed gives bit-identical images for any --threads, for a run
+/// NAME.json (provenance, sensor geometry, image quality, statistics); a sensor
+/// with a detector `pixel_grid` also NAME_grid.npy/.png/.csv (the image on the
+/// detector's pixels), one with a `gas` NAME_conversion_depth.csv/.png and
+/// NAME_conversion_spectrum.csv (where and at which energies the X-rays convert),
+/// and with a Sun and several emission processes NAME_<process>.npy; with --fits
+/// NAME.fits (WCS in mm on the sensor, in arcsec at its focal length and, for a
+/// Sun, helioprojective on the sky); summary.json for the whole run; and
+/// run_state.bin, the exact sums for `traxer merge`. The same seed gives bit-identical images for any --threads, for a run
 /// cut into --shard parts and merged, and for a run stopped and resumed.
 #[derive(clap::Args)]
 pub struct TraceArgs {
@@ -34,7 +39,10 @@ pub struct TraceArgs {
     pub shard: Option<String>,
     /// Also write photons.npy (a NumPy structured array) and photons.csv: the first
     /// N photons recorded on any sensor, with position, direction, energy, weight
-    /// and history (reflections, first and last mirror, path class).
+    /// (in the units of the sensor's image: axions per second with a Sun, else
+    /// the source's weight, which summary.json → sources[].weight explains) and
+    /// history (reflections, first and last mirror, path
+    /// class).
     #[arg(value_name = "N", long, default_value_t = 0)]
     pub photon_list: usize,
     /// Write a checkpoint (DIR/checkpoint.bin) at most every this many seconds

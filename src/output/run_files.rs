@@ -525,6 +525,7 @@ pub fn sources_json(scene: &Scene, photons: u64) -> Value {
                     "type": "sun",
                     "emission": sun.emission,
                     "coupling": sun.coupling,
+                    "couplings_not_used": sun.couplings_not_used,
                     "distance_au": sun.distance_mm / (crate::source::sun::AU_CM * 10.0),
                     "toward_sun": sun.toward_sun.to_array(),
                     "offset_arcmin": sun.offset_arcmin,

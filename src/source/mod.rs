@@ -164,7 +164,7 @@ impl Source {
                 "weight = fraction of the full sphere; the image is the expected photons per pixel if the source emitted `photons` photons isotropically"
             }
             Source::Sun(_) => {
-                "weight = cos θ · D_min² / |target − emission point|² (≈ 1); images are the summed weights × rate_per_unit_weight: axions per second per pixel, before the conversion probability in the magnet"
+                "weight = cos θ · D_min² / |target − emission point|² (≈ 1), times, when two emissions are drawn half the photons each (primakoff+abc), twice the drawn emission's share of the luminosity; images are the summed weights × rate_per_unit_weight: axions per second per pixel, before the conversion probability in the magnet"
             }
         }
     }

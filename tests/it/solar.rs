@@ -839,3 +839,49 @@ fn shared_solar_the_gs98_tables_are_the_computation_of_the_gs98_model() {
         .zip(&a.rates)
         .any(|(x, y)| (x / y - 1.0).abs() > 0.01));
 }
+
+#[test]
+fn a_couplings_table_scales_the_emissions_it_has_and_names_the_one_it_does_not_use() {
+    // `couplings = {...}` for a scene whose emission is a variable: with
+    // emission "primakoff" the image equals that of `g_agamma` alone (same
+    // photons, the same factor), and g_ae is reported as not used; both forms
+    // together, or couplings with an emission table file, are refused.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |source_keys: &str| {
+        format!(
+            "[[sources]]\ntype = \"sun\"\nemission = \"primakoff\"\n{source_keys}\ndirection = [0.0, 0.0, 1.0]\ntarget = {{ center = [0, 0, 100], radius = 20.0 }}\n\n[materials.s]\ntype = \"sensor\"\nsize = [60.0, 60.0]\npixels = [30, 30]\n\n[[objects]]\nname = \"s\"\nmaterial = \"s\"\nshape = {{ type = \"rectangle\", size = [60.0, 60.0] }}\n"
+        )
+    };
+    let trace = |text: &str, name: &str| {
+        let path = crate::common::write(dir.path(), name, text);
+        let out = dir.path().join(format!("{name}.out"));
+        crate::common::run_ok(
+            crate::common::traxer()
+                .arg("trace")
+                .arg(&path)
+                .args(["-n", "20000", "-q", "-o"])
+                .arg(&out),
+        );
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        (std::fs::read(out.join("s.npy")).unwrap(), summary)
+    };
+    let (direct, _) = trace(&scene("g_agamma = 3e-11"), "direct.toml");
+    let (table, summary) = trace(
+        &scene("couplings = { g_agamma = 3e-11, g_ae = 2e-13 }"),
+        "table.toml",
+    );
+    assert!(direct == table, "the same image");
+    let unused = &summary["sources"][0]["couplings_not_used"];
+    assert_eq!(unused.as_array().unwrap().len(), 1, "{unused}");
+    assert!(
+        unused[0].as_str().unwrap().contains("g_ae = 2e-13"),
+        "{unused}"
+    );
+    let err = crate::common::load_error(
+        dir.path(),
+        &scene("g_agamma = 3e-11\ncouplings = { g_ae = 2e-13 }"),
+    );
+    assert!(err.contains("not both"), "{err}");
+}

@@ -80,6 +80,12 @@ pub struct SunDesc {
     /// 1e-13); its flux scales as g_ae².
     #[serde(default)]
     pub g_ae: Option<f64>,
+    /// Both couplings at once, for a scene whose `emission` is a variable:
+    /// each scales its process when the emission has it; one whose process the
+    /// emission lacks is not used, and the run's summary.json says so
+    /// (`sources[].couplings_not_used`). Instead of `g_agamma` and `g_ae`.
+    #[serde(default)]
+    pub couplings: Option<CouplingSet>,
     /// What coupling a CSV table is computed for (reported in summaries).
     #[serde(default)]
     pub coupling: Option<String>,
@@ -103,6 +109,16 @@ pub struct SunDesc {
     /// Only emission between these energies (keV); default the whole table.
     #[serde(default)]
     pub energy_range: Option<[f64; 2]>,
+}
+
+/// `couplings = { g_agamma = ..., g_ae = ... }` of a `sun` source.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct CouplingSet {
+    #[serde(default)]
+    pub g_agamma: Option<f64>,
+    #[serde(default)]
+    pub g_ae: Option<f64>,
 }
 
 /// An emission: its table, what it is, its coupling, and its parts by coupling
@@ -137,6 +153,9 @@ pub struct SunSource {
     /// What the emission is (built-in or the file read).
     pub emission: String,
     pub coupling: String,
+    /// Couplings given in `couplings` for a process the emission does not have
+    /// (e.g. "g_ae = 1e-13"): not used, and said so in summary.json.
+    pub couplings_not_used: Vec<String>,
     /// D_min² in mm² (see the module documentation).
     nearest_mm2: f64,
 }
@@ -162,8 +181,9 @@ impl SunDesc {
                 g_agamma: "g_agamma",
                 g_ae: "g_ae",
             };
+            let (g_agamma, g_ae) = self.given_couplings()?;
             let (g_agamma, g_ae) =
-                builtin::checked_couplings(&self.emission, self.g_agamma, self.g_ae, &names)
+                builtin::checked_couplings(&self.emission, g_agamma, g_ae, &names)
                     .map_err(|e| InvalidSource(format!("sun: {e}")))?;
             let model = match &self.solar_model {
                 None => builtin::BuiltinModel::B16Agss09met,
@@ -187,8 +207,8 @@ impl SunDesc {
         if self.solar_model.is_some() {
             return Err("sun: solar_model picks the tables of a built-in emission (\"primakoff\", \"abc\", \"primakoff+abc\"); an emission table file is already computed from its own model".into());
         }
-        if self.g_agamma.is_some() || self.g_ae.is_some() {
-            return Err("sun: g_agamma and g_ae scale the built-in emissions (\"primakoff\", \"abc\", \"primakoff+abc\"); for an emission table file, give its coupling as text in coupling".into());
+        if self.g_agamma.is_some() || self.g_ae.is_some() || self.couplings.is_some() {
+            return Err("sun: g_agamma, g_ae and couplings scale the built-in emissions (\"primakoff\", \"abc\", \"primakoff+abc\"); for an emission table file, give its coupling as text in coupling".into());
         }
         let table = EmissionTable::read_csv(&path)
             .map_err(|e| InvalidSource(format!("sun: emission: {e}")))?;
@@ -197,6 +217,41 @@ impl SunDesc {
             .clone()
             .unwrap_or_else(|| "the coupling the table was computed for".into());
         Ok((table, path.display().to_string(), coupling, Vec::new()))
+    }
+
+    /// The couplings to check for the built-in emission: `g_agamma` and `g_ae`
+    /// as given, or those of `couplings` whose process the emission has.
+    fn given_couplings(&self) -> Result<(Option<f64>, Option<f64>), InvalidSource> {
+        let Some(set) = self.couplings else {
+            return Ok((self.g_agamma, self.g_ae));
+        };
+        if self.g_agamma.is_some() || self.g_ae.is_some() {
+            return Err("sun: give the couplings either as g_agamma and g_ae or in couplings = { g_agamma = ..., g_ae = ... }, not both".into());
+        }
+        let (primakoff, abc) = builtin::parse_name(&self.emission).unwrap_or((false, false));
+        Ok((set.g_agamma.filter(|_| primakoff), set.g_ae.filter(|_| abc)))
+    }
+
+    /// The couplings of `couplings` the emission does not use, for the summary.
+    fn couplings_not_used(&self) -> Vec<String> {
+        let Some(set) = self.couplings else {
+            return Vec::new();
+        };
+        let (primakoff, abc) = builtin::parse_name(&self.emission).unwrap_or((false, false));
+        let mut out = Vec::new();
+        if let (Some(g), false) = (set.g_agamma, primakoff) {
+            out.push(format!(
+                "g_agamma = {g:e}: the emission \"{}\" has no Primakoff part",
+                self.emission
+            ));
+        }
+        if let (Some(g), false) = (set.g_ae, abc) {
+            out.push(format!(
+                "g_ae = {g:e}: the emission \"{}\" has no ABC part",
+                self.emission
+            ));
+        }
+        out
     }
 
     /// The source, its table read relative to `dir`; or what is wrong.
@@ -263,6 +318,7 @@ impl SunDesc {
             energy_range: (e_min, e_max),
             emission,
             coupling,
+            couplings_not_used: p.couplings_not_used(),
             nearest_mm2: nearest * nearest,
         })
     }
