@@ -10,5 +10,8 @@ case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
-cargo build --release --quiet
+if [ ! -x target/release/traxer ]; then
+  echo "run-example: building traxer (the first build compiles every dependency: about 6 minutes on 2 cores)" >&2
+fi
+cargo build --release
 ./target/release/traxer trace scenes/panter_al_ka.toml --photons 4000000 --out out/panter_al_ka "$@"

@@ -214,14 +214,15 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     if !a.quiet.quiet {
         let rays = (a.width * a.height) as f64 * a.spp as f64;
         say!(
-            "rendered {}×{} at {} spp in {:.2} s ({:.2} M camera rays/s, {} threads) → {}",
+            "rendered {}×{} at {} spp in {:.2} s ({:.2} M camera rays/s, {} threads) → {} (settings and provenance beside it: {})",
             a.width,
             a.height,
             a.spp,
             seconds,
             rays / seconds / 1e6,
             threads,
-            a.out.display()
+            a.out.display(),
+            sidecar_path(&a.out).display()
         );
     }
     Ok(())

@@ -804,3 +804,18 @@ def test_systematics_in_python_equals_the_cli(tmp_path):
     assert s.summary["sources"] == summary["sources"]
     with pytest.raises(traxer.InputError, match="cannot vary pointing_x"):
         traxer.Scene(scene).systematics(photons=1000, sources=["pointing_x"])
+
+
+def test_the_cli_and_python_share_one_reflectivity_cache(tmp_path, monkeypatch, capsys):
+    """A table the CLI built and cached is the one Python reads: no table is
+    built again, no file added (the cache's key is the coating, the energies
+    and the table code, the same in both builds)."""
+    monkeypatch.setenv("TRAXER_CACHE", str(tmp_path / "cache"))
+    scene = REPO / "scenes" / "panter_al_ka.toml"
+    cli("trace", scene, "-n", 2000, "--out", tmp_path / "cli", "-q")
+    tables = sorted((tmp_path / "cache" / "reflectivity").iterdir())
+    assert tables, "the CLI cached its tables"
+    capsys.readouterr()
+    traxer.Scene(scene).trace(2000)
+    assert "building the reflectivity table" not in capsys.readouterr().err
+    assert sorted((tmp_path / "cache" / "reflectivity").iterdir()) == tables
