@@ -15,6 +15,18 @@ use super::write_rgb_png;
 use plotters::prelude::*;
 use std::path::Path;
 
+/// What is drawn over the image: the centroid, the HPD / 80 % / 90 % circles
+/// and a message (for an empty image).
+#[derive(Clone, Debug, Default)]
+pub struct Overlay {
+    /// The flux-weighted centroid (mm, the figure's axes).
+    pub centroid_mm: Option<[f64; 2]>,
+    /// Circles around the centroid: radius (mm) and label.
+    pub circles_mm: Vec<(f64, String)>,
+    /// Written across the image (e.g. "no photons reached this sensor").
+    pub message: Option<String>,
+}
+
 /// One image figure.
 pub struct ImageFigure<'a> {
     /// First title line (scene and sensor).
@@ -22,7 +34,7 @@ pub struct ImageFigure<'a> {
     /// Second title line (energies, photons, total flux).
     pub subtitle: String,
     /// [iy][ix], row 0 at the bottom (lowest y), as the `.npy` files hold it.
-    pub values: &'a [f64],
+    pub values: std::borrow::Cow<'a, [f64]>,
     pub pixels: [usize; 2],
     /// The x and y extent of the image's pixel edges, mm.
     pub extent_mm: [[f64; 2]; 2],
@@ -35,6 +47,8 @@ pub struct ImageFigure<'a> {
     pub axes: [String; 2],
     /// Which way is which, printed under the image.
     pub orientation: String,
+    /// Marks over the image.
+    pub overlay: Overlay,
 }
 
 /// Room around the image for labels, in screen pixels.
@@ -50,6 +64,9 @@ const MARGIN: u32 = 14;
 const IMAGE_SIDE: f64 = 560.0;
 
 const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
+
+/// The colour of pixels without flux on a log scale.
+const NO_FLUX: [u8; 3] = [225, 225, 225];
 
 /// Writes the figure as a PNG.
 pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()> {
@@ -72,7 +89,7 @@ pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()>
     let w = MARGIN + LEFT + iw + right + COLOUR_BAR + MARGIN;
     let h = TOP_TITLE + arcsec + ih + BOTTOM + 24 + MARGIN;
     let mut buf = vec![0u8; (w * h * 3) as usize];
-    let max = max_value(fig.values);
+    let max = max_value(&fig.values);
     let plot_area = {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         let r = draw_frame(&root, fig, h, (iw, ih), arcsec, max);
@@ -82,7 +99,9 @@ pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()>
         plot_area
     };
     let mut img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
-    blit(&mut img, fig, plot_area, max);
+    blit(&mut img, fig, plot_area.clone(), max);
+    draw_overlay(&mut img, fig, plot_area)
+        .map_err(|e| std::io::Error::other(format!("{}: {e}", path.display())))?;
     write_rgb_png(path, &img)
 }
 
@@ -248,11 +267,93 @@ fn blit(
                 sum += fig.values[r * nx + c0..r * nx + c1].iter().sum::<f64>();
             }
             let mean = sum / ((r1 - r0) * (c1 - c0)) as f64;
-            let c = viridis(mean, max, fig.scale);
+            // On a log scale the lowest decade must not pass for nothing.
+            let c = match fig.scale {
+                Scale::Log { .. } if mean <= 0.0 => NO_FLUX,
+                _ => viridis(mean, max, fig.scale),
+            };
             let (x, y) = (xs.start + i as i32, ys.start + j as i32);
             if x >= 0 && y >= 0 && (x as u32) < img.width() && (y as u32) < img.height() {
                 img.put_pixel(x as u32, y as u32, image::Rgb(c));
             }
         }
     }
+}
+
+/// Draws the overlay over the image in the plot area `(xs, ys)` (screen
+/// pixels): circles in white over a dark edge (seen on any colour), the
+/// centroid as a red cross, labels beside the circles, a message centred.
+fn draw_overlay(
+    img: &mut image::RgbImage,
+    fig: &ImageFigure,
+    (xs, ys): (std::ops::Range<i32>, std::ops::Range<i32>),
+) -> Result<(), Error> {
+    let o = &fig.overlay;
+    if o.centroid_mm.is_none() && o.message.is_none() {
+        return Ok(());
+    }
+    let (w, h) = img.dimensions();
+    let root = BitMapBackend::with_buffer(img.as_mut(), (w, h)).into_drawing_area();
+    let [[x0, x1], [y0, y1]] = fig.extent_mm;
+    let sx = (xs.end - xs.start) as f64 / (x1 - x0);
+    let sy = (ys.end - ys.start) as f64 / (y1 - y0);
+    let at = |x: f64, y: f64| {
+        (
+            xs.start + ((x - x0) * sx).round() as i32,
+            ys.start + ((y1 - y) * sy).round() as i32,
+        )
+    };
+    let inside = |(px, py): (i32, i32)| xs.contains(&px) && ys.contains(&py);
+    if let Some([cx, cy]) = o.centroid_mm {
+        for (k, (r, label)) in o.circles_mm.iter().enumerate() {
+            let points: Vec<(i32, i32)> = (0..=360)
+                .map(|d| {
+                    let t = (d as f64).to_radians();
+                    at(cx + r * t.cos(), cy + r * t.sin())
+                })
+                .collect();
+            for run in points.split(|p| !inside(*p)).filter(|r| r.len() > 1) {
+                root.draw(&PathElement::new(run.to_vec(), BLACK.stroke_width(3)))?;
+                root.draw(&PathElement::new(run.to_vec(), WHITE.stroke_width(1)))?;
+            }
+            // The labels on the circles at 55°, 25° and −5°: apart however
+            // close the circles are.
+            let t = (55.0 - 30.0 * k as f64).to_radians();
+            let p = at(cx + r * t.cos(), cy + r * t.sin());
+            if inside(p) {
+                haloed(&root, label, (p.0 + 4, p.1 - 14), 13)?;
+            }
+        }
+        let c = at(cx, cy);
+        if inside(c) {
+            let red = RGBColor(230, 40, 40).stroke_width(2);
+            root.draw(&PathElement::new(vec![(c.0 - 6, c.1), (c.0 + 6, c.1)], red))?;
+            root.draw(&PathElement::new(vec![(c.0, c.1 - 6), (c.0, c.1 + 6)], red))?;
+        }
+    }
+    if let Some(m) = &o.message {
+        haloed(&root, m, (xs.start + 16, (ys.start + ys.end) / 2 - 10), 20)?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// Black text in a white halo: readable on any colour of the map.
+fn haloed(root: &Area, text: &str, (x, y): (i32, i32), size: u32) -> Result<(), Error> {
+    let halo = ("sans-serif", size).into_font().color(&WHITE);
+    for (dx, dy) in [
+        (-1, -1),
+        (-1, 1),
+        (1, -1),
+        (1, 1),
+        (0, -1),
+        (0, 1),
+        (-1, 0),
+        (1, 0),
+    ] {
+        root.draw(&Text::new(text.to_string(), (x + dx, y + dy), halo.clone()))?;
+    }
+    let font = ("sans-serif", size).into_font().color(&BLACK);
+    root.draw(&Text::new(text.to_string(), (x, y), font))?;
+    Ok(())
 }

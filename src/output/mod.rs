@@ -32,6 +32,7 @@ pub use processes::process_images;
 pub use psf::{normalised as normalised_psf, write_psf_library, PSF_FILES};
 mod provenance;
 mod run_files;
+mod sensor_figure;
 mod solar_flux;
 mod systematics;
 pub use systematics::{
@@ -52,7 +53,7 @@ pub use focus::{plotted_diameter, write_focus, FOCUS_FILES};
 pub use history::{
     history_json, photon_list_npy, write_class_images, write_photon_list, PHOTON_LIST_FILES,
 };
-pub use image_plot::{write_image_figure, ImageFigure};
+pub use image_plot::{write_image_figure, ImageFigure, Overlay};
 pub use montage::{write_montage, Tile};
 pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyImage};
 pub use plot::{line_plot, Series};

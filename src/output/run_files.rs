@@ -4,10 +4,10 @@
 use super::conversion::write_conversion;
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
 use super::processes::{process_images, write_process_images};
+use super::sensor_figure::sensor_figure;
 use super::write_eef_plot;
 use super::{
-    write_csv, write_image_figure, write_npy_f64, write_npy_u64, write_png, ImageFigure,
-    Provenance, Scale,
+    write_csv, write_image_figure, write_npy_f64, write_npy_u64, write_png, Provenance, Scale,
 };
 use super::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
 use crate::analysis::{projections, FinishedImage, ImageGeometry};
@@ -204,59 +204,6 @@ fn write_sensor(
     Ok((sensor, written))
 }
 
-/// The figure of a sensor's image (flux summed over bands) for NAME.png and
-/// NAME_log.png: axes in mm (and arcsec with a focal length), colour bar with
-/// the unit, the scene, energies and photons in the title.
-fn sensor_figure<'a>(
-    scene: &Scene,
-    spec: &crate::sensor::SensorSpec,
-    finished: &'a FinishedImage,
-    provenance: &Provenance,
-    scale: Scale,
-) -> ImageFigure<'a> {
-    let g = &finished.geometry;
-    let (e_lo, e_hi) = image_energy_range(scene, spec);
-    let energies = if e_lo == e_hi {
-        format!("{e_lo} keV")
-    } else {
-        format!("{e_lo}–{e_hi} keV")
-    };
-    let unit = if finished.absolute {
-        "axions s⁻¹ per pixel"
-    } else {
-        "weighted photons per pixel"
-    };
-    let photons = provenance
-        .photons
-        .map_or(String::new(), |n| format!(" · {n} photons traced"));
-    let scene_name = scene
-        .path
-        .file_name()
-        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
-    ImageFigure {
-        title: format!("{scene_name}: sensor {}", spec.name),
-        subtitle: format!(
-            "{energies}{photons} · total {:.4e} {}",
-            finished.total_flux(),
-            unit.trim_end_matches(" per pixel")
-        ),
-        values: &finished.summed,
-        pixels: [g.nx, g.ny],
-        extent_mm: [
-            [g.origin_mm[0], g.origin_mm[0] + g.nx as f64 * g.pitch[0]],
-            [g.origin_mm[1], g.origin_mm[1] + g.ny as f64 * g.pitch[1]],
-        ],
-        focal_length_mm: spec.focal_length,
-        unit: unit.into(),
-        scale,
-        axes: ["sensor x".into(), "sensor y".into()],
-        orientation: format!(
-            "Seen facing the sensor (its normal, local +z, towards you): local x right, local y up; {}.npy row 0 is the bottom row.",
-            crate::sensor::file_stem(&spec.name)
-        ),
-    }
-}
-
 /// A sensor's FITS files (`--fits`): its image and, with a pixel grid, the
 /// grid's image; returns their paths.
 fn write_fits_files(
@@ -328,7 +275,8 @@ fn write_grid_files(
         "{} on its {}×{} pixel grid",
         figure.title, g.pixels[0], g.pixels[1]
     );
-    figure.values = &r.flux;
+    figure.values = std::borrow::Cow::Borrowed(&r.flux);
+    figure.overlay = Default::default();
     figure.pixels = [g.pixels[0] as usize, g.pixels[1] as usize];
     figure.extent_mm = [[-half[0], half[0]], [-half[1], half[1]]];
     figure.axes = [
@@ -395,7 +343,7 @@ pub fn flux_unit(absolute: bool) -> FluxUnit {
 }
 
 /// The energies an image holds (keV): the sensor's bins, else the sources'.
-fn image_energy_range(scene: &Scene, spec: &crate::sensor::SensorSpec) -> (f64, f64) {
+pub(super) fn image_energy_range(scene: &Scene, spec: &crate::sensor::SensorSpec) -> (f64, f64) {
     if let Some((lo, hi, _)) = spec.energy_bins {
         return (lo, hi);
     }

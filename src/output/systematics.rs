@@ -114,7 +114,7 @@ fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -
             s.outcomes.len(),
             names.join(", ")
         ),
-        values,
+        values: std::borrow::Cow::Borrowed(values),
         pixels: fr.pixels,
         extent_mm: extent,
         focal_length_mm: None,
@@ -142,6 +142,7 @@ fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -
         } else {
             "the sensor's local axes, from its centre".into()
         },
+        overlay: Default::default(),
     }
 }
 

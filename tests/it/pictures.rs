@@ -167,3 +167,35 @@ fn every_picture_has_axes_a_title_and_sensor_figures_a_colour_bar() {
     );
     assert_has_axes(&r);
 }
+
+#[test]
+fn sensor_figures_mark_the_centroid_and_tell_no_flux_from_the_lowest_decade() {
+    // The PANTER image: the linear figure carries the centroid's red cross; the
+    // log figure paints pixels without flux light grey (225, 225, 225), a
+    // colour viridis never takes, so that the lowest decade is not read as
+    // nothing.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p");
+    run_ok(
+        traxer()
+            .arg("trace")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args(["-n", "20000", "-q", "-o"])
+            .arg(&out),
+    );
+    let count = |file: &str, colour: [u8; 3]| {
+        let img = image::open(out.join(file)).unwrap().to_rgb8();
+        img.pixels().filter(|p| p.0 == colour).count()
+    };
+    assert!(
+        count("sensor.png", [230, 40, 40]) >= 12,
+        "the centroid's cross"
+    );
+    let grey_log = count("sensor_log.png", [225, 225, 225]);
+    // (The linear figure has that grey only in a few anti-aliased letters.)
+    let grey_linear = count("sensor.png", [225, 225, 225]);
+    assert!(
+        grey_log > 10_000 && grey_log > 50 * grey_linear,
+        "{grey_log} vs {grey_linear}"
+    );
+}

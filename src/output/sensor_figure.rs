@@ -1,0 +1,186 @@
+//! The figure of a sensor's image for NAME.png and NAME_log.png: what a
+//! physicist looks for at a glance. The view is framed on the flux (a square
+//! around the centroid of twice the 90 % diameter, when that is much smaller
+//! than the sensor; NAME_pixels.png keeps the whole sensor), the
+//! centroid is marked and the HPD, 80 % and 90 % circles drawn, and the title
+//! says what the flux depends on: the source, its energies and, for the Sun,
+//! the couplings.
+//!
+//! Data flow: `run_files::write_sensor` → [`sensor_figure`] → `image_plot`.
+
+use super::image_plot::{ImageFigure, Overlay};
+use super::run_files::image_energy_range;
+use super::{Provenance, Scale};
+use crate::analysis::FinishedImage;
+use crate::scene::Scene;
+use crate::sensor::SensorSpec;
+use crate::source::Source;
+use std::borrow::Cow;
+
+/// Frame on the flux only when its square covers less than this share of the
+/// sensor's width: otherwise the whole sensor is shown.
+const ZOOM_BELOW: f64 = 0.7;
+/// The framed square's half-side: the 90 % radius times this (a figure-error
+/// halo can put the 99 % radius at the sensor's edge while the eye sees the
+/// core: the 90 % circle then fills half the view).
+const FRAME_PER_R90: f64 = 2.0;
+
+/// The figure of `finished` on `spec`.
+pub fn sensor_figure<'a>(
+    scene: &Scene,
+    spec: &SensorSpec,
+    finished: &'a FinishedImage,
+    provenance: &Provenance,
+    scale: Scale,
+) -> ImageFigure<'a> {
+    let g = &finished.geometry;
+    let photons = provenance
+        .photons
+        .map_or(String::new(), |n| format!(" · {n} photons traced"));
+    let scene_name = scene
+        .path
+        .file_name()
+        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
+    let unit = unit(scene, finished.absolute);
+    let mut fig = ImageFigure {
+        title: format!("{scene_name}: {}", sensor_label(&spec.name)),
+        subtitle: format!(
+            "{}{photons} · total {:.4e} {}",
+            source_words(scene, spec),
+            finished.total_flux(),
+            unit.split(" per pixel").next().unwrap_or_default()
+        ),
+        values: Cow::Borrowed(&finished.summed),
+        pixels: [g.nx, g.ny],
+        extent_mm: [
+            [g.origin_mm[0], g.origin_mm[0] + g.nx as f64 * g.pitch[0]],
+            [g.origin_mm[1], g.origin_mm[1] + g.ny as f64 * g.pitch[1]],
+        ],
+        focal_length_mm: spec.focal_length,
+        unit,
+        scale,
+        axes: ["sensor x".into(), "sensor y".into()],
+        orientation: format!(
+            "Seen from the front (+z): local x right, y up; {}.npy row 0 at the bottom.",
+            crate::sensor::file_stem(&spec.name)
+        ),
+        overlay: Overlay::default(),
+    };
+    match &finished.quality {
+        None => fig.overlay.message = Some("no photons reached this sensor".into()),
+        Some((q, _)) => {
+            let stem = crate::sensor::file_stem(&spec.name);
+            // The linear image shows the core; the log image is for the wings,
+            // which may reach the sensor's edge: it stays whole.
+            if scale == Scale::Linear {
+                frame_on_the_flux(&mut fig, finished, (q.centroid_mm, 0.5 * q.d90_mm), &stem);
+            }
+            fig.overlay.centroid_mm = Some(q.centroid_mm);
+            fig.overlay.circles_mm = [
+                (q.hpd_mm, "HPD", q.hpd_arcsec),
+                (q.d80_mm, "80 %", q.d80_arcsec),
+                (q.d90_mm, "90 %", q.d90_arcsec),
+            ]
+            .into_iter()
+            .map(|(d, name, arcsec)| {
+                let label = match arcsec {
+                    Some(a) => format!("{name} {a:.0}″"),
+                    None => format!("{name} {d:.2} mm"),
+                };
+                (0.5 * d, label)
+            })
+            .collect();
+        }
+    }
+    if matches!(scale, Scale::Log { .. }) {
+        fig.orientation.push_str(" Light grey: no flux.");
+    }
+    fig
+}
+
+/// Shows only the square of half-side 2 × the 90 % radius around the
+/// centroid (whole pixels, within the sensor), when it is much smaller than
+/// the sensor.
+fn frame_on_the_flux(
+    fig: &mut ImageFigure,
+    f: &FinishedImage,
+    (centre, r90): ([f64; 2], f64),
+    stem: &str,
+) {
+    let g = &f.geometry;
+    let half = FRAME_PER_R90 * r90;
+    let width = [g.nx as f64 * g.pitch[0], g.ny as f64 * g.pitch[1]];
+    if half.is_nan() || half <= 0.0 || 2.0 * half > ZOOM_BELOW * width[0].min(width[1]) {
+        return;
+    }
+    let n = [g.nx, g.ny];
+    let range: [[usize; 2]; 2] = std::array::from_fn(|k| {
+        let lo = ((centre[k] - half - g.origin_mm[k]) / g.pitch[k])
+            .floor()
+            .max(0.0) as usize;
+        let hi = ((centre[k] + half - g.origin_mm[k]) / g.pitch[k]).ceil() as usize;
+        [lo.min(n[k] - 1), hi.clamp(lo + 1, n[k])]
+    });
+    let [[x0, x1], [y0, y1]] = range;
+    let mut values = Vec::with_capacity((x1 - x0) * (y1 - y0));
+    for iy in y0..y1 {
+        values.extend_from_slice(&f.summed[iy * g.nx + x0..iy * g.nx + x1]);
+    }
+    fig.values = Cow::Owned(values);
+    fig.pixels = [x1 - x0, y1 - y0];
+    fig.extent_mm = std::array::from_fn(|k| {
+        let [a, b] = range[k];
+        [
+            g.origin_mm[k] + a as f64 * g.pitch[k],
+            g.origin_mm[k] + b as f64 * g.pitch[k],
+        ]
+    });
+    fig.orientation.push_str(&format!(
+        " Framed: ±{FRAME_PER_R90} × the 90 % radius ({stem}_pixels.png: all of it)."
+    ));
+}
+
+/// "the sensor" for a sensor named "sensor", else "sensor NAME".
+fn sensor_label(name: &str) -> String {
+    if name == "sensor" {
+        "the sensor".into()
+    } else {
+        format!("sensor {name}")
+    }
+}
+
+/// What a pixel's value is, for the colour bar.
+fn unit(scene: &Scene, absolute: bool) -> String {
+    if absolute {
+        return "axions s⁻¹ per pixel".into();
+    }
+    match scene.sources.first() {
+        Some(Source::Parallel(_)) => "photons per pixel (each traced photon weighs 1)".into(),
+        Some(Source::Point(_)) => {
+            "photons per pixel if the traced photons were emitted into 4π".into()
+        }
+        _ => "weighted photons per pixel".into(),
+    }
+}
+
+/// The source and its energies in words: what the flux depends on.
+fn source_words(scene: &Scene, spec: &SensorSpec) -> String {
+    let (lo, hi) = image_energy_range(scene, spec);
+    let energies = if lo == hi {
+        format!("{lo} keV")
+    } else {
+        format!("{lo}–{hi} keV")
+    };
+    let source = match scene.sources.first() {
+        Some(Source::Sun(sun)) => format!("Sun, {}", sun.coupling),
+        Some(Source::Parallel(_)) => "parallel beam".into(),
+        Some(Source::Point(p)) => {
+            format!("point source {:.1} m away", p.position.length() / 1000.0)
+        }
+        None => String::new(),
+    };
+    match scene.sources.len() {
+        0 | 1 => format!("{source}, {energies}"),
+        n => format!("{source} and {} more sources, {energies}", n - 1),
+    }
+}
