@@ -305,7 +305,7 @@ fn draw_overlay(
     };
     let inside = |(px, py): (i32, i32)| xs.contains(&px) && ys.contains(&py);
     if let Some([cx, cy]) = o.centroid_mm {
-        for (k, (r, label)) in o.circles_mm.iter().enumerate() {
+        for (r, _) in &o.circles_mm {
             let points: Vec<(i32, i32)> = (0..=360)
                 .map(|d| {
                     let t = (d as f64).to_radians();
@@ -316,14 +316,11 @@ fn draw_overlay(
                 root.draw(&PathElement::new(run.to_vec(), BLACK.stroke_width(3)))?;
                 root.draw(&PathElement::new(run.to_vec(), WHITE.stroke_width(1)))?;
             }
-            // The labels on the circles at 55°, 25° and −5°: apart however
-            // close the circles are.
-            let t = (55.0 - 30.0 * k as f64).to_radians();
-            let p = at(cx + r * t.cos(), cy + r * t.sin());
-            if inside(p) {
-                haloed(&root, label, (p.0 + 4, p.1 - 14), 13)?;
-            }
         }
+        // The legend in the plot's top left corner: the circles, inner first.
+        let labels: Vec<&str> = o.circles_mm.iter().map(|(_, l)| l.as_str()).collect();
+        let legend = format!("+ centroid;  circles: {}", labels.join(", "));
+        haloed(&root, &legend, (xs.start + 8, ys.start + 6), 14)?;
         let c = at(cx, cy);
         if inside(c) {
             let red = RGBColor(230, 40, 40).stroke_width(2);
