@@ -48,15 +48,28 @@ pub fn write_conversion(
             ]
         }),
     )?;
-    let density: Vec<(f64, f64)> = hist
-        .iter()
-        .enumerate()
-        .map(|(i, f)| {
-            let share = if total > 0.0 { f / total } else { 0.0 };
-            (0.5 * (edge(i) + edge(i + 1)), share / tally.step_mm)
-        })
-        .collect();
+    // The histogram as steps from (0, 0), so that both axes start at zero.
+    let mut density = vec![(0.0, 0.0)];
+    for (i, f) in hist.iter().enumerate() {
+        let share = if total > 0.0 { f / total } else { 0.0 };
+        density.push((edge(i), share / tally.step_mm));
+        density.push((edge(i + 1), share / tally.step_mm));
+    }
     let summary = tally.summary();
+    let top = density.iter().map(|p| p.1).fold(0.0, f64::max);
+    let mut series = vec![Series::line("flux per mm of depth", density)];
+    for (q, name) in [(0.1, "10 %"), (0.5, "median"), (0.9, "90 %")] {
+        let d = summary
+            .quantiles_mm
+            .iter()
+            .find(|(k, _)| *k == q)
+            .map_or(f64::NAN, |p| p.1);
+        if d.is_finite() {
+            let mut s = Series::line(format!("{name} {d:.2} mm"), vec![(d, 0.0), (d, top)]);
+            s.markers = false;
+            series.push(s);
+        }
+    }
     line_plot(
         &paths[1],
         &format!(
@@ -66,7 +79,7 @@ pub fn write_conversion(
         ),
         "depth below the gas entrance [mm]",
         "fraction of converted flux per mm",
-        &[Series::line("", density)],
+        &series,
         (900, 560),
     )?;
     write_spectrum(&paths[2], tally, scale)?;

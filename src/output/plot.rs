@@ -37,6 +37,25 @@ pub struct Series {
     pub markers: bool,
 }
 
+/// Line colours readable on white and told apart with the common colour-vision
+/// deficiencies: the Okabe–Ito palette (Okabe & Ito, "Color Universal Design",
+/// 2008) without its yellow, which vanishes on white, then black.
+const PALETTE: [(u8, u8, u8); 7] = [
+    (0, 114, 178),   // blue
+    (213, 94, 0),    // vermillion
+    (0, 158, 115),   // bluish green
+    (204, 121, 167), // reddish purple
+    (86, 180, 233),  // sky blue
+    (230, 159, 0),   // orange
+    (0, 0, 0),       // black
+];
+
+/// Colour number `i` of [`PALETTE`] (repeating).
+fn palette(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
 /// A curve with at most this many points also marks them.
 const SPARSE: usize = 12;
 
@@ -120,7 +139,9 @@ pub fn line_plot(
     let mut buf = vec![0u8; (w * h * 3) as usize];
     let ((x0, x1), (y0, y1)) = data_ranges(series);
     let pad = 0.04 * (y1 - y0);
-    let (mut y_lo, mut y_hi) = (y0 - pad, y1 + pad);
+    // Quantities that cannot be negative (fluxes, areas, fractions) start at 0.
+    let floor = if y0 >= 0.0 { 0.0 } else { y0 - pad };
+    let (mut y_lo, mut y_hi) = (floor.min(y0), y1 + pad);
     let show_legend = series.len() > 1 || !series.first().is_some_and(|s| s.label.is_empty());
     let corner = if show_legend {
         let (corner, top) = place_legend(series, size, (x0, x1), (y_lo, y_hi));
@@ -152,7 +173,7 @@ pub fn line_plot(
                 .label_style(("sans-serif", 15))
                 .draw()?;
             for (i, s) in series.iter().enumerate() {
-                let color = Palette99::pick(s.color.unwrap_or(i)).to_rgba();
+                let color = palette(s.color.unwrap_or(i)).to_rgba();
                 if s.dots {
                     chart
                         .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?
