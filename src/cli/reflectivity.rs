@@ -34,6 +34,10 @@ pub struct ReflectivityArgs {
     /// PNG plot to write.
     #[arg(value_name = "PNG", long, default_value = "reflectivity.png")]
     pub plot: PathBuf,
+    /// Plot log₁₀ of the reflectivity (the multilayers' Bragg peaks and the
+    /// edges show over several decades); the CSV is unchanged.
+    #[arg(long)]
+    pub log: bool,
     /// Also write the CSV to this file (atomically) instead of only printing it.
     #[arg(value_name = "FILE", long)]
     pub csv: Option<PathBuf>,
@@ -57,7 +61,15 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         )
         .into());
     }
-    let (rows, series) = curves(&coating, &energies, &angles, versus_angle)?;
+    let (rows, mut series) = curves(&coating, &energies, &angles, versus_angle)?;
+    if a.log {
+        // A reflectivity below 1e-12 is shown at -12 (the plot's floor).
+        for s in &mut series {
+            s.points
+                .iter_mut()
+                .for_each(|p| p.1 = p.1.max(1e-12).log10());
+        }
+    }
     let csv = csv_text(&["energy_keV", "angle_deg", "R", "R_s", "R_p"], rows);
     // A closed pipe (`| head`) is not an error worth a message.
     use std::io::Write;
@@ -84,7 +96,11 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         &a.plot,
         &title,
         x_label,
-        "reflectivity (unpolarised)",
+        if a.log {
+            "log₁₀ reflectivity (unpolarised)"
+        } else {
+            "reflectivity (unpolarised)"
+        },
         &series,
         (900, 600),
     )
@@ -95,6 +111,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         "energy_keV": a.energy,
         "angle_deg": a.angle,
         "csv": a.csv.as_ref().map(|p| p.display().to_string()),
+        "log": a.log,
     });
     write_sidecar(
         &a.plot,
