@@ -162,15 +162,36 @@ fn write_profiles(
             row
         }),
     )?;
+    // The x axis ends where every curve has reached 99.9 % (with a margin):
+    // the emission is concentrated in the core.
+    let end = profiled
+        .iter()
+        .flat_map(|(_, s)| {
+            [
+                rhos.iter().find(|&&r| s.enclosed_3d(r) >= 0.999),
+                rhos.iter().find(|&&r| s.enclosed_projected(r) >= 0.999),
+            ]
+        })
+        .map(|r| r.copied().unwrap_or(1.0))
+        .fold(0.0, f64::max);
+    let shown: Vec<f64> = rhos
+        .iter()
+        .copied()
+        .filter(|&r| r <= (1.2 * end).min(1.0))
+        .collect();
     let mut curves = Vec::new();
     for (name, s) in profiled {
+        let name = process_words(name);
         curves.push(Series::line(
             format!("{name}: within radius r (3D)"),
-            rhos.iter().map(|&r| (r, s.enclosed_3d(r))).collect(),
+            shown.iter().map(|&r| (r, s.enclosed_3d(r))).collect(),
         ));
         curves.push(Series::line(
             format!("{name}: within projected radius on the disk"),
-            rhos.iter().map(|&r| (r, s.enclosed_projected(r))).collect(),
+            shown
+                .iter()
+                .map(|&r| (r, s.enclosed_projected(r)))
+                .collect(),
         ));
     }
     line_plot(
@@ -242,13 +263,30 @@ fn write_spectrum(
             .map(|(&e, &f)| (e, f * scale))
             .collect()
     };
-    let mut series = vec![Series::line(
-        format!("total ({})", info.coupling),
-        curve(&spectrum, 1.0),
-    )];
+    // A part equal to the total (within 0.1 % at every energy) would hide
+    // under it: the total's label names it instead.
+    let same_as_total = |p: &EmissionPart| {
+        p.spectrum_1au
+            .iter()
+            .zip(&spectrum)
+            .all(|(a, t)| (a * at_1au - t).abs() <= 1e-3 * t.abs())
+    };
+    let equal: Vec<String> = parts
+        .iter()
+        .filter(|p| parts.len() > 1 && same_as_total(p))
+        .map(|p| process_words(&p.name))
+        .collect();
+    let total_label = match equal.as_slice() {
+        [] => format!("total ({})", info.coupling),
+        e => format!("total = {} ({})", e.join(" = "), info.coupling),
+    };
+    let mut series = vec![Series::line(total_label, curve(&spectrum, 1.0))];
     if parts.len() > 1 {
-        for p in parts {
-            series.push(Series::line(p.name.clone(), curve(&p.spectrum_1au, at_1au)));
+        for p in parts.iter().filter(|p| !same_as_total(p)) {
+            series.push(Series::line(
+                process_words(&p.name),
+                curve(&p.spectrum_1au, at_1au),
+            ));
         }
     }
     let primakoff_only = parts.iter().all(|p| p.name == "primakoff");
@@ -271,4 +309,17 @@ fn write_spectrum(
         (900, 560),
     )?;
     Ok(())
+}
+
+/// An emission process's name as a physicist reads it in a legend.
+fn process_words(name: &str) -> String {
+    match name {
+        "primakoff" => "Primakoff".into(),
+        "abc" => "ABC (all axion–electron)".into(),
+        "atomic" => "atomic recombination and de-excitation".into(),
+        "electron_ion" => "electron–ion bremsstrahlung".into(),
+        "electron_electron" => "electron–electron bremsstrahlung".into(),
+        "compton" => "Compton".into(),
+        other => other.into(),
+    }
 }
