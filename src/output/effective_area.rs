@@ -158,31 +158,15 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
         &by_energy,
         (800, 500),
     )?;
-    // At most six energies, evenly picked from the sweep.
-    let n_e = r.angles[0].points.len();
-    let picks: Vec<usize> = if n_e <= 6 {
-        (0..n_e).collect()
-    } else {
-        (0..6).map(|i| i * (n_e - 1) / 5).collect()
-    };
-    let by_angle: Vec<Series> = picks
-        .iter()
-        .map(|&k| {
-            Series::line(
-                format!("{} keV", r.angles[0].points[k].energy_kev),
-                r.angles
-                    .iter()
-                    .map(|a| (a.off_axis_arcmin, a.points[k].area_cm2))
-                    .collect(),
-            )
-        })
-        .collect();
-    let title = format!("vignetting on {}", r.sensor);
+    let (by_angle, title) = vignetting_curves(r);
     line_plot(
         &paths[1],
         &title,
         "off-axis angle [arcmin]",
-        "effective area [cm²]",
+        &format!(
+            "vignetting: area / area at {}′",
+            r.angles[0].off_axis_arcmin
+        ),
         &by_angle,
         (800, 500),
     )?;
@@ -227,4 +211,53 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
         &diameters,
         (800, 500),
     )
+}
+
+/// Energies a physicist plots vignetting at: the X-ray lines of calibration
+/// sources (Al Kα 1.49, Ti Kα 4.51, Fe Kα 6.41, Cu Kα 8.05 keV) and round
+/// numbers; the sweep's nearest energy to each is taken.
+const VIGNETTING_KEV: [f64; 6] = [1.0, 1.49, 3.0, 4.51, 6.41, 8.05];
+
+/// The vignetting curves, the area at each angle over the area at the first
+/// (smallest) angle, at the sweep's energies nearest [`VIGNETTING_KEV`] (all
+/// of them when there are at most six); energies without area at the first
+/// angle are left out and named in the title.
+fn vignetting_curves(r: &AreaResult) -> (Vec<Series>, String) {
+    let energies: Vec<f64> = r.angles[0].points.iter().map(|p| p.energy_kev).collect();
+    let mut picks: Vec<usize> = if energies.len() <= 6 {
+        (0..energies.len()).collect()
+    } else {
+        let (lo, hi) = (energies[0], energies[energies.len() - 1]);
+        VIGNETTING_KEV
+            .iter()
+            .filter(|&&e| e >= lo - 0.25 && e <= hi + 0.25)
+            .map(|&e| {
+                (0..energies.len())
+                    .min_by(|&a, &b| (energies[a] - e).abs().total_cmp(&(energies[b] - e).abs()))
+                    .expect("a sweep has energies")
+            })
+            .collect()
+    };
+    picks.dedup();
+    let mut left_out = Vec::new();
+    let mut curves = Vec::new();
+    for k in picks {
+        let on_axis = r.angles[0].points[k].area_cm2;
+        if on_axis <= 0.0 {
+            left_out.push(format!("{} keV", energies[k]));
+            continue;
+        }
+        curves.push(Series::line(
+            format!("{} keV", energies[k]),
+            r.angles
+                .iter()
+                .map(|a| (a.off_axis_arcmin, a.points[k].area_cm2 / on_axis))
+                .collect(),
+        ));
+    }
+    let mut title = format!("vignetting on {}", r.sensor);
+    if !left_out.is_empty() {
+        title.push_str(&format!(" ({} left out: no area)", left_out.join(", ")));
+    }
+    (curves, title)
 }
