@@ -81,30 +81,9 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         atomic_write(path, csv.as_bytes())
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
-    let (title, x_label) = if versus_angle {
-        (
-            format!("{}: reflectivity vs grazing angle", coating.name),
-            "grazing angle [°]",
-        )
-    } else {
-        (
-            format!("{}: reflectivity vs energy", coating.name),
-            "energy [keV]",
-        )
-    };
-    line_plot(
-        &a.plot,
-        &title,
-        x_label,
-        if a.log {
-            "log₁₀ reflectivity (unpolarised)"
-        } else {
-            "reflectivity (unpolarised)"
-        },
-        &series,
-        (900, 600),
-    )
-    .with_context(|| format!("cannot write {}", a.plot.display()))?;
+    let (title, x_label, y_label) = labels(&coating.name, versus_angle, a.log);
+    line_plot(&a.plot, &title, x_label, y_label, &series, (900, 600))
+        .with_context(|| format!("cannot write {}", a.plot.display()))?;
     let details = json!({
         "coating": coating.name,
         "coating_argument": a.coating,
@@ -138,6 +117,28 @@ fn grazing_angles(text: &str) -> Result<Vec<f64>, InputError> {
         )));
     }
     Ok(angles)
+}
+
+/// The plot's title and axis labels.
+fn labels(coating: &str, versus_angle: bool, log: bool) -> (String, &'static str, &'static str) {
+    let y = if log {
+        "log₁₀ reflectivity (unpolarised)"
+    } else {
+        "reflectivity (unpolarised)"
+    };
+    if versus_angle {
+        (
+            format!("{coating}: reflectivity vs grazing angle"),
+            "grazing angle [°]",
+            y,
+        )
+    } else {
+        (
+            format!("{coating}: reflectivity vs energy"),
+            "energy [keV]",
+            y,
+        )
+    }
 }
 
 fn curves(
