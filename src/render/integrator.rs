@@ -66,12 +66,20 @@ impl SensorTexture {
         }
     }
 
-    fn at(&self, local: DVec3) -> DVec3 {
+    /// The image's radiance at a point of the sensor object, or None outside
+    /// the sensor's active area: the object may be larger than the area its
+    /// pixels cover (CAST's 24 mm chip carrier around the 14 mm active area), and
+    /// clamping to the edge pixels there drew each edge pixel as a streak.
+    fn at(&self, local: DVec3) -> Option<DVec3> {
         let fx = local.x / self.size[0] + 0.5;
         let fy = local.y / self.size[1] + 0.5;
-        let ix = ((fx * self.pixels[0] as f64) as isize).clamp(0, self.pixels[0] as isize - 1);
-        let iy = ((fy * self.pixels[1] as f64) as isize).clamp(0, self.pixels[1] as isize - 1);
-        self.radiance[iy as usize * self.pixels[0] + ix as usize]
+        if !(0.0..=1.0).contains(&fx) || !(0.0..=1.0).contains(&fy) {
+            return None;
+        }
+        // fx = 1 exactly lies on the far edge: the last pixel.
+        let ix = ((fx * self.pixels[0] as f64) as usize).min(self.pixels[0] - 1);
+        let iy = ((fy * self.pixels[1] as f64) as usize).min(self.pixels[1] - 1);
+        Some(self.radiance[iy * self.pixels[0] + ix])
     }
 }
 
@@ -207,7 +215,9 @@ fn radiance(
         if let Material::Sensor { .. } = object.material {
             if let Some(t) = textures.iter().find(|t| t.object == hit.object) {
                 let local = object.transform.to_local.transform_point3(hit.point);
-                return throughput * t.at(local);
+                if let Some(glow) = t.at(local) {
+                    return throughput * glow;
+                }
             }
         }
         // The shading normal on the side the ray comes from.

@@ -233,6 +233,58 @@ shape = { type = "rectangle", size = [10.0, 10.0] }
 }
 
 #[test]
+fn a_sensor_image_glows_only_on_the_active_area() {
+    // The object (20 mm, an emitting green carrier) is larger than the sensor's
+    // active area (10 mm, 2 × 2 pixels, all at the maximum). Outside the active
+    // area the picture shows the carrier, not the image's edge pixels smeared
+    // outwards (the streaks once seen right of CAST's image on its chip).
+    let s = crate::common::scene(
+        r#"
+[sky]
+zenith = [0.0, 0.0, 0.0]
+horizon = [0.0, 0.0, 0.0]
+
+[materials.detector]
+type = "sensor"
+size = [10.0, 10.0]
+pixels = [2, 2]
+
+[[objects]]
+name = "sensor"
+material = "detector"
+shape = { type = "rectangle", size = [20.0, 20.0] }
+appearance = { type = "emitting", color = [0.0, 1.0, 0.0] }
+"#,
+    );
+    let tex = SensorTexture::viridis(
+        0,
+        [10.0, 10.0],
+        [2, 2],
+        &[4.0, 4.0, 4.0, 4.0],
+        traxer::output::Scale::Linear,
+        1.0,
+    );
+    // 60 mm away with a 20° field: the picture spans ±10.6 mm, 1.06 mm a pixel.
+    let cam = Camera {
+        look_from: DVec3::new(0.0, 0.0, 60.0),
+        look_at: DVec3::ZERO,
+        up: DVec3::Y,
+        vfov: 20.0,
+    };
+    let img = render(&s, &cam, &s.sky, &[tex], &settings((20, 20), 1, 4, 1));
+    let green = DVec3::new(0.0, 1.0, 0.0);
+    // Column 1 (x ≈ −8.5 mm) and row 1 lie on the carrier; the centre on the image.
+    for k in [10 * 20 + 1, 10 * 20 + 18, 20 + 10, 18 * 20 + 10] {
+        assert!(
+            (img[k] - green).abs().max_element() < 1e-9,
+            "pixel {k}: {}",
+            img[k]
+        );
+    }
+    assert!(img[10 * 20 + 10].x > 0.5, "centre {}", img[10 * 20 + 10]);
+}
+
+#[test]
 fn render_command_writes_a_png_and_refuses_bad_cameras() {
     let dir = tempfile::tempdir().unwrap();
     let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
