@@ -32,7 +32,7 @@ $T trace scenes/cast_axion_image.toml -n 10000000 --out "$tmp" -q
 cp "$tmp/chip.png" docs/img/cast_axion_image.png
 cp "$tmp/chip_log.png" docs/img/cast_axion_image_log.png
 cp "$tmp/chip_grid.png" docs/img/cast_axion_image_grid.png
-$T render scenes/cast_axion_image.toml --camera overview --width 720 --height 450 --spp 64 \
+$T render scenes/cast_axion_image.toml --camera overview --width 720 --height 450 --spp 64 --labels \
   --sensor-image "$tmp" --log-decades 3 --out docs/img/cast_overview.png
 rm -rf "$tmp"
 # The axion–electron image (ABC + Primakoff) and where its X-rays convert.

@@ -8,8 +8,12 @@ use glam::DVec3;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::files::check_output_file;
-use traxer::output::{read_image, sidecar_path, write_rgb_png, write_sidecar, Provenance, Scale};
-use traxer::render::{render_with_progress, to_srgb8, Camera, RenderSettings, SensorTexture};
+use traxer::output::{
+    draw_labels, read_image, sidecar_path, write_rgb_png, write_sidecar, Provenance, Scale,
+};
+use traxer::render::{
+    part_labels, render_with_progress, to_srgb8, Camera, RenderSettings, SensorTexture,
+};
 use traxer::scene::Scene;
 use traxer::studies::pick_sensor;
 
@@ -70,6 +74,11 @@ pub struct RenderArgs {
     /// Radiance of the brightest sensor pixel (1 = as bright as a white sky).
     #[arg(value_name = "B", long, default_value_t = 1.5)]
     pub brightness: f64,
+    /// Name the parts of the scene on the picture (the objects, a telescope as
+    /// one part, the Sun): a dot on each part seen in at least 0.02 % of the
+    /// pixels, its name beside it.
+    #[arg(long)]
+    pub labels: bool,
     #[command(flatten)]
     pub quiet: QuietArg,
 }
@@ -200,10 +209,7 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     });
     let seconds = start.elapsed().as_secs_f64();
     bar.finish_and_clear();
-    let mut png = image::RgbImage::new(a.width as u32, a.height as u32);
-    for (p, c) in png.pixels_mut().zip(&image) {
-        *p = image::Rgb(to_srgb8(*c));
-    }
+    let png = picture(&a, &scene, &cam, &image);
     write_rgb_png(&a.out, &png).with_context(|| format!("cannot write {}", a.out.display()))?;
     let threads = pool.current_num_threads();
     let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
@@ -226,6 +232,21 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
         );
     }
     Ok(())
+}
+
+/// The rendered radiance as an sRGB picture, with the parts' names on it if asked.
+fn picture(a: &RenderArgs, scene: &Scene, cam: &Camera, image: &[DVec3]) -> image::RgbImage {
+    let mut png = image::RgbImage::new(a.width as u32, a.height as u32);
+    for (p, c) in png.pixels_mut().zip(image) {
+        *p = image::Rgb(to_srgb8(*c));
+    }
+    if a.labels {
+        let labels = part_labels(scene, cam, a.width, a.height);
+        let texts: Vec<(&str, (usize, usize))> =
+            labels.iter().map(|l| (l.text.as_str(), l.pixel)).collect();
+        draw_labels(&mut png, &texts);
+    }
+    png
 }
 
 /// The image size, samples, depth and brightness checked.
@@ -260,6 +281,7 @@ fn details(a: &RenderArgs, cam: &traxer::render::Camera, seconds: f64) -> serde_
         "samples_per_pixel": a.spp,
         "max_depth": a.max_depth,
         "sensor_image": a.sensor_image.as_ref().map(|p| p.display().to_string()),
+        "labels": a.labels,
         "seconds": seconds,
     })
 }

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 use traxer::render::Camera;
 
 /// The help shown on screen (H or F1) and in `--help`.
-pub const HELP: [&str; 10] = [
+pub const HELP: [&str; 11] = [
     "mouse drag   look around",
     "W A S D      move (or the arrow keys)",
     "E / Q        up / down",
@@ -19,6 +19,7 @@ pub const HELP: [&str; 10] = [
     "C            next camera of the scene",
     "F2           save sensor images + frame",
     "P            print the camera (TOML)",
+    "L            name the parts",
     "H / F1       this help",
     "Esc          quit",
 ];
@@ -48,6 +49,8 @@ pub struct Controls {
     /// Which of the scene's cameras R returns to.
     which: usize,
     pub help: bool,
+    /// Part labels on the picture (L).
+    pub labels: bool,
     last_mouse: Option<(f32, f32)>,
     last_frame: Instant,
     moved_at: Instant,
@@ -63,6 +66,7 @@ impl Controls {
             flight: Flight::new(camera),
             which: 0,
             help,
+            labels: false,
             last_mouse: None,
             last_frame: Instant::now(),
             moved_at: Instant::now() - Duration::from_secs(1),
@@ -129,6 +133,9 @@ impl Controls {
         }
         if pressed(Key::H) || pressed(Key::F1) {
             self.help = !self.help;
+        }
+        if pressed(Key::L) {
+            self.labels = !self.labels;
         }
         if pressed(Key::P) {
             say!("{}", self.flight.toml());
@@ -219,14 +226,45 @@ pub fn overlay(pixels: &mut [u32], w: usize, h: usize, lines: &[&str]) {
 
 /// `overlay` in the top-left corner, or the bottom-left one with `bottom`.
 pub fn overlay_at(pixels: &mut [u32], w: usize, h: usize, lines: &[&str], bottom: bool) {
-    use font8x8::UnicodeFonts;
     let scale = if w >= 800 { 2 } else { 1 };
-    let line_h = 10 * scale;
-    let width = lines.iter().map(|l| l.len()).max().unwrap_or(0) * 8 * scale + 16;
-    let height = lines.len() * line_h + 12;
+    let height = lines.len() * 10 * scale + 12;
     let top = if bottom { h.saturating_sub(height) } else { 0 };
+    text_box(pixels, (w, h), lines, (0, top), scale, 8);
+}
+
+/// A part's name on a small dark box beside a white dot at `(x, y)`.
+pub fn label(pixels: &mut [u32], w: usize, h: usize, text: &str, (x, y): (usize, usize)) {
+    for (dx, dy) in (0..3).flat_map(|a| (0..3).map(move |b| (a, b))) {
+        let (px, py) = ((x + dx).saturating_sub(1), (y + dy).saturating_sub(1));
+        if px < w && py < h {
+            pixels[py * w + px] = 0xffffff;
+        }
+    }
+    let width = text.len() * 8 + 8;
+    let left = if x + 4 + width < w {
+        x + 4
+    } else {
+        x.saturating_sub(4 + width)
+    };
+    text_box(pixels, (w, h), &[text], (left, y.saturating_sub(7)), 1, 4);
+}
+
+/// White text on a darkened box with its top-left corner at `(left, top)`, the
+/// 8×8 font drawn `scale` times larger, `pad` pixels from the box's edges.
+fn text_box(
+    pixels: &mut [u32],
+    (w, h): (usize, usize),
+    lines: &[&str],
+    (left, top): (usize, usize),
+    scale: usize,
+    pad: usize,
+) {
+    use font8x8::UnicodeFonts;
+    let line_h = 10 * scale;
+    let width = lines.iter().map(|l| l.len()).max().unwrap_or(0) * 8 * scale + 2 * pad;
+    let height = lines.len() * line_h + pad + pad / 2;
     for y in top..(top + height).min(h) {
-        for x in 0..width.min(w) {
+        for x in left..(left + width).min(w) {
             let p = &mut pixels[y * w + x];
             *p = (*p >> 2) & 0x3f3f3f;
         }
@@ -242,8 +280,8 @@ pub fn overlay_at(pixels: &mut [u32], w: usize, h: usize, lines: &[&str], bottom
                         continue;
                     }
                     for (sy, sx) in (0..scale).flat_map(|a| (0..scale).map(move |b| (a, b))) {
-                        let x = 8 + (j * 8 + gx) * scale + sx;
-                        let y = top + 6 + i * line_h + gy * scale + sy;
+                        let x = left + pad + (j * 8 + gx) * scale + sx;
+                        let y = top + pad * 3 / 4 + i * line_h + gy * scale + sy;
                         if x < w && y < h {
                             pixels[y * w + x] = 0xffffff;
                         }

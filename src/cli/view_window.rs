@@ -7,7 +7,7 @@
 
 use super::args::SceneArgs;
 use super::view::ViewArgs;
-use super::view_controls::{overlay, overlay_at, Controls, HELP};
+use super::view_controls::{label, overlay, overlay_at, Controls, HELP};
 use super::{load_scene, InputError};
 use anyhow::Context;
 use glam::DVec3;
@@ -22,7 +22,8 @@ use traxer::live::{feed, Published};
 use traxer::output::colormap::Scale;
 use traxer::output::{run_file_names, write_rgb_png, write_run, Provenance};
 use traxer::render::{
-    overview_camera, render_pass, to_srgb8, Camera, RenderSettings, SensorTexture,
+    overview_camera, part_labels, render_pass, to_srgb8, Camera, PartLabel, RenderSettings,
+    SensorTexture,
 };
 use traxer::scene::Scene;
 use traxer::trace::{RunConfig, Tally};
@@ -121,6 +122,8 @@ struct View<'a> {
     /// Photons and image quality, drawn into the frame (ASCII: the 8×8 font).
     status: String,
     pixels: Vec<u32>,
+    /// The part labels (L) and the camera they were found for.
+    labels: Option<(Camera, Vec<PartLabel>)>,
 }
 
 impl View<'_> {
@@ -211,6 +214,21 @@ impl View<'_> {
     }
 }
 
+impl View<'_> {
+    /// The parts' names on the picture, found again only when the camera moved
+    /// (one ray per pixel).
+    fn draw_labels(&mut self, shown: &mut [u32], camera: &Camera) {
+        let (w, h) = (self.a.width, self.a.height);
+        if self.labels.as_ref().is_none_or(|(c, _)| c != camera) {
+            let found = self.pool.install(|| part_labels(self.scene, camera, w, h));
+            self.labels = Some((*camera, found));
+        }
+        for l in self.labels.iter().flat_map(|(_, l)| l) {
+            label(shown, w, h, &l.text, l.pixel);
+        }
+    }
+}
+
 fn pack([r, g, b]: [u8; 3]) -> u32 {
     (r as u32) << 16 | (g as u32) << 8 | b as u32
 }
@@ -238,6 +256,7 @@ fn window_loop(
         title: "traxer view: starting".into(),
         status: "starting".into(),
         pixels: vec![0; w * h],
+        labels: None,
     };
     let started = Instant::now();
     let mut controls = Controls::new(window, &cams[0], a.show_help);
@@ -252,6 +271,9 @@ fn window_loop(
         v.render(&controls.flight.camera(), controls.moving());
         fps = 0.8 * fps + 0.2 / start.elapsed().as_secs_f64().max(1e-3);
         let mut shown = v.pixels.clone();
+        if controls.labels && !controls.moving() {
+            v.draw_labels(&mut shown, &controls.flight.camera());
+        }
         if controls.help {
             overlay(&mut shown, w, h, &HELP);
         }

@@ -10,9 +10,11 @@
 
 mod camera;
 mod integrator;
+mod labels;
 
 pub use crate::scene::{Appearance, Camera, Sky};
 pub use integrator::{
     overview_camera, render, render_pass, render_with_progress, to_srgb8, RenderSettings,
     SensorTexture,
 };
+pub use labels::{part_labels, PartLabel};

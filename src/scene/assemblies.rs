@@ -381,6 +381,7 @@ fn expand_telescope(
                 appearance: None,
                 stage: part.stage,
                 shell: part.shell.map(|s| ShellLabel::Number(s as i64 + 1)),
+                part_of: Some(prefix.to_string()),
             },
         ));
     }

@@ -110,6 +110,10 @@ pub struct ObjectDesc {
     pub stage: Option<MirrorStage>,
     #[serde(default)]
     pub shell: Option<ShellLabel>,
+    /// The scene entry the object comes from, when that is not the object
+    /// itself: a telescope's parts name their telescope (render labels).
+    #[serde(skip)]
+    pub part_of: Option<String>,
 }
 
 /// A shell's number or name.

@@ -100,6 +100,9 @@ pub struct Object {
     /// and the shell (or part) it belongs to.
     pub stage: Option<MirrorStage>,
     pub shell: Option<String>,
+    /// The scene entry it comes from: its own name, or its telescope's for a
+    /// telescope's parts (what a render's labels name).
+    pub part: String,
 }
 
 // Few objects per scene: keeping the analytic shape inline costs nothing.

@@ -101,6 +101,7 @@ impl<'a> ObjectBuilder<'a> {
                 .build()
                 .map_err(|m| self.at.error(a.span(), format!("object `{name}`: {m}")))?,
         };
+        let part = od.part_of.clone().unwrap_or_else(|| name.clone());
         Ok(Object {
             name,
             material,
@@ -109,6 +110,7 @@ impl<'a> ObjectBuilder<'a> {
             appearance,
             stage: od.stage,
             shell: od.shell.as_ref().map(|s| s.text()),
+            part,
         })
     }
 

@@ -2,7 +2,7 @@
 //! frame, reproducibility across threads, and X-ray images on sensors.
 
 use glam::DVec3;
-use traxer::render::{render, Camera, RenderSettings, SensorTexture};
+use traxer::render::{part_labels, render, Camera, RenderSettings, SensorTexture};
 use traxer::scene::Scene;
 
 const UNIFORM_SKY: &str = "[sky]\nzenith = [1.0, 1.0, 1.0]\nhorizon = [1.0, 1.0, 1.0]\n";
@@ -282,6 +282,63 @@ appearance = { type = "emitting", color = [0.0, 1.0, 0.0] }
         );
     }
     assert!(img[10 * 20 + 10].x > 0.5, "centre {}", img[10 * 20 + 10]);
+}
+
+#[test]
+fn part_labels_sit_on_the_parts_seen_and_name_a_telescope_once() {
+    // Two plates left and right of the view and a speck too small to label: the
+    // labels name the plates, each at a pixel on its own half of the picture.
+    let s = crate::common::scene(
+        r#"
+[materials.plate]
+type = "absorber"
+
+[[objects]]
+name = "left plate"
+material = "plate"
+shape = { type = "rectangle", size = [6.0, 6.0] }
+transform = [ { translate = [-5.0, 0.0, 0.0] } ]
+
+[[objects]]
+name = "right plate"
+material = "plate"
+shape = { type = "rectangle", size = [6.0, 6.0] }
+transform = [ { translate = [5.0, 0.0, 0.0] } ]
+
+[[objects]]
+name = "speck"
+material = "plate"
+shape = { type = "rectangle", size = [0.1, 0.1] }
+transform = [ { translate = [0.0, 8.0, 0.0] } ]
+"#,
+    );
+    let cam = Camera {
+        look_from: DVec3::new(0.0, 0.0, 60.0),
+        look_at: DVec3::ZERO,
+        up: DVec3::Y,
+        vfov: 20.0,
+    };
+    let labels = part_labels(&s, &cam, 100, 100);
+    let texts: Vec<&str> = labels.iter().map(|l| l.text.as_str()).collect();
+    assert_eq!(texts, ["left plate", "right plate"]);
+    assert!(
+        labels[0].pixel.0 < 50 && labels[1].pixel.0 > 50,
+        "{labels:?}"
+    );
+    // The LLNL telescope's 130-odd parts are labelled once, by its name.
+    let panter = Scene::load(
+        &crate::common::device(),
+        &crate::common::repo().join("scenes/panter_al_ka.toml"),
+        &[],
+    )
+    .unwrap();
+    let cam = panter.cameras["telescope"];
+    let texts: Vec<String> = part_labels(&panter, &cam, 160, 100)
+        .into_iter()
+        .map(|l| l.text)
+        .collect();
+    assert!(texts.contains(&"llnl".to_string()), "{texts:?}");
+    assert!(texts.iter().all(|t| !t.starts_with("llnl_")), "{texts:?}");
 }
 
 #[test]

@@ -211,6 +211,9 @@ fn keys_and_the_mouse_fly_print_the_camera_save_and_quit() {
     pause(200);
     xdotool(&x, &["mouseup", "1"]);
     pause(200);
+    // L names the parts (drawn into the frame F2 saves).
+    xdotool(&x, &["key", "l"]);
+    pause(300);
     xdotool(&x, &["key", "p", "F2"]);
     let start = Instant::now();
     while !save.join("frame.png").exists() && start.elapsed() < Duration::from_secs(30) {
