@@ -27,6 +27,40 @@ pub struct Overlay {
     pub message: Option<String>,
 }
 
+/// The second pair of axes, above and right of the image: the mm axes mapped
+/// linearly, `value = (mm − zero_mm) × per_mm`.
+#[derive(Clone, Debug)]
+pub struct SecondaryAxes {
+    pub per_mm: f64,
+    pub zero_mm: [f64; 2],
+    /// Axis names with their unit.
+    pub x_desc: String,
+    pub y_desc: String,
+}
+
+impl SecondaryAxes {
+    /// Angles x / f in arcsec (small-angle), for a sensor at focal length `f`.
+    pub fn arcsec(focal_length_mm: f64) -> SecondaryAxes {
+        SecondaryAxes {
+            per_mm: ARCSEC_PER_RAD / focal_length_mm,
+            zero_mm: [0.0, 0.0],
+            x_desc: "angle x [arcsec] (x / focal length)".into(),
+            y_desc: "angle y [arcsec]".into(),
+        }
+    }
+
+    /// Pixel indices of a grid of `pitch_mm` pixels whose lower-left corner is
+    /// at `corner_mm`: index k spans [k, k + 1).
+    pub fn pixel_index(pitch_mm: f64, corner_mm: [f64; 2]) -> SecondaryAxes {
+        SecondaryAxes {
+            per_mm: 1.0 / pitch_mm,
+            zero_mm: corner_mm,
+            x_desc: "grid pixel ix".into(),
+            y_desc: "grid pixel iy".into(),
+        }
+    }
+}
+
 /// One image figure.
 pub struct ImageFigure<'a> {
     /// First title line (scene and sensor).
@@ -38,8 +72,8 @@ pub struct ImageFigure<'a> {
     pub pixels: [usize; 2],
     /// The x and y extent of the image's pixel edges, mm.
     pub extent_mm: [[f64; 2]; 2],
-    /// For the arcsec axes (small-angle: x / f).
-    pub focal_length_mm: Option<f64>,
+    /// Axes above and right (arcsec for a sensor with a focal length).
+    pub secondary: Option<SecondaryAxes>,
     /// What a pixel value is, e.g. "axions s⁻¹ per pixel".
     pub unit: String,
     pub scale: Scale,
@@ -47,6 +81,8 @@ pub struct ImageFigure<'a> {
     pub axes: [String; 2],
     /// Which way is which, printed under the image.
     pub orientation: String,
+    /// A second line under the image (what stopped photons before the sensor).
+    pub note: Option<String>,
     /// Marks over the image.
     pub overlay: Overlay,
 }
@@ -63,6 +99,9 @@ const MARGIN: u32 = 14;
 /// The image's longer side on screen.
 const IMAGE_SIDE: f64 = 560.0;
 
+/// The height of the note's line under the orientation line.
+const NOTE_LINE: u32 = 18;
+
 const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
 
 /// The colour of pixels without flux on a log scale.
@@ -76,18 +115,19 @@ pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()>
     // Keep the physical aspect ratio, within reason for strip-like sensors.
     let k = IMAGE_SIDE / sx.max(sy);
     let (iw, ih) = ((sx * k).max(160.0) as u32, (sy * k).max(160.0) as u32);
-    let arcsec = if fig.focal_length_mm.is_some() {
+    let arcsec = if fig.secondary.is_some() {
         ARCSEC_AXIS
     } else {
         0
     };
-    let right = if fig.focal_length_mm.is_some() {
+    let right = if fig.secondary.is_some() {
         ARCSEC_RIGHT
     } else {
         0
     };
     let w = MARGIN + LEFT + iw + right + COLOUR_BAR + MARGIN;
-    let h = TOP_TITLE + arcsec + ih + BOTTOM + 24 + MARGIN;
+    let note = if fig.note.is_some() { NOTE_LINE } else { 0 };
+    let h = TOP_TITLE + arcsec + ih + BOTTOM + 24 + MARGIN + note;
     let mut buf = vec![0u8; (w * h * 3) as usize];
     let max = max_value(&fig.values);
     let plot_area = {
@@ -128,15 +168,23 @@ fn draw_frame(
         sub.clone(),
     ))?;
     let foot = ("sans-serif", 13).into_font().color(&RGBColor(80, 80, 80));
+    let note = if fig.note.is_some() { NOTE_LINE } else { 0 };
     root.draw(&Text::new(
         fig.orientation.clone(),
-        (MARGIN as i32, (h - MARGIN - 14) as i32),
-        foot,
+        (MARGIN as i32, (h - MARGIN - 14 - note) as i32),
+        foot.clone(),
     ))?;
+    if let Some(n) = &fig.note {
+        root.draw(&Text::new(
+            n.clone(),
+            (MARGIN as i32, (h - MARGIN - 14) as i32),
+            foot,
+        ))?;
+    }
     let right_axis = if arcsec > 0 { ARCSEC_RIGHT } else { 0 };
     let chart_w = MARGIN + LEFT + iw + right_axis;
     let (left, right) = root.split_horizontally(chart_w);
-    let (body, _) = left.split_vertically(h - 24 - MARGIN);
+    let (body, _) = left.split_vertically(h - 24 - MARGIN - note);
     let (_, body) = body.split_vertically(TOP_TITLE - 6);
     let [[x0, x1], [y0, y1]] = fig.extent_mm;
     // The mm axes left and below; the arcsec axes (a second chart with the
@@ -158,22 +206,23 @@ fn draw_frame(
         .axis_desc_style(("sans-serif", 15))
         .draw()?;
     let plot_area = chart.plotting_area().get_pixel_range();
-    if let Some(f) = fig.focal_length_mm {
-        let a = |mm: f64| (mm / f) * ARCSEC_PER_RAD;
+    if let Some(s) = &fig.secondary {
+        let ax = |mm: f64| (mm - s.zero_mm[0]) * s.per_mm;
+        let ay = |mm: f64| (mm - s.zero_mm[1]) * s.per_mm;
         let mut angles = ChartBuilder::on(&body)
             .margin_left(MARGIN + LEFT)
             .margin_top(6)
             .margin_bottom(BOTTOM)
             .set_label_area_size(LabelAreaPosition::Top, arcsec)
             .set_label_area_size(LabelAreaPosition::Right, right_axis)
-            .build_cartesian_2d(a(x0)..a(x1), a(y0)..a(y1))?;
+            .build_cartesian_2d(ax(x0)..ax(x1), ay(y0)..ay(y1))?;
         angles
             .configure_mesh()
             .disable_mesh()
             .x_label_formatter(&|v| format!("{v:.0}"))
             .y_label_formatter(&|v| format!("{v:.0}"))
-            .x_desc("angle x [arcsec] (x / focal length)")
-            .y_desc("angle y [arcsec]")
+            .x_desc(s.x_desc.as_str())
+            .y_desc(s.y_desc.as_str())
             .label_style(label)
             .axis_desc_style(("sans-serif", 14))
             .draw()?;

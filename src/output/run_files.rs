@@ -3,6 +3,7 @@
 
 use super::conversion::write_conversion;
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
+use super::image_plot::SecondaryAxes;
 use super::processes::{process_images, write_process_images};
 use super::sensor_figure::sensor_figure;
 use super::write_eef_plot;
@@ -63,6 +64,7 @@ pub fn write_run(
             provenance,
             sources: &sources,
             stats: &stats,
+            statistics: &result.stats,
             fits: fits.is_some(),
             sky: fits.and_then(|f| f.get(k)).and_then(Option::as_ref),
         };
@@ -92,10 +94,12 @@ pub fn write_run(
 }
 
 /// What every sensor's JSON repeats about the run.
-struct RunJson<'a> {
-    provenance: &'a Provenance,
+pub(super) struct RunJson<'a> {
+    pub(super) provenance: &'a Provenance,
     sources: &'a Value,
     stats: &'a Value,
+    /// The same, as counted (for the figures' notes).
+    pub(super) statistics: &'a crate::trace::Statistics,
     /// Also write the image as FITS.
     fits: bool,
     /// Where the sky images on this sensor (FITS WCS `S`), for a Sun scene.
@@ -139,7 +143,7 @@ fn write_sensor(
         };
         written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
-    let figure = |scale| sensor_figure(scene, spec, &finished, run.provenance, scale);
+    let figure = |scale| sensor_figure(scene, spec, &finished, run, scale);
     write_image_figure(&paths[2], &figure(Scale::Linear))?;
     write_image_figure(&paths[3], &figure(Scale::Log { decades: 5 }))?;
     write_png(&paths[7], nx, ny, summed, Scale::Linear)?;
@@ -257,7 +261,6 @@ fn write_grid_files(
     let Some((g, r)) = on_grid else {
         return Ok(Value::Null);
     };
-    let provenance = run.provenance;
     let g = &g;
     let names = crate::sensor::grid_file_names(&spec.name);
     let grid_paths = [
@@ -266,7 +269,7 @@ fn write_grid_files(
         dir.join(&names[2]),
     ];
     write_grid(&grid_paths[..2], &r, g)?;
-    let mut figure = sensor_figure(scene, spec, finished, provenance, Scale::Linear);
+    let mut figure = sensor_figure(scene, spec, finished, run, Scale::Linear);
     let half = [
         g.pixels[0] as f64 * g.pitch_mm / 2.0,
         g.pixels[1] as f64 * g.pitch_mm / 2.0,
@@ -279,6 +282,7 @@ fn write_grid_files(
     figure.overlay = Default::default();
     figure.pixels = [g.pixels[0] as usize, g.pixels[1] as usize];
     figure.extent_mm = [[-half[0], half[0]], [-half[1], half[1]]];
+    figure.secondary = Some(SecondaryAxes::pixel_index(g.pitch_mm, [-half[0], -half[1]]));
     figure.axes = [
         "grid x from its centre".into(),
         "grid y from its centre".into(),
@@ -419,6 +423,13 @@ pub fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
         .zip(&s.hits_per_object)
         .map(|(o, n)| (o.name.clone(), json!(n)))
         .collect();
+    let stopped: serde_json::Map<String, Value> = scene
+        .objects
+        .iter()
+        .zip(&s.stopped_after_reflection)
+        .filter(|(_, n)| **n > 0)
+        .map(|(o, n)| (o.name.clone(), json!(n)))
+        .collect();
     let per_sensor: serde_json::Map<String, Value> = scene
         .sensors
         .iter()
@@ -439,6 +450,7 @@ pub fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
         "embree_queries": s.embree_queries,
         "queries_per_photon": s.embree_queries as f64 / s.photons_emitted.max(1) as f64,
         "hits_per_object": per_object,
+        "stopped_after_reflection": stopped,
         "recorded_per_sensor": per_sensor,
         "seconds": r.seconds,
         "threads": r.threads,

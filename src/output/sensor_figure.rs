@@ -8,9 +8,9 @@
 //!
 //! Data flow: `run_files::write_sensor` → [`sensor_figure`] → `image_plot`.
 
-use super::image_plot::{ImageFigure, Overlay};
-use super::run_files::image_energy_range;
-use super::{Provenance, Scale};
+use super::image_plot::{ImageFigure, Overlay, SecondaryAxes};
+use super::run_files::{image_energy_range, RunJson};
+use super::Scale;
 use crate::analysis::FinishedImage;
 use crate::scene::Scene;
 use crate::sensor::SensorSpec;
@@ -30,11 +30,12 @@ pub fn sensor_figure<'a>(
     scene: &Scene,
     spec: &SensorSpec,
     finished: &'a FinishedImage,
-    provenance: &Provenance,
+    run: &RunJson,
     scale: Scale,
 ) -> ImageFigure<'a> {
     let g = &finished.geometry;
-    let photons = provenance
+    let photons = run
+        .provenance
         .photons
         .map_or(String::new(), |n| format!(" · {n} photons traced"));
     let scene_name = scene
@@ -56,7 +57,7 @@ pub fn sensor_figure<'a>(
             [g.origin_mm[0], g.origin_mm[0] + g.nx as f64 * g.pitch[0]],
             [g.origin_mm[1], g.origin_mm[1] + g.ny as f64 * g.pitch[1]],
         ],
-        focal_length_mm: spec.focal_length,
+        secondary: spec.focal_length.map(SecondaryAxes::arcsec),
         unit,
         scale,
         axes: ["sensor x".into(), "sensor y".into()],
@@ -65,6 +66,7 @@ pub fn sensor_figure<'a>(
             crate::sensor::file_stem(&spec.name)
         ),
         overlay: Overlay::default(),
+        note: stopped_note(scene, spec, run.statistics),
     };
     match &finished.quality {
         None => fig.overlay.message = Some("no photons reached this sensor".into()),
@@ -183,4 +185,52 @@ fn source_words(scene: &Scene, spec: &SensorSpec) -> String {
         0 | 1 => format!("{source}, {energies}"),
         n => format!("{source} and {} more sources, {energies}", n - 1),
     }
+}
+
+/// Parts that stopped reflected photons on their way, by name, as a share of the
+/// photons this sensor recorded: the aperture or strongback whose edge cuts the
+/// image is named here, so that the cut is not taken for the sensor's edge or a
+/// fault. Shares below 0.1 % are left out; at most four parts.
+fn stopped_note(
+    scene: &Scene,
+    spec: &SensorSpec,
+    stats: &crate::trace::Statistics,
+) -> Option<String> {
+    let k = scene.sensors.iter().position(|s| s.name == spec.name)?;
+    let recorded = *stats.recorded_per_sensor.get(k)? as f64;
+    if recorded == 0.0 {
+        return None;
+    }
+    // A telescope's absorbers are its shells' backs and edges: a photon one
+    // shell reflected that the next shell's back stops (the optic's own
+    // vignetting) is named by the telescope.
+    let mut by_part: Vec<(&str, bool, u64)> = Vec::new();
+    for (o, &n) in scene.objects.iter().zip(&stats.stopped_after_reflection) {
+        match by_part.iter_mut().find(|(p, _, _)| *p == o.part) {
+            Some((_, _, m)) => *m += n,
+            None => by_part.push((&o.part, o.part != o.name, n)),
+        }
+    }
+    by_part.retain(|(_, _, n)| *n as f64 >= 1e-3 * recorded);
+    by_part.sort_by(|a, b| b.2.cmp(&a.2).then(a.0.cmp(b.0)));
+    if by_part.is_empty() {
+        return None;
+    }
+    let parts: Vec<String> = by_part
+        .iter()
+        .take(4)
+        .map(|(p, telescope, n)| {
+            let what = if *telescope {
+                " (shell backs, edges)"
+            } else {
+                ""
+            };
+            format!("{p}{what} {:.1} %", 100.0 * *n as f64 / recorded)
+        })
+        .collect();
+    Some(format!(
+        "Reflected photons stopped before a sensor, per photon recorded here: {}{}.",
+        parts.join(", "),
+        if by_part.len() > 4 { ", …" } else { "" }
+    ))
 }

@@ -6,7 +6,7 @@
 
 use super::colormap::Scale;
 use super::fits_maps::{write_maps_fits, Map};
-use super::image_plot::{write_image_figure, ImageFigure};
+use super::image_plot::{write_image_figure, ImageFigure, SecondaryAxes};
 use super::npy::write_npy_f64;
 use super::run_files::{flux_unit, write_json};
 use super::{write_csv, Provenance};
@@ -117,7 +117,9 @@ fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -
         values: std::borrow::Cow::Borrowed(values),
         pixels: fr.pixels,
         extent_mm: extent,
-        focal_length_mm: None,
+        // On the detector's grid, its pixel indices too.
+        secondary: on_grid
+            .then(|| SecondaryAxes::pixel_index(fr.step_mm[0], [extent[0][0], extent[1][0]])),
         unit: format!(
             "{} per {}",
             if s.facts.absolute {
@@ -143,6 +145,7 @@ fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -
             "the sensor's local axes, from its centre".into()
         },
         overlay: Default::default(),
+        note: None,
     }
 }
 

@@ -162,6 +162,9 @@ pub fn trace_photon<H: QueryHook, A: Attenuation>(
             }
             Material::Absorber => {
                 stats.absorbed += 1;
+                if history.reflections > 0 {
+                    stats.stopped_after_reflection[hit.object] += 1;
+                }
                 return None;
             }
             Material::Foil { foil } => {

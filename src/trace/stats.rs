@@ -29,6 +29,12 @@ pub struct Statistics {
     pub hits_per_object: Vec<u64>,
     /// Photons recorded per sensor, indexed like the scene's sensors.
     pub recorded_per_sensor: Vec<u64>,
+    /// Photons stopped by each absorber after at least one reflection: what a
+    /// detector's aperture, a strongback or a shell's edge took from the focused
+    /// beam (the sensor figure names them). Indexed like the scene's objects;
+    /// empty in checkpoints written before it existed.
+    #[serde(default)]
+    pub stopped_after_reflection: Vec<u64>,
 }
 
 impl Statistics {
@@ -36,6 +42,7 @@ impl Statistics {
         Statistics {
             hits_per_object: vec![0; objects],
             recorded_per_sensor: vec![0; sensors],
+            stopped_after_reflection: vec![0; objects],
             ..Default::default()
         }
     }
@@ -53,6 +60,13 @@ impl Statistics {
         self.max_interactions_reached += o.max_interactions_reached;
         self.embree_queries += o.embree_queries;
         for (a, b) in self.hits_per_object.iter_mut().zip(&o.hits_per_object) {
+            *a += b;
+        }
+        let stopped = &mut self.stopped_after_reflection;
+        if stopped.len() < o.stopped_after_reflection.len() {
+            stopped.resize(o.stopped_after_reflection.len(), 0);
+        }
+        for (a, b) in stopped.iter_mut().zip(&o.stopped_after_reflection) {
             *a += b;
         }
         for (a, b) in self

@@ -199,3 +199,34 @@ fn sensor_figures_mark_the_centroid_and_tell_no_flux_from_the_lowest_decade() {
         "{grey_log} vs {grey_linear}"
     );
 }
+
+#[test]
+fn the_parts_that_stop_the_focused_beam_are_counted() {
+    // At CAST the detector body around the 14 mm window stops reflected photons
+    // (it cuts the image's edge), the bore only photons on their way in: it
+    // must not be counted. No part stops more reflected photons than it was
+    // hit by.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c");
+    run_ok(
+        traxer()
+            .arg("trace")
+            .arg(repo().join("scenes/cast_axion_image.toml"))
+            .args(["-n", "100000", "-q", "-o"])
+            .arg(&out),
+    );
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let stats = &summary["statistics"];
+    let stopped = stats["stopped_after_reflection"].as_object().unwrap();
+    assert!(
+        stopped["detector_body"].as_u64().unwrap() > 100,
+        "{stopped:?}"
+    );
+    assert!(!stopped.contains_key("bore"), "{stopped:?}");
+    assert!(stats["hits_per_object"]["bore"].as_u64().unwrap() > 1000);
+    for (name, n) in stopped {
+        let hits = stats["hits_per_object"][name].as_u64().unwrap();
+        assert!(n.as_u64().unwrap() <= hits, "{name}: {n} > {hits}");
+    }
+}
