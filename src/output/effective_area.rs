@@ -130,7 +130,7 @@ pub fn write_effective_area(
 }
 
 fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
-    let by_energy: Vec<Series> = r
+    let mut by_energy: Vec<Series> = r
         .angles
         .iter()
         .map(|a| {
@@ -141,8 +141,38 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
                     .map(|p| (p.energy_kev, p.area_cm2))
                     .collect(),
             )
+            .with_band(
+                a.points
+                    .iter()
+                    .map(|p| (p.area_cm2 - p.error_cm2, p.area_cm2 + p.error_cm2))
+                    .collect(),
+            )
         })
         .collect();
+    // The area every reflectivity and transmission 1 would give: what the
+    // mirrors' geometry collects, the ceiling of the first angle's curve.
+    let first = &r.angles[0];
+    let energies = || first.points.iter().map(|p| p.energy_kev);
+    let (e0, e1) = (
+        energies().fold(f64::INFINITY, f64::min),
+        energies().fold(f64::NEG_INFINITY, f64::max),
+    );
+    if e0 < e1 && first.geometric_area_cm2 > 0.0 {
+        by_energy.push(
+            Series::line(
+                format!(
+                    "geometric area at {}′ (R = T = 1): {:.4} cm²",
+                    first.off_axis_arcmin, first.geometric_area_cm2
+                ),
+                vec![
+                    (e0, first.geometric_area_cm2),
+                    (e1, first.geometric_area_cm2),
+                ],
+            )
+            .with_color(0)
+            .dashed(),
+        );
+    }
     let title = match r.counts.starts_with("X-rays converting") {
         true => format!(
             "effective area for X-rays converting in the gas of {}",
@@ -150,6 +180,7 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
         ),
         false => format!("effective area on {}", r.sensor),
     };
+    let title = format!("{title} (bands: ±1σ Monte Carlo)");
     line_plot(
         &paths[0],
         &title,

@@ -35,6 +35,11 @@ pub struct Series {
     pub color: Option<usize>,
     /// Mark the points of a curve with few of them (off for guide lines).
     pub markers: bool,
+    /// An uncertainty band: (low, high) at each point's x, shaded in the
+    /// curve's colour.
+    pub band: Option<Vec<(f64, f64)>>,
+    /// Drawn dashed (a reference line, not a result).
+    pub dashed: bool,
 }
 
 /// Line colours readable on white and told apart with the common colour-vision
@@ -68,6 +73,26 @@ impl Series {
             dots: false,
             color: None,
             markers: true,
+            band: None,
+            dashed: false,
+        }
+    }
+
+    /// The same curve with a shaded band from `low_high[i].0` to `.1` at the
+    /// x of point i (one pair per point).
+    pub fn with_band(self, low_high: Vec<(f64, f64)>) -> Series {
+        Series {
+            band: Some(low_high),
+            ..self
+        }
+    }
+
+    /// The same curve dashed and without markers: a reference line.
+    pub fn dashed(self) -> Series {
+        Series {
+            dashed: true,
+            markers: false,
+            ..self
         }
     }
 
@@ -99,10 +124,22 @@ impl Series {
 /// The x and y ranges of the series' finite points, widened to a unit when
 /// empty or a single value.
 fn data_ranges(series: &[Series]) -> ((f64, f64), (f64, f64)) {
+    // A band's edges count as points (the band is not clipped).
+    let band_points: Vec<(f64, f64)> = series
+        .iter()
+        .filter_map(|s| Some((s, s.band.as_ref()?)))
+        .flat_map(|(s, b)| {
+            s.points
+                .iter()
+                .zip(b)
+                .flat_map(|(p, &(lo, hi))| [(p.0, lo), (p.0, hi)])
+        })
+        .collect();
     let finite = || {
         series
             .iter()
             .flat_map(|s| s.points.iter())
+            .chain(&band_points)
             .filter(|p| p.0.is_finite() && p.1.is_finite())
     };
     let (mut x0, mut x1) = finite().fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
@@ -172,9 +209,32 @@ pub fn line_plot(
                 .y_label_formatter(&|v| tick_label(*v, y_span))
                 .label_style(("sans-serif", 15))
                 .draw()?;
+            // Bands first, under every curve.
+            for (i, s) in series.iter().enumerate() {
+                let Some(band) = &s.band else { continue };
+                let color = palette(s.color.unwrap_or(i)).mix(0.25);
+                let upper = s.points.iter().zip(band).map(|(p, b)| (p.0, b.1));
+                let lower = s.points.iter().zip(band).rev().map(|(p, b)| (p.0, b.0));
+                chart.draw_series(std::iter::once(Polygon::new(
+                    upper.chain(lower).collect::<Vec<_>>(),
+                    color.filled(),
+                )))?;
+            }
             for (i, s) in series.iter().enumerate() {
                 let color = palette(s.color.unwrap_or(i)).to_rgba();
-                if s.dots {
+                if s.dashed {
+                    chart
+                        .draw_series(DashedLineSeries::new(
+                            s.points.iter().copied(),
+                            8,
+                            5,
+                            color.stroke_width(2),
+                        ))?
+                        .label(typeset(&s.label))
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 8, y)], color.stroke_width(2))
+                        });
+                } else if s.dots {
                     chart
                         .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?
                         .label(typeset(&s.label))
@@ -351,4 +411,18 @@ fn place_legend(
     // Raise the top so that the data keeps below the legend's lower edge.
     let raised = y0 + (y1 - y0) / (1.0 - fh - 0.02);
     (SeriesLabelPosition::UpperRight, raised)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_band_is_inside_the_axes() {
+        // The curve reaches 5, its band 7 and −1: the axes must show the band.
+        let s = Series::line("a", vec![(0.0, 2.0), (1.0, 5.0)])
+            .with_band(vec![(-1.0, 3.0), (4.0, 7.0)]);
+        let (_, (y0, y1)) = data_ranges(&[s]);
+        assert_eq!((y0, y1), (-1.0, 7.0));
+    }
 }
