@@ -30,11 +30,12 @@ macro_rules! message_error {
 
 pub mod analysis;
 pub mod bench;
+pub mod colormap;
+pub mod constants;
 pub mod embree;
 pub mod files;
 pub mod geometry;
 pub mod history;
-pub mod live;
 pub mod material;
 pub mod mesh;
 pub mod output;

@@ -196,22 +196,16 @@ fn conversion_dict<'py>(
     d.set_item("median_depth_mm", s.median_mm())?;
     d.set_item("quantiles_mm", s.quantiles_mm.to_vec())?;
     let hist: Vec<f64> = t.depth_histogram().iter().map(|f| f * scale).collect();
-    let edges: Vec<f64> = (0..=hist.len())
-        .map(|i| (i as f64 * t.step_mm).min(t.drift_mm))
-        .collect();
+    let edges = t.depth_edges_mm();
     d.set_item("depth_edges_mm", array(py, &[edges.len()], edges)?)?;
     d.set_item("depth_flux", array(py, &[hist.len()], hist)?)?;
-    let (lo, hi, n) = t.energy_bins;
-    let slices = t.depth_slices as usize;
+    let (z, e) = (t.spectrum_depth_edges_mm(), t.spectrum_energy_edges_kev());
     let spectrum: Vec<f64> = t.spectrum().iter().map(|f| f * scale).collect();
-    d.set_item("spectrum", array(py, &[slices, n as usize], spectrum)?)?;
-    let e: Vec<f64> = (0..=n)
-        .map(|i| lo + (hi - lo) * i as f64 / n as f64)
-        .collect();
+    d.set_item(
+        "spectrum",
+        array(py, &[z.len() - 1, e.len() - 1], spectrum)?,
+    )?;
     d.set_item("spectrum_energy_edges_keV", array(py, &[e.len()], e)?)?;
-    let z: Vec<f64> = (0..=slices)
-        .map(|i| t.drift_mm * i as f64 / slices as f64)
-        .collect();
     d.set_item("spectrum_depth_edges_mm", array(py, &[z.len()], z)?)?;
     Ok(d)
 }

@@ -7,12 +7,13 @@ use crate::errors::{input, lib};
 use crate::units::{numbers, optional, Unit};
 use pyo3::prelude::*;
 use std::path::PathBuf;
+use traxer::constants::AU_CM;
 use traxer::files::atomic_write;
 use traxer::source::sun::builtin::{
     self, builtin_emission_of, model_emission, AxionEmission, BuiltinModel, EmissionPart,
 };
 use traxer::source::sun::opacity_project::OpacityTables;
-use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
+use traxer::source::sun::{EmissionTable, SolarModel};
 
 /// A solar axion emission table w(r, E) on a radius × energy grid.
 ///

@@ -7,11 +7,12 @@ use super::args::{parse_values, OutputArgs};
 use super::InputError;
 use serde_json::json;
 use std::path::{Path, PathBuf};
+use traxer::constants::AU_CM;
 use traxer::files::sha256_hex;
 use traxer::output::{write_solar_flux, Provenance, SolarFluxInfo, SOLAR_FLUX_FILES};
 use traxer::source::sun::builtin::{self, model_emission, EmissionPart};
 use traxer::source::sun::opacity_project::OpacityTables;
-use traxer::source::sun::{EmissionTable, SolarModel, AU_CM};
+use traxer::source::sun::{EmissionTable, SolarModel};
 
 /// Solar axion emission: the table, the spectrum at Earth per process and where
 /// the axions come from.

@@ -1,7 +1,7 @@
 //! The live window of `traxer view`: a minifb software framebuffer (X11 or
 //! Wayland, loaded at run time), the progressive path tracer
 //! (`render::render_pass`), the X-ray feed in a background thread
-//! (`live::feed`), and the keys. Chosen over winit + softbuffer: minifb is made
+//! (`trace::live::feed`), and the keys. Chosen over winit + softbuffer: minifb is made
 //! for exactly this (a pixel buffer, keys and mouse, no GPU) and needs a tenth
 //! of the code.
 
@@ -17,15 +17,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 use traxer::analysis::FinishedImage;
+use traxer::colormap::Scale;
 use traxer::embree::Device;
-use traxer::live::{feed, Published};
-use traxer::output::colormap::Scale;
 use traxer::output::{run_file_names, write_rgb_png, write_run, Provenance};
 use traxer::render::{
     overview_camera, part_labels, render_pass, to_srgb8, Camera, PartLabel, RenderSettings,
     SensorTexture,
 };
 use traxer::scene::Scene;
+use traxer::trace::live::{feed, Published};
 use traxer::trace::{RunConfig, Tally};
 
 /// Passes after which a still picture stops refining.

@@ -6,7 +6,7 @@
 
 use super::{line_plot, write_csv, Series};
 use crate::sensor::conversion::ConversionTally;
-use crate::sensor::{conversion_file_names, SensorSpec};
+use crate::sensor::{ConversionFiles, SensorSpec};
 use glam::DVec3;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -21,14 +21,14 @@ pub fn write_conversion(
     to_world: &glam::DAffine3,
     scale: f64,
 ) -> std::io::Result<(Value, Vec<PathBuf>)> {
-    let names = conversion_file_names(&spec.name);
-    let paths: Vec<PathBuf> = names.iter().map(|n| dir.join(n)).collect();
+    let names = ConversionFiles::of(&spec.name);
     let hist = tally.depth_histogram();
     let total: f64 = hist.iter().sum();
     let mut cumulative = 0.0;
-    let edge = |i: usize| (i as f64 * tally.step_mm).min(tally.drift_mm);
+    let edges = tally.depth_edges_mm();
+    let edge = |i: usize| edges[i];
     write_csv(
-        &paths[0],
+        &dir.join(&names.depth_csv),
         &[
             "depth_lo_mm",
             "depth_hi_mm",
@@ -71,7 +71,7 @@ pub fn write_conversion(
         }
     }
     line_plot(
-        &paths[1],
+        &dir.join(&names.depth_png),
         &format!(
             "{}: where X-rays convert (median {:.2} mm)",
             spec.name,
@@ -82,7 +82,7 @@ pub fn write_conversion(
         &series,
         (900, 560),
     )?;
-    write_spectrum(&paths[2], tally, scale)?;
+    write_spectrum(&dir.join(&names.spectrum_csv), tally, scale)?;
     // The plane of the median depth, and the point where the sensor's axis
     // (local x = y = 0) crosses it: the plane one image plane would take.
     let drift = tally.drift_mm;
@@ -110,19 +110,20 @@ pub fn write_conversion(
             .collect::<serde_json::Map<_, _>>(),
         "entrance_on_axis_world_mm": entrance.to_array(),
         "median_depth_on_axis_world_mm": median.to_array(),
-        "files": {"depth_csv": names[0], "depth_png": names[1], "spectrum_csv": names[2]},
+        "files": {"depth_csv": names.depth_csv, "depth_png": names.depth_png, "spectrum_csv": names.spectrum_csv},
     });
-    Ok((entry, paths))
+    Ok((entry, names.all().iter().map(|n| dir.join(n)).collect()))
 }
 
 /// The depth-resolved spectrum as CSV, one row per (depth slice, energy bin).
 fn write_spectrum(path: &Path, tally: &ConversionTally, scale: f64) -> std::io::Result<()> {
     let spectrum = tally.spectrum();
-    let (lo, hi, n) = tally.energy_bins;
-    let slices = tally.depth_slices as usize;
-    let n = n as usize;
-    let slice = tally.drift_mm / slices as f64;
-    let de = (hi - lo) / n as f64;
+    let (depths, energies) = (
+        tally.spectrum_depth_edges_mm(),
+        tally.spectrum_energy_edges_kev(),
+    );
+    let slices = depths.len() - 1;
+    let n = energies.len() - 1;
     write_csv(
         path,
         &[
@@ -135,10 +136,10 @@ fn write_spectrum(path: &Path, tally: &ConversionTally, scale: f64) -> std::io::
         (0..slices * n).map(|k| {
             let (s, e) = (k / n, k % n);
             vec![
-                format!("{:.6}", s as f64 * slice),
-                format!("{:.6}", (s + 1) as f64 * slice),
-                format!("{:.6}", lo + e as f64 * de),
-                format!("{:.6}", lo + (e + 1) as f64 * de),
+                format!("{:.6}", depths[s]),
+                format!("{:.6}", depths[s + 1]),
+                format!("{:.6}", energies[e]),
+                format!("{:.6}", energies[e + 1]),
                 (spectrum[k] * scale).to_string(),
             ]
         }),

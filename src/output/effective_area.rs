@@ -253,6 +253,10 @@ const VIGNETTING_KEV: [f64; 6] = [1.0, 1.49, 3.0, 4.51, 6.41, 8.05];
 /// (smallest) angle, at the sweep's energies nearest [`VIGNETTING_KEV`] (all
 /// of them when there are at most six); energies without area at the first
 /// angle are left out and named in the title.
+/// The largest relative error of the on-axis area a vignetting curve is drawn
+/// with.
+const MAX_ON_AXIS_ERROR: f64 = 0.1;
+
 fn vignetting_curves(r: &AreaResult) -> (Vec<Series>, String) {
     let energies: Vec<f64> = r.angles[0].points.iter().map(|p| p.energy_kev).collect();
     let mut picks: Vec<usize> = if energies.len() <= 6 {
@@ -270,25 +274,58 @@ fn vignetting_curves(r: &AreaResult) -> (Vec<Series>, String) {
             .collect()
     };
     picks.dedup();
-    let mut left_out = Vec::new();
+    let (mut no_area, mut noisy) = (Vec::new(), Vec::new());
     let mut curves = Vec::new();
     for k in picks {
-        let on_axis = r.angles[0].points[k].area_cm2;
+        let (on_axis, on_axis_error) = (
+            r.angles[0].points[k].area_cm2,
+            r.angles[0].points[k].error_cm2,
+        );
         if on_axis <= 0.0 {
-            left_out.push(format!("{} keV", energies[k]));
+            no_area.push(format!("{} keV", energies[k]));
             continue;
         }
-        curves.push(Series::line(
-            format!("{} keV", energies[k]),
-            r.angles
-                .iter()
-                .map(|a| (a.off_axis_arcmin, a.points[k].area_cm2 / on_axis))
-                .collect(),
-        ));
+        // A ratio to an on-axis area known to worse than 10 % is noise, not
+        // vignetting: left out and named.
+        if on_axis_error > MAX_ON_AXIS_ERROR * on_axis {
+            noisy.push(format!("{} keV", energies[k]));
+            continue;
+        }
+        // ±1σ of the ratio, the two areas' errors taken as independent.
+        let ratio = |a: &crate::studies::effective_area::AreaPoint| {
+            let v = a.area_cm2 / on_axis;
+            let rel = (a.error_cm2 / on_axis).hypot(v * on_axis_error / on_axis);
+            (v, rel)
+        };
+        curves.push(
+            Series::line(
+                format!("{} keV", energies[k]),
+                r.angles
+                    .iter()
+                    .map(|a| (a.off_axis_arcmin, ratio(&a.points[k]).0))
+                    .collect(),
+            )
+            .with_band(
+                r.angles
+                    .iter()
+                    .map(|a| {
+                        let (v, s) = ratio(&a.points[k]);
+                        (v - s, v + s)
+                    })
+                    .collect(),
+            ),
+        );
     }
-    let mut title = format!("vignetting on {}", r.sensor);
-    if !left_out.is_empty() {
-        title.push_str(&format!(" ({} left out: no area)", left_out.join(", ")));
+    let mut title = format!("vignetting on {} (bands: ±1σ)", r.sensor);
+    if !no_area.is_empty() {
+        title.push_str(&format!("; {} left out: no area", no_area.join(", ")));
+    }
+    if !noisy.is_empty() {
+        title.push_str(&format!(
+            "; {} left out: on-axis area uncertain by over {:.0} %",
+            noisy.join(", "),
+            100.0 * MAX_ON_AXIS_ERROR
+        ));
     }
     (curves, title)
 }

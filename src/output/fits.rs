@@ -28,15 +28,13 @@
 //!   with the command line and the variables, is in `NAME.json`).
 
 use super::Provenance;
+use crate::constants::ARCSEC_PER_RAD;
 use crate::files::atomic_write;
 use crate::sensor::SensorSpec;
 use crate::studies::sky::SkyCalibration;
 use fitsio::images::{ImageDescription, ImageType};
 use fitsio::FitsFile;
 use std::path::Path;
-
-/// Arcseconds per radian.
-const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
 
 /// What the pixel values are: FITS unit string and its explanation.
 pub struct FluxUnit {

@@ -9,9 +9,10 @@
 //! Data flow: `run_files` (NAME.png, NAME_log.png, NAME_grid.png) → here →
 //! [`write_rgb_png`].
 
-use super::colormap::{max_value, viridis, Scale};
 use super::plot::register_font;
 use super::write_rgb_png;
+use crate::colormap::{max_value, viridis, Scale};
+use crate::constants::ARCSEC_PER_RAD;
 use plotters::prelude::*;
 use std::path::Path;
 
@@ -101,8 +102,6 @@ const IMAGE_SIDE: f64 = 560.0;
 
 /// The height of the note's line under the orientation line.
 const NOTE_LINE: u32 = 18;
-
-const ARCSEC_PER_RAD: f64 = 180.0 * 3600.0 / std::f64::consts::PI;
 
 /// The colour of pixels without flux on a log scale.
 const NO_FLUX: [u8; 3] = [225, 225, 225];

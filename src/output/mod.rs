@@ -9,7 +9,6 @@
 //! ([`write_sidecar`]).
 
 mod arf;
-pub mod colormap;
 mod compare;
 mod conversion;
 mod csv_table;
@@ -40,9 +39,9 @@ pub use systematics::{
     description as systematics_description, write_systematics, SYSTEMATICS_FILES,
 };
 
-pub use crate::sensor::{class_file_names, file_stem, sensor_file_names};
+pub use crate::colormap::Scale;
+pub use crate::sensor::{class_file_names, file_stem, SensorFiles};
 pub use arf::{arf_name, energy_bins};
-pub use colormap::Scale;
 pub use compare::{compare_markdown, write_compare, COMPARE_FILES};
 pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;

@@ -2,7 +2,7 @@
 //! that encodes any RGB picture (plots, montages, renders) and writes it
 //! atomically.
 
-use super::colormap::{max_value, viridis, Scale};
+use crate::colormap::{max_value, viridis, Scale};
 use crate::files::atomic_write;
 use std::path::Path;
 

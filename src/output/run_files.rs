@@ -14,7 +14,7 @@ use super::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
 use crate::analysis::{projections, FinishedImage, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Scene;
-use crate::sensor::{fits_file_name, grid_fits_file_name, sensor_file_names, SUMMARY_FILE};
+use crate::sensor::{fits_file_name, grid_fits_file_name, GridFiles, SensorFiles, SUMMARY_FILE};
 use crate::source::Source;
 use crate::studies::sky::SkyCalibration;
 use crate::trace::RunResult;
@@ -123,10 +123,10 @@ fn write_sensor(
     // [band][iy][ix] with energy bins, [iy][ix] without.
     let shape: Vec<u64> = finished.shape.iter().map(|&n| n as u64).collect();
     let (flux, summed) = (&finished.flux[..], &finished.summed);
-    let files = sensor_file_names(&spec.name);
-    let paths: Vec<PathBuf> = files.iter().map(|f| dir.join(f)).collect();
-    write_npy_f64(&paths[0], &shape, flux)?;
-    write_npy_u64(&paths[1], &shape, &image.counts)?;
+    let files = SensorFiles::of(&spec.name);
+    let path = |name: &str| dir.join(name);
+    write_npy_f64(&path(&files.flux_npy), &shape, flux)?;
+    write_npy_u64(&path(&files.counts_npy), &shape, &image.counts)?;
     let on_grid = finished.on_grid(spec);
     let scale = absolute.unwrap_or(1.0);
     let processes = process_images(spec, image, scale);
@@ -137,26 +137,29 @@ fn write_sensor(
             unit: flux_unit(absolute.is_some()),
             energy_kev: image_energy_range(scene, spec),
             provenance: run.provenance,
-            json_name: &files[4],
+            json_name: &files.json,
             sky: run.sky,
             processes: &processes,
         };
         written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
     let figure = |scale| sensor_figure(scene, spec, &finished, run, scale);
-    write_image_figure(&paths[2], &figure(Scale::Linear))?;
-    write_image_figure(&paths[3], &figure(Scale::Log { decades: 5 }))?;
-    write_png(&paths[7], nx, ny, summed, Scale::Linear)?;
+    write_image_figure(&path(&files.figure_png), &figure(Scale::Linear))?;
+    write_image_figure(
+        &path(&files.figure_log_png),
+        &figure(Scale::Log { decades: 5 }),
+    )?;
+    write_png(&path(&files.pixels_png), nx, ny, summed, Scale::Linear)?;
     let (geometry, quality) = (&finished.geometry, &finished.quality);
     if let Some((q, eef)) = quality {
         write_eef_plot(
-            &paths[5],
+            &path(&files.eef_png),
             &format!("{}: encircled energy", spec.name),
             q,
             eef,
         )?;
     }
-    write_projections(&paths[6], summed, geometry)?;
+    write_projections(&path(&files.projections_csv), summed, geometry)?;
     let grid = write_grid_files(dir, scene, spec, on_grid, &finished, run, &mut written)?;
     written.extend(write_class_images(dir, spec, image, scale)?);
     let processes = write_process_images(dir, spec, image, &processes, scale, &mut written)?;
@@ -183,10 +186,11 @@ fn write_sensor(
         "history": history_json(scene, image, scale),
         "by_process": processes,
         "files": {
-            "flux_npy": files[0], "counts_npy": files[1],
-            "png_linear": files[2], "png_log": files[3], "png_pixels": files[7],
-            "eef_png": if quality.is_some() { Some(&files[5]) } else { None },
-            "projections_csv": files[6],
+            "flux_npy": files.flux_npy, "counts_npy": files.counts_npy,
+            "png_linear": files.figure_png, "png_log": files.figure_log_png,
+            "png_pixels": files.pixels_png,
+            "eef_png": quality.is_some().then_some(&files.eef_png),
+            "projections_csv": files.projections_csv,
             "fits": run.fits.then(|| fits_file_name(&spec.name)),
             "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
         },
@@ -197,13 +201,13 @@ fn write_sensor(
         "sources": run.sources,
         "statistics": run.stats,
     });
-    write_json(&paths[4], &doc)?;
+    write_json(&path(&files.json), &doc)?;
     written.extend(
-        paths
+        files
+            .all()
             .into_iter()
-            .enumerate()
-            .filter(|(i, _)| *i != 5 || quality.is_some())
-            .map(|(_, p)| p),
+            .filter(|f| *f != files.eef_png || quality.is_some())
+            .map(path),
     );
     Ok((sensor, written))
 }
@@ -262,13 +266,9 @@ fn write_grid_files(
         return Ok(Value::Null);
     };
     let g = &g;
-    let names = crate::sensor::grid_file_names(&spec.name);
-    let grid_paths = [
-        dir.join(&names[0]),
-        dir.join(&names[1]),
-        dir.join(&names[2]),
-    ];
-    write_grid(&grid_paths[..2], &r, g)?;
+    let names = GridFiles::of(&spec.name);
+    let [npy, csv, png] = names.all().map(|n| dir.join(n));
+    write_grid((&npy, &csv), &r, g)?;
     let mut figure = sensor_figure(scene, spec, finished, run, Scale::Linear);
     let half = [
         g.pixels[0] as f64 * g.pitch_mm / 2.0,
@@ -293,18 +293,18 @@ fn write_grid_files(
         g.rotation_deg,
         g.center_mm[0],
         g.center_mm[1],
-        names[0],
+        names.npy,
         if r.outside > 0.0 { format!("{:.4e}", r.outside) } else { "none".into() }
     );
-    write_image_figure(&grid_paths[2], &figure)?;
-    written.extend(grid_paths);
+    write_image_figure(&png, &figure)?;
+    written.extend([npy, csv, png]);
     Ok(json!({
         "pixels": g.pixels, "pitch_mm": g.pitch_mm, "rotation_deg": g.rotation_deg,
         "center_mm": g.center_mm,
         "flux_on_grid": r.flux.iter().sum::<f64>(), "flux_outside_grid": r.outside,
         "layout": "grid[iy, ix]; pixel (ix, iy) centred at x_mm, y_mm of the sensor (grid_csv); flux shared by overlap area",
         "files": {
-            "grid_npy": names[0], "grid_csv": names[1], "grid_png": names[2],
+            "grid_npy": names.npy, "grid_csv": names.csv, "grid_png": names.png,
             "grid_fits": run.fits.then(|| grid_fits_file_name(&spec.name)),
         },
     }))
@@ -384,14 +384,14 @@ fn write_projections(path: &Path, image: &[f64], g: &ImageGeometry) -> std::io::
 /// The image rebinned to the sensor's detector grid, as `.npy` [iy][ix] and as CSV
 /// (pixel indices, pixel-centre positions on the sensor, flux).
 fn write_grid(
-    paths: &[PathBuf],
+    (npy, csv): (&Path, &Path),
     r: &crate::sensor::Rebinned,
     g: &crate::sensor::PixelGrid,
 ) -> std::io::Result<()> {
     let (gx, gy) = (g.pixels[0] as usize, g.pixels[1] as usize);
-    write_npy_f64(&paths[0], &[gy as u64, gx as u64], &r.flux)?;
+    write_npy_f64(npy, &[gy as u64, gx as u64], &r.flux)?;
     write_csv(
-        &paths[1],
+        csv,
         &["ix", "iy", "x_mm", "y_mm", "flux"],
         (0..gx * gy).map(|k| {
             let (ix, iy) = (k % gx, k / gx);
@@ -486,7 +486,7 @@ pub fn sources_json(scene: &Scene, photons: u64) -> Value {
                     "emission": sun.emission,
                     "coupling": sun.coupling,
                     "couplings_not_used": sun.couplings_not_used,
-                    "distance_au": sun.distance_mm / (crate::source::sun::AU_CM * 10.0),
+                    "distance_au": sun.distance_mm / (crate::constants::AU_CM * 10.0),
                     "toward_sun": sun.toward_sun.to_array(),
                     "offset_arcmin": sun.offset_arcmin,
                     "target": sector_json(&sun.target),

@@ -3,8 +3,9 @@
 //! JSON summary — what a user checks a table with before tracing it.
 
 use super::{line_plot, write_csv, write_json, Provenance, Series};
+use crate::constants::{AU_CM, R_SUN_CM};
 use crate::source::sun::builtin::EmissionPart;
-use crate::source::sun::{EmissionSampler, EmissionTable, AU_CM, R_SUN_CM};
+use crate::source::sun::{EmissionSampler, EmissionTable};
 use serde_json::json;
 use std::path::Path;
 

@@ -4,12 +4,12 @@
 //! (`systematics.fits`: the mean image, then the nominal one, the total σ and
 //! each source's σ as extensions), and the mean and σ images as PNG.
 
-use super::colormap::Scale;
 use super::fits_maps::{write_maps_fits, Map};
 use super::image_plot::{write_image_figure, ImageFigure, SecondaryAxes};
 use super::npy::write_npy_f64;
 use super::run_files::{flux_unit, write_json};
 use super::{write_csv, Provenance};
+use crate::colormap::Scale;
 use crate::studies::systematics::{summary::metrics, Systematics, METRICS};
 use serde_json::json;
 use std::path::Path;

@@ -6,8 +6,8 @@
 
 use super::camera::Frame;
 use super::{Appearance, Camera, Sky};
+use crate::colormap::{self, Scale};
 use crate::material::Material;
-use crate::output::colormap::{self, Scale};
 use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::raycast::{intersect, reflect, SurfaceHit};

@@ -106,6 +106,28 @@ impl ConversionTally {
         values(&self.spectrum)
     }
 
+    /// The edges (mm below the gas entrance) of [`Self::depth_histogram`]'s
+    /// bins: every `step_mm`, the last bin ending at the drift length. The one
+    /// definition the CSV, the plot and Python share.
+    pub fn depth_edges_mm(&self) -> Vec<f64> {
+        (0..=self.depth_flux.len())
+            .map(|i| (i as f64 * self.step_mm).min(self.drift_mm))
+            .collect()
+    }
+
+    /// The edges of the spectrum's depth slices (mm): the drift cut evenly.
+    pub fn spectrum_depth_edges_mm(&self) -> Vec<f64> {
+        let slice = self.drift_mm / self.depth_slices as f64;
+        (0..=self.depth_slices).map(|i| i as f64 * slice).collect()
+    }
+
+    /// The edges of the spectrum's energy bins (keV).
+    pub fn spectrum_energy_edges_kev(&self) -> Vec<f64> {
+        let (lo, hi, n) = self.energy_bins;
+        let de = (hi - lo) / n as f64;
+        (0..=n).map(|i| lo + i as f64 * de).collect()
+    }
+
     /// Mean, quantiles and fractions of the conversion depth.
     pub fn summary(&self) -> DepthSummary {
         let hist = self.depth_histogram();

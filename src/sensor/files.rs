@@ -25,20 +25,55 @@ pub fn file_stem(name: &str) -> String {
         .collect()
 }
 
-/// The files of one sensor named `name`: flux, counts, linear and log figures,
-/// the JSON sidecar, the EEF plot, the projections, the bare pixel image.
-pub fn sensor_file_names(name: &str) -> [String; 8] {
-    let stem = file_stem(name);
-    [
-        format!("{stem}.npy"),
-        format!("{stem}_counts.npy"),
-        format!("{stem}.png"),
-        format!("{stem}_log.png"),
-        format!("{stem}.json"),
-        format!("{stem}_eef.png"),
-        format!("{stem}_projections.csv"),
-        format!("{stem}_pixels.png"),
-    ]
+/// The files every sensor writes, by what they hold.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SensorFiles {
+    /// The flux image (`NAME.npy`).
+    pub flux_npy: String,
+    /// Photons per pixel (`NAME_counts.npy`).
+    pub counts_npy: String,
+    /// The figure, linear (`NAME.png`) and log (`NAME_log.png`).
+    pub figure_png: String,
+    pub figure_log_png: String,
+    /// The sensor's record (`NAME.json`).
+    pub json: String,
+    /// The encircled-energy plot (`NAME_eef.png`; only when flux arrived).
+    pub eef_png: String,
+    /// The x and y projections (`NAME_projections.csv`).
+    pub projections_csv: String,
+    /// The bare pixel image (`NAME_pixels.png`).
+    pub pixels_png: String,
+}
+
+impl SensorFiles {
+    /// The files of sensor `name`.
+    pub fn of(name: &str) -> SensorFiles {
+        let stem = file_stem(name);
+        SensorFiles {
+            flux_npy: format!("{stem}.npy"),
+            counts_npy: format!("{stem}_counts.npy"),
+            figure_png: format!("{stem}.png"),
+            figure_log_png: format!("{stem}_log.png"),
+            json: format!("{stem}.json"),
+            eef_png: format!("{stem}_eef.png"),
+            projections_csv: format!("{stem}_projections.csv"),
+            pixels_png: format!("{stem}_pixels.png"),
+        }
+    }
+
+    /// Every name, the EEF plot's included.
+    pub fn all(&self) -> [&str; 8] {
+        [
+            &self.flux_npy,
+            &self.counts_npy,
+            &self.figure_png,
+            &self.figure_log_png,
+            &self.json,
+            &self.eef_png,
+            &self.projections_csv,
+            &self.pixels_png,
+        ]
+    }
 }
 
 /// The FITS file of a sensor's image (`trace --fits`).
@@ -54,24 +89,50 @@ pub fn grid_fits_file_name(name: &str) -> String {
 
 /// The files of a sensor's image on its detector pixel grid: flux as `.npy` and
 /// as CSV for the limit code, and its figure.
-pub fn grid_file_names(name: &str) -> [String; 3] {
-    let stem = file_stem(name);
-    [
-        format!("{stem}_grid.npy"),
-        format!("{stem}_grid.csv"),
-        format!("{stem}_grid.png"),
-    ]
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridFiles {
+    pub npy: String,
+    pub csv: String,
+    pub png: String,
+}
+
+impl GridFiles {
+    pub fn of(name: &str) -> GridFiles {
+        let stem = file_stem(name);
+        GridFiles {
+            npy: format!("{stem}_grid.npy"),
+            csv: format!("{stem}_grid.csv"),
+            png: format!("{stem}_grid.png"),
+        }
+    }
+
+    pub fn all(&self) -> [&str; 3] {
+        [&self.npy, &self.csv, &self.png]
+    }
 }
 
 /// The files of a gas detector's conversions: the depth histogram (CSV and
 /// plot) and the depth-resolved spectrum.
-pub fn conversion_file_names(name: &str) -> [String; 3] {
-    let stem = file_stem(name);
-    [
-        format!("{stem}_conversion_depth.csv"),
-        format!("{stem}_conversion_depth.png"),
-        format!("{stem}_conversion_spectrum.csv"),
-    ]
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConversionFiles {
+    pub depth_csv: String,
+    pub depth_png: String,
+    pub spectrum_csv: String,
+}
+
+impl ConversionFiles {
+    pub fn of(name: &str) -> ConversionFiles {
+        let stem = file_stem(name);
+        ConversionFiles {
+            depth_csv: format!("{stem}_conversion_depth.csv"),
+            depth_png: format!("{stem}_conversion_depth.png"),
+            spectrum_csv: format!("{stem}_conversion_spectrum.csv"),
+        }
+    }
+
+    pub fn all(&self) -> [&str; 3] {
+        [&self.depth_csv, &self.depth_png, &self.spectrum_csv]
+    }
 }
 
 /// The per-class image files of sensor `name` (`history_images`), in
@@ -108,10 +169,17 @@ pub fn check_file_names(name: &str) -> Result<(), String> {
             "sensor `{name}`: its files would be named `{stem}.npy` ...: give it a name with letters or digits"
         ));
     }
-    let longest = sensor_file_names(name)
+    let (files, conversion, grid) = (
+        SensorFiles::of(name),
+        ConversionFiles::of(name),
+        GridFiles::of(name),
+    );
+    let longest = files
+        .all()
         .into_iter()
-        .chain(conversion_file_names(name))
-        .chain(grid_file_names(name))
+        .chain(conversion.all())
+        .chain(grid.all())
+        .map(str::to_string)
         .chain(class_file_names(name))
         .chain(process_file_names(name, &[LONGEST_PROCESS.to_string()]))
         .chain([fits_file_name(name), grid_fits_file_name(name)])

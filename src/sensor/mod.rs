@@ -1,10 +1,15 @@
 //! Image sensors: a pixel grid in an object's local x–y plane that absorbs photons
-//! and accumulates their weights ("flux") and their number ("counts").
+//! and accumulates their weights ("flux") and their number ("counts"), exactly
+//! ([`exact`]), with the tallies a physicist asks of it: by photon path
+//! ([`paths`]), by emission process, by conversion depth in a gas detector
+//! ([`conversion`]), and the image rebinned onto the detector's pixel grid
+//! ([`rebin`]). `files` names every file a sensor writes.
 //!
 //! Data flow: the scene build checks each object's sensor material ([`SensorDesc`])
-//! and creates a [`SensorSpec`] for it; `trace` maps hits to pixels with [`SensorSpec::pixel`] and merges
-//! per-chunk records into a [`SensorImage`] in a fixed order; `output` writes it.
-//! With energy binning the image has an energy axis: [band][iy][ix].
+//! and creates a [`SensorSpec`] for it; `trace` maps hits to pixels with
+//! [`SensorSpec::pixel`] and merges per-chunk records into a [`SensorImage`] in a
+//! fixed order; `analysis` measures it and `output` writes it. With energy
+//! binning the image has an energy axis: [band][iy][ix].
 
 pub mod conversion;
 mod desc;
@@ -17,9 +22,8 @@ pub mod rebin;
 pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
-    check_file_names, class_file_names, conversion_file_names, file_stem, fits_file_name,
-    grid_file_names, grid_fits_file_name, process_file_names, sensor_file_names,
-    MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    check_file_names, class_file_names, file_stem, fits_file_name, grid_fits_file_name,
+    process_file_names, ConversionFiles, GridFiles, SensorFiles, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
 pub use processes::ProcessTally;
@@ -63,15 +67,16 @@ pub struct SensorSpec {
 impl SensorSpec {
     /// Every file a trace writes for this sensor.
     pub fn file_names(&self) -> Vec<String> {
-        let mut names = sensor_file_names(&self.name).to_vec();
+        let owned = |files: &[&str]| files.iter().map(|f| f.to_string()).collect::<Vec<_>>();
+        let mut names = owned(&SensorFiles::of(&self.name).all());
         if self.pixel_grid.is_some() {
-            names.extend(grid_file_names(&self.name));
+            names.extend(owned(&GridFiles::of(&self.name).all()));
         }
         if self.history_images {
             names.extend(class_file_names(&self.name));
         }
         if self.gas.is_some() {
-            names.extend(conversion_file_names(&self.name));
+            names.extend(owned(&ConversionFiles::of(&self.name).all()));
         }
         names.extend(process_file_names(&self.name, &self.processes));
         names

@@ -1,4 +1,10 @@
-//! The photon loop and its parallel driver.
+//! The photon loop and its drivers. `photon` follows one photon through the
+//! scene ([`trace_photon`]: mirrors, absorbers, foils, sensors) and
+//! [`Statistics`] counts the photons' fates; this module holds the one chunk
+//! rule ([`chunk_range`]), the [`Tally`] a run accumulates, and [`run_part`],
+//! which traces a run or a part of one (a shard, a resumed sitting, a study's
+//! point) over rayon; [`live`] feeds the live window. The life of a run around
+//! it (results folder, checkpoints, shards, provenance) is `run`'s.
 //!
 //! Data flow: photon indices are cut into fixed chunks; rayon traces chunks in
 //! parallel, photon i with the random stream (seed, i) ([`crate::random`]); each
@@ -8,6 +14,7 @@
 //! count, and tallies of parts of a run (shards, a run resumed from a checkpoint)
 //! add up to the bit-identical tally of the whole.
 
+pub mod live;
 mod photon;
 mod stats;
 

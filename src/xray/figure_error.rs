@@ -12,6 +12,7 @@
 //! [`FigureError`]; the photon loop calls [`FigureError::perturb`] after each
 //! reflection on such a mirror with the photon's own random stream.
 
+use crate::constants::RAD_PER_ARCSEC as ARCSEC;
 use crate::random::PhotonRng;
 use glam::DVec3;
 use serde::Deserialize;
@@ -21,8 +22,6 @@ const SHIPPED: &str = include_str!(concat!(
     env!("CARGO_MANIFEST_DIR"),
     "/data/figure_errors.toml"
 ));
-
-const ARCSEC: f64 = std::f64::consts::PI / (180.0 * 3600.0);
 
 /// Widths (arcseconds, 1σ of the reflected direction) and mixture weight.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, serde::Serialize)]

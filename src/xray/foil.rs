@@ -11,7 +11,8 @@
 //! Data flow: `scene::materials` builds a [`Foil`] for each `type = "foil"`
 //! material; the photon loop multiplies the weight by [`Foil::transmission`].
 
-use super::optical::{EnergyOutOfRange, OpticalMaterial, HC_KEV_CM};
+use super::optical::{EnergyOutOfRange, OpticalMaterial};
+use crate::constants::HC_KEV_CM;
 
 /// A foil: material and thickness.
 #[derive(Clone, Debug, PartialEq)]

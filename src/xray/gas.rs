@@ -24,12 +24,11 @@
 
 use super::compound::{parse_formula, Composition};
 use super::elements::{element, HENKE_MAX_KEV, HENKE_MIN_KEV};
-use super::optical::{EnergyOutOfRange, OpticalMaterial, HC_KEV_CM};
+use super::optical::{EnergyOutOfRange, OpticalMaterial};
+use crate::constants::GAS_CONSTANT;
+use crate::constants::HC_KEV_CM;
 use serde::Deserialize;
 use std::collections::BTreeMap;
-
-/// The molar gas constant (J mol⁻¹ K⁻¹), exact since the 2019 SI.
-pub const GAS_CONSTANT: f64 = 8.314_462_618;
 
 /// The `gas` table of a sensor material.
 ///

@@ -5,13 +5,7 @@
 
 use super::compound::Composition;
 use super::elements::{scattering_table, HENKE_MAX_KEV, HENKE_MIN_KEV};
-
-/// Classical electron radius (cm), CODATA 2018.
-pub const ELECTRON_RADIUS_CM: f64 = 2.817_940_326_2e-13;
-/// Avogadro constant (1/mol), exact.
-pub const AVOGADRO: f64 = 6.022_140_76e23;
-/// h·c in keV·cm (CODATA 2018: 12.398 419 843 320 026 keV·Å).
-pub const HC_KEV_CM: f64 = 12.398_419_843_320_026e-8;
+use crate::constants::{AVOGADRO, ELECTRON_RADIUS_CM, HC_KEV_CM};
 
 /// A material that X-rays see: composition and density.
 #[derive(Clone, Debug, PartialEq)]

@@ -6,10 +6,8 @@
 //! semi-infinite. q_j = √(n_j² − cos²θ) is the normal wave-vector component in units
 //! of k = 2π/λ (principal root: Im q ≥ 0, the wave decays into the material).
 
+use crate::constants::HC_KEV_NM;
 use num_complex::Complex64;
-
-/// h·c in keV·nm.
-const HC_KEV_NM: f64 = 1.239_841_984_332_002_6;
 
 /// One layer: susceptibility-like χ = n − 1 = −δ + iβ (kept instead of n, because
 /// 1 − δ rounds away most digits of δ ~ 1e-5), thickness, and the RMS roughness of

@@ -39,10 +39,8 @@
 //! a logarithmic grid of a: a reflection then needs two uniform numbers, always
 //! two, so that photons keep their random streams aligned.
 
+use crate::constants::HC_KEV_UM;
 use serde::Deserialize;
-
-/// h·c in keV·µm: λ (µm) = HC / E (keV).
-const HC_KEV_UM: f64 = 1.239_841_984_332_002_6e-3;
 
 /// A one-sided 1-D PSD P(f), nm²·µm, f in µm⁻¹.
 #[derive(Clone, Copy, Debug, PartialEq, Deserialize, serde::Serialize)]

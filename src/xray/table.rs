@@ -15,10 +15,8 @@
 use super::coating::Coating;
 use super::optical::EnergyOutOfRange;
 use super::parratt::reflectance;
+use crate::constants::HC_KEV_NM;
 use rayon::prelude::*;
-
-/// h·c in keV·nm.
-const HC_KEV_NM: f64 = 1.239_841_984_332_002_6;
 
 /// An energy located in a table's energy nodes ([`ReflectivityTable::energy_cell`]).
 #[derive(Clone, Copy, Debug)]

@@ -146,6 +146,12 @@ fn library_modules_import_each_other_without_cycles() {
             assert!(!graph[low].contains(f), "{low} imports {f}");
         }
     }
+    // Leaves: the physical constants and the colour map import nothing, so that
+    // `render` and `output` share the colour map without one importing the other.
+    for leaf in ["constants", "colormap", "files", "text"] {
+        assert!(graph[leaf].is_empty(), "{leaf} imports {:?}", graph[leaf]);
+    }
+    assert!(!graph["render"].contains("output"), "render imports output");
 }
 
 #[test]

@@ -5,6 +5,7 @@
 
 use crate::common::{repo, run_fails, run_ok, scene_in, traxer, write};
 use std::path::{Path, PathBuf};
+use traxer::constants::{AU_CM, R_SUN_CM};
 use traxer::output::cast2007_flux;
 use traxer::random::PhotonRng;
 use traxer::source::sun::builtin::{
@@ -13,7 +14,7 @@ use traxer::source::sun::builtin::{
 };
 use traxer::source::sun::opacity_project::OpacityTables;
 use traxer::source::sun::primakoff::emission_table;
-use traxer::source::sun::{EmissionSampler, EmissionTable, SolarModel, AU_CM, R_SUN_CM};
+use traxer::source::sun::{EmissionSampler, EmissionTable, SolarModel};
 use traxer::source::Source;
 use traxer::trace::{self, RunConfig};
 

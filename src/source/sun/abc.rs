@@ -55,7 +55,7 @@
 use super::emission::{energy_cell_edges, EmissionTable};
 use super::model::{species, Shell, SolarDataError, SolarModel, Species};
 use super::opacity_project::{GridCell, OpacityTables, OP_ELEMENTS};
-use super::primakoff::{
+use crate::constants::{
     ALPHA, ATOMIC_MASS_UNIT_G, ELECTRON_MASS_KEV, HBAR_C_KEV_CM, K_B_KEV_PER_K,
 };
 use std::f64::consts::PI;

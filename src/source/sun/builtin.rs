@@ -8,9 +8,10 @@
 //! and report; the per-process split of ABC (atomic, electron–ion,
 //! electron–electron, Compton) comes with it for spectra.
 
-use super::emission::{EmissionTable, AU_CM};
+use super::emission::EmissionTable;
 use super::model::{SolarDataError, SolarModel};
 use super::opacity_project::OpacityTables;
+use crate::constants::AU_CM;
 
 /// The reference coupling of the Primakoff table, GeV⁻¹.
 pub const G_AGAMMA_REFERENCE_PER_GEV: f64 = 1e-10;

@@ -19,16 +19,10 @@
 //! "emRates·E_j²·r_i²·Δr_i" — so the grid need not be uniform.
 
 use super::model::SolarDataError;
-use super::primakoff::HBAR_C_KEV_CM;
+use crate::constants::HBAR_C_KEV_CM;
+use crate::constants::{HBAR_KEV_S, R_SUN_CM};
 use crate::xray::elements::{HENKE_MAX_KEV, HENKE_MIN_KEV};
 use std::path::Path;
-
-/// ħ in keV·s (CODATA 2018).
-pub const HBAR_KEV_S: f64 = 6.582_119_569e-19;
-/// The solar radius in cm (SPEC §3: 6.96342e8 m, Emilio et al. 2012 from SOHO).
-pub const R_SUN_CM: f64 = 6.963_42e10;
-/// The astronomical unit in cm (IAU 2012, exact).
-pub const AU_CM: f64 = 1.495_978_707e13;
 
 /// The column names of the CSV format.
 pub const RADIUS_COLUMN: &str = "Radius";

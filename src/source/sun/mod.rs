@@ -31,12 +31,13 @@ pub mod sampler;
 pub mod shares;
 pub mod tables;
 
-pub use emission::{EmissionTable, AU_CM, R_SUN_CM};
+pub use emission::EmissionTable;
 pub use mixture::{ProcessWeights, SunEmission};
 pub use model::{SolarDataError, SolarModel};
 pub use sampler::EmissionSampler;
 
 use super::{far_from_origin, frame, AnnulusSector, ApertureDesc, InvalidSource, Photon};
+use crate::constants::{AU_CM, R_SUN_CM};
 use crate::random::PhotonRng;
 use glam::DVec3;
 use serde::Deserialize;
@@ -370,7 +371,7 @@ impl SunSource {
 
     /// Angular radius of the solar disk seen from the target, radians.
     pub fn angular_radius(&self) -> f64 {
-        (emission::R_SUN_CM * 10.0 / self.distance_mm).asin()
+        (R_SUN_CM * 10.0 / self.distance_mm).asin()
     }
 
     /// Axions per second that one unit of weight stands for, summed over a run of

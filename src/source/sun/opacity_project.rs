@@ -22,7 +22,8 @@
 //! (free–bound, bound–bound and metal free–free) axion emission.
 
 use super::model::SolarDataError;
-use super::primakoff::K_B_KEV_PER_K;
+use crate::constants::BOHR_RADIUS_CM;
+use crate::constants::K_B_KEV_PER_K;
 use std::collections::BTreeMap;
 use std::path::Path;
 
@@ -247,9 +248,6 @@ impl OpacityTables {
             .sum()
     }
 }
-
-/// The Bohr radius in cm (CODATA 2018).
-pub const BOHR_RADIUS_CM: f64 = 5.291_772_109_03e-9;
 
 /// (ITE, JNE) from a name `PREFIX{ITE}_{JNE}.dat`.
 fn parse_grid_name(name: &str, prefix: &str) -> Option<(i32, i32)> {

@@ -34,17 +34,10 @@
 use super::emission::EmissionTable;
 use super::model::{species, Shell, SolarModel, Species};
 use super::SolarDataError;
+use crate::constants::{
+    ALPHA, ATOMIC_MASS_UNIT_G, ELECTRON_MASS_KEV, HBAR_C_KEV_CM, K_B_KEV_PER_K,
+};
 
-/// Fine-structure constant (CODATA 2018).
-pub const ALPHA: f64 = 1.0 / 137.035_999_084;
-/// Boltzmann constant, keV/K (CODATA 2018).
-pub const K_B_KEV_PER_K: f64 = 8.617_333_262e-8;
-/// Atomic mass unit, g (CODATA 2018).
-pub const ATOMIC_MASS_UNIT_G: f64 = 1.660_539_066_60e-24;
-/// Electron mass, keV (CODATA 2018).
-pub const ELECTRON_MASS_KEV: f64 = 510.998_950;
-/// ħc, keV·cm (CODATA 2018): 1 cm = 1/(ħc) keV⁻¹.
-pub const HBAR_C_KEV_CM: f64 = 1.973_269_804e-8;
 /// The reference coupling g_aγ = 1e-10 GeV⁻¹ in keV⁻¹.
 pub const G_REFERENCE_PER_KEV: f64 = 1e-10 * 1e-6;
 

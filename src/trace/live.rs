@@ -5,12 +5,12 @@
 //! N photons (a multiple of `trace::CHUNK`, or where a limit stops it) is the
 //! bit-identical tally of `traxer trace -n N` with the same seed.
 //!
-//! Data flow: `scene` → [`feed`] (here, with `trace::trace_chunk`) → the shared
+//! Data flow: `scene` → [`feed`] (here, with [`super::trace_chunk`]) → the shared
 //! [`Published`] tally → the window (sensor textures, live HPD, saving through
 //! `output`).
 
+use super::{trace_chunk, Tally, CHUNK};
 use crate::scene::Scene;
-use crate::trace::{trace_chunk, Tally, CHUNK};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};

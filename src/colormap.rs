@@ -1,5 +1,6 @@
 //! The viridis colour map and how values map onto it: shared by the sensor PNGs
-//! and by the sensor glow of visible-light renders, so both show an image alike.
+//! (`output`) and by the sensor glow of visible-light renders (`render`), so both
+//! show an image alike. A leaf: it depends on no other module.
 
 /// How values map to colour.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
