@@ -129,7 +129,9 @@ pub fn write_effective_area(
     Ok(paths)
 }
 
-fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
+/// The effective-area curves (one per angle, ±1σ bands) and the on-axis
+/// geometric area as a dashed reference; the plot's title.
+fn area_curves(r: &AreaResult) -> (Vec<Series>, String) {
     let mut by_energy: Vec<Series> = r
         .angles
         .iter()
@@ -181,6 +183,11 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
         false => format!("effective area on {}", r.sensor),
     };
     let title = format!("{title} (bands: ±1σ Monte Carlo)");
+    (by_energy, title)
+}
+
+fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
+    let (by_energy, title) = area_curves(r);
     line_plot(
         &paths[0],
         &title,

@@ -368,7 +368,15 @@ fn draw_overlay(
         // The legend in the plot's top left corner: the circles, inner first.
         let labels: Vec<&str> = o.circles_mm.iter().map(|(_, l)| l.as_str()).collect();
         let legend = format!("+ centroid;  circles: {}", labels.join(", "));
-        haloed(&root, &legend, (xs.start + 8, ys.start + 6), 14)?;
+        // On a pale box: a halo alone does not read on a speckled log image.
+        let font: TextStyle = ("sans-serif", 14).into_font().into();
+        let (tw, th) = root.estimate_text_size(&legend, &font)?;
+        let (lx, ly) = (xs.start + 8, ys.start + 6);
+        root.draw(&Rectangle::new(
+            [(lx - 4, ly - 3), (lx + tw as i32 + 4, ly + th as i32 + 3)],
+            WHITE.mix(0.8).filled(),
+        ))?;
+        haloed(&root, &legend, (lx, ly), 14)?;
         let c = at(cx, cy);
         if inside(c) {
             let red = RGBColor(230, 40, 40).stroke_width(2);

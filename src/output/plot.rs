@@ -209,53 +209,7 @@ pub fn line_plot(
                 .y_label_formatter(&|v| tick_label(*v, y_span))
                 .label_style(("sans-serif", 15))
                 .draw()?;
-            // Bands first, under every curve.
-            for (i, s) in series.iter().enumerate() {
-                let Some(band) = &s.band else { continue };
-                let color = palette(s.color.unwrap_or(i)).mix(0.25);
-                let upper = s.points.iter().zip(band).map(|(p, b)| (p.0, b.1));
-                let lower = s.points.iter().zip(band).rev().map(|(p, b)| (p.0, b.0));
-                chart.draw_series(std::iter::once(Polygon::new(
-                    upper.chain(lower).collect::<Vec<_>>(),
-                    color.filled(),
-                )))?;
-            }
-            for (i, s) in series.iter().enumerate() {
-                let color = palette(s.color.unwrap_or(i)).to_rgba();
-                if s.dashed {
-                    chart
-                        .draw_series(DashedLineSeries::new(
-                            s.points.iter().copied(),
-                            8,
-                            5,
-                            color.stroke_width(2),
-                        ))?
-                        .label(typeset(&s.label))
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 8, y)], color.stroke_width(2))
-                        });
-                } else if s.dots {
-                    chart
-                        .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?
-                        .label(typeset(&s.label))
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(
-                            s.points.iter().copied(),
-                            color.stroke_width(2),
-                        ))?
-                        .label(typeset(&s.label))
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
-                        });
-                    if s.points.len() <= SPARSE && s.markers {
-                        chart.draw_series(
-                            s.points.iter().map(|&p| Circle::new(p, 4, color.filled())),
-                        )?;
-                    }
-                }
-            }
+            draw_curves(&mut chart, series)?;
             if show_legend {
                 chart
                     .configure_series_labels()
@@ -272,6 +226,65 @@ pub fn line_plot(
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
     write_rgb_png(path, &img)
+}
+
+type Chart<'a, 'b> = ChartContext<
+    'a,
+    BitMapBackend<'b>,
+    Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+>;
+
+/// The series onto the chart: every band first (under every curve), then the
+/// curves, dashed lines and dots, each with its legend entry.
+fn draw_curves<'b>(
+    chart: &mut Chart<'_, 'b>,
+    series: &[Series],
+) -> Result<(), Box<dyn std::error::Error + 'b>> {
+    for (i, s) in series.iter().enumerate() {
+        let Some(band) = &s.band else { continue };
+        let color = palette(s.color.unwrap_or(i)).mix(0.25);
+        let upper = s.points.iter().zip(band).map(|(p, b)| (p.0, b.1));
+        let lower = s.points.iter().zip(band).rev().map(|(p, b)| (p.0, b.0));
+        chart.draw_series(std::iter::once(Polygon::new(
+            upper.chain(lower).collect::<Vec<_>>(),
+            color.filled(),
+        )))?;
+    }
+    for (i, s) in series.iter().enumerate() {
+        let color = palette(s.color.unwrap_or(i)).to_rgba();
+        if s.dashed {
+            chart
+                .draw_series(DashedLineSeries::new(
+                    s.points.iter().copied(),
+                    8,
+                    5,
+                    color.stroke_width(2),
+                ))?
+                .label(typeset(&s.label))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 8, y)], color.stroke_width(2))
+                });
+        } else if s.dots {
+            chart
+                .draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?
+                .label(typeset(&s.label))
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, color.filled()));
+        } else {
+            chart
+                .draw_series(LineSeries::new(
+                    s.points.iter().copied(),
+                    color.stroke_width(2),
+                ))?
+                .label(typeset(&s.label))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2))
+                });
+            if s.points.len() <= SPARSE && s.markers {
+                chart.draw_series(s.points.iter().map(|&p| Circle::new(p, 4, color.filled())))?;
+            }
+        }
+    }
+    Ok(())
 }
 
 /// A tick label: plain for moderate numbers, a×10ⁿ when the axis spans large

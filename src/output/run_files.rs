@@ -185,15 +185,7 @@ fn write_sensor(
         "conversion": conversion,
         "history": history_json(scene, image, scale),
         "by_process": processes,
-        "files": {
-            "flux_npy": files.flux_npy, "counts_npy": files.counts_npy,
-            "png_linear": files.figure_png, "png_log": files.figure_log_png,
-            "png_pixels": files.pixels_png,
-            "eef_png": quality.is_some().then_some(&files.eef_png),
-            "projections_csv": files.projections_csv,
-            "fits": run.fits.then(|| fits_file_name(&spec.name)),
-            "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
-        },
+        "files": files_json(spec, &files, quality.is_some(), run.fits),
     });
     let doc = json!({
         "provenance": run.provenance,
@@ -210,6 +202,24 @@ fn write_sensor(
             .map(path),
     );
     Ok((sensor, written))
+}
+
+/// The `files` entry of a sensor's JSON: each file by what it holds.
+fn files_json(
+    spec: &crate::sensor::SensorSpec,
+    files: &SensorFiles,
+    eef: bool,
+    fits: bool,
+) -> Value {
+    json!({
+        "flux_npy": files.flux_npy, "counts_npy": files.counts_npy,
+        "png_linear": files.figure_png, "png_log": files.figure_log_png,
+        "png_pixels": files.pixels_png,
+        "eef_png": eef.then_some(&files.eef_png),
+        "projections_csv": files.projections_csv,
+        "fits": fits.then(|| fits_file_name(&spec.name)),
+        "class_images_npy": spec.history_images.then(|| crate::sensor::class_file_names(&spec.name)),
+    })
 }
 
 /// A sensor's FITS files (`--fits`): its image and, with a pixel grid, the
