@@ -35,9 +35,13 @@ fn main() -> anyhow::Result<()> {
             let result = traxer::trace::run(&scene, &cfg)?;
             let dir = out.join(format!("{line}_{variant}"));
             std::fs::create_dir_all(&dir)?;
-            let provenance = Provenance::new(&invocation, Some(device.info().version))
-                .scene(&scene)
-                .run(&cfg, result.threads);
+            let provenance = Provenance::of_study(
+                &invocation,
+                device.info().version,
+                &scene,
+                (photons, 1),
+                result.threads,
+            );
             write_run(&dir, &scene, &result, &provenance, None)?;
             let spec = &scene.sensors[0];
             let (q, eef) = analyse(

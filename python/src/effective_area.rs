@@ -12,7 +12,6 @@ use traxer::history::PathClass;
 use traxer::output::{effective_area_files, write_effective_area, Provenance};
 use traxer::run::Invocation;
 use traxer::studies::effective_area::{sweep, AreaResult, AreaSweep};
-use traxer::trace::RunConfig;
 
 /// Runs the sweep with the GIL released.
 pub fn run(
@@ -31,10 +30,6 @@ pub fn run(
     let result = py.detach(|| sweep(scene, &s, &[], &|n| bar.inc(n), |_| {}));
     bar.finish_and_clear();
     let result = result.map_err(lib)?;
-    let cfg = RunConfig {
-        threads: s.threads,
-        ..RunConfig::new(s.photons, s.seed)
-    };
     let invocation = Invocation::new([
         "python".into(),
         format!(
@@ -49,9 +44,13 @@ pub fn run(
             s.radius_mm
         ),
     ]);
-    let provenance = Provenance::new(&invocation, Some(loaded.device.info().version))
-        .scene(scene)
-        .run(&cfg, result.threads);
+    let provenance = Provenance::of_study(
+        &invocation,
+        loaded.device.info().version,
+        scene,
+        (s.photons, s.seed),
+        result.threads,
+    );
     EffectiveArea::new(py, result, s, provenance)
 }
 

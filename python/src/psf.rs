@@ -11,7 +11,6 @@ use std::sync::Arc;
 use traxer::output::{write_psf_library, Provenance, PSF_FILES};
 use traxer::run::Invocation;
 use traxer::studies::psf::{library, points, PsfGrid, PsfLibrary as Library};
-use traxer::trace::RunConfig;
 
 /// Traces the library with the GIL released.
 pub fn run(
@@ -27,10 +26,6 @@ pub fn run(
     let result = py.detach(|| library(scene, &g, &[], &|n| bar.inc(n), |_| {}));
     bar.finish_and_clear();
     let result = result.map_err(lib)?;
-    let cfg = RunConfig {
-        threads: g.threads,
-        ..RunConfig::new(g.photons, g.seed)
-    };
     let invocation = Invocation::new([
         "python".into(),
         format!(
@@ -46,9 +41,13 @@ pub fn run(
             g.window
         ),
     ]);
-    let provenance = Provenance::new(&invocation, Some(loaded.device.info().version))
-        .scene(scene)
-        .run(&cfg, result.threads);
+    let provenance = Provenance::of_study(
+        &invocation,
+        loaded.device.info().version,
+        scene,
+        (g.photons, g.seed),
+        result.threads,
+    );
     PsfLibrary::new(py, result, g, provenance)
 }
 

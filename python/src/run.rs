@@ -5,7 +5,7 @@
 //! a checkpointing run after its current batch, with the checkpoint written.
 
 use crate::convert::{progress_bar, threads};
-use crate::errors::{lib, to_py};
+use crate::errors::lib;
 use crate::result::TraceResult;
 use crate::scene::Loaded;
 use crate::units::Unit;
@@ -13,12 +13,12 @@ use pyo3::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
-use traxer::embree::Device;
 use traxer::output::Provenance;
 use traxer::run::{
-    open_stopped, read_state, Found, Invocation, Resumable, RunControl, RunError, RunSettings,
-    RUN_STATE_FILE,
+    open_finished, open_stopped, read_state, Found, Invocation, Resumable, RunControl, RunError,
+    RunSettings, StateHeader, RUN_STATE_FILE,
 };
+use traxer::trace::Tally;
 
 /// A progress bar, and Python's signals checked between batches.
 pub struct PyControl {
@@ -90,10 +90,25 @@ pub fn finished_result(
     threads: usize,
 ) -> PyResult<TraceResult> {
     let (header, tally) = read_state(&out.join(RUN_STATE_FILE)).map_err(lib)?;
-    let provenance = Provenance::new(invocation, Some(loaded.device.info().version))
-        .scene(&loaded.scene)
-        .seeded(header.identity.seed, threads)
-        .parts(&header, &[]);
+    result_of(py, loaded, (header, tally), invocation, threads)
+}
+
+/// A run's result from its run state, with its provenance.
+fn result_of(
+    py: Python<'_>,
+    loaded: Arc<Loaded>,
+    (header, tally): (StateHeader, Tally),
+    invocation: &Invocation,
+    threads: usize,
+) -> PyResult<TraceResult> {
+    let provenance = Provenance::of_run(
+        invocation,
+        loaded.device.info().version,
+        &loaded.scene,
+        &header,
+        Some(threads),
+        &[],
+    );
     TraceResult::new(py, loaded, header, tally, threads, provenance)
 }
 
@@ -134,17 +149,14 @@ pub fn resume(
         .map_err(lib)?;
     let mut run: Box<Resumable> = match found {
         Found::Stopped(run) => run,
+        // A finished run: its result, once its scene is checked to be the
+        // run's (as a stopped run's is).
         Found::Finished(_) => {
-            let (header, _) = read_state(&folder.join(RUN_STATE_FILE)).map_err(lib)?;
-            let loaded = py
-                .detach(|| -> anyhow::Result<Loaded> {
-                    let device = Device::new()?;
-                    let path = scene.clone().unwrap_or(header.scene_path.clone());
-                    let scene = traxer::scene::Scene::load(&device, &path, &header.overrides)?;
-                    Ok(Loaded { scene, device })
-                })
-                .map_err(to_py)?;
-            return finished_result(py, Arc::new(loaded), &folder, &invocation, 0);
+            let (device, scene, header, tally) = py
+                .detach(|| open_finished(&folder, scene.as_deref()))
+                .map_err(lib)?;
+            let loaded = Arc::new(Loaded { scene, device });
+            return result_of(py, loaded, (header, tally), &invocation, 0);
         }
     };
     let (traced, photons) = run.progress();

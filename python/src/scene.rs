@@ -2,7 +2,7 @@
 //! and `Scene.trace`, the run of `traxer trace` (same photons, same sums, so the
 //! images are bit for bit the CLI's), with the GIL released while it traces.
 
-use crate::convert::{defines, progress_bar, threads, to_json};
+use crate::convert::{defines, threads, to_json};
 use crate::errors::{input, lib, to_py};
 use crate::result::TraceResult;
 use crate::run::{finished_result, PyControl};
@@ -10,11 +10,9 @@ use crate::units::{numbers, optional, Unit};
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
-use std::time::Instant;
 use traxer::embree::Device;
-use traxer::output::Provenance;
-use traxer::run::{FrontEnd, Invocation, RunPart, RunSettings, Shard, TraceJob};
-use traxer::trace::{run_part, Flow, RunConfig, Tally};
+use traxer::run::{FrontEnd, Invocation, RunSettings, Shard, TraceJob};
+use traxer::trace::RunConfig;
 
 /// A scene and the Embree device it was built on (the device must outlive it).
 pub struct Loaded {
@@ -194,34 +192,27 @@ impl Scene {
             )),
             None => {}
         }
-        let mut part = RunPart::new(scene, &cfg, Shard::whole(photons));
-        let bar = progress_bar(photons, progress);
-        let start = Instant::now();
-        let mut interrupted = None;
-        let traced = py.detach(|| {
-            run_part(scene, &cfg, Tally::new(scene), &|n| bar.inc(n), &mut |_| {
-                // Ctrl-C in Python is seen between batches, with the GIL held.
-                match Python::attach(|py| py.check_signals()) {
-                    Ok(()) => Flow::Continue,
-                    Err(e) => {
-                        interrupted = Some(e);
-                        Flow::Stop
-                    }
-                }
-            })
-        });
-        bar.finish_and_clear();
-        if let Some(e) = interrupted {
-            return Err(e);
-        }
-        let (tally, used) = traced.map_err(lib)?;
-        part.seconds = start.elapsed().as_secs_f64();
-        let header = part.header(&tally);
-        let provenance = Provenance::new(&invocation, Some(self.loaded.device.info().version))
-            .scene(scene)
-            .run(&cfg, used)
-            .parts(&header, &[]);
-        TraceResult::new(py, self.loaded.clone(), header, tally, used, provenance)
+        // Traced in memory by `run`, as the CLI's runs are; Ctrl-C is seen
+        // between batches (the control checks Python's signals).
+        let job = TraceJob {
+            scene,
+            embree_version: self.loaded.device.info().version,
+            cfg,
+            shard: Shard::whole(photons),
+        };
+        let control = PyControl::new(photons, progress);
+        let ran = py.detach(|| job.run_in_memory(&invocation, &control));
+        control.bar.finish_and_clear();
+        let run = ran.map_err(|e| control.error(e))?;
+        let loaded = self.loaded.clone();
+        TraceResult::new(
+            py,
+            loaded,
+            run.header,
+            run.tally,
+            run.threads,
+            run.provenance,
+        )
     }
 
     /// The telescope's effective area A_eff(E, θ), as `traxer effective-area`.

@@ -15,7 +15,6 @@ use traxer::run::Invocation;
 use traxer::scene::Scene;
 use traxer::studies::systematics::{self, Request, Settings, Systematics as Study};
 use traxer::studies::StudyError;
-use traxer::trace::RunConfig;
 
 /// Plans and traces the study with the GIL released: the scene is loaded
 /// again for each variation that sets variables (and once, to vary its
@@ -54,10 +53,6 @@ pub fn run(
     });
     bar.finish_and_clear();
     let study = result.map_err(lib)?;
-    let cfg = RunConfig {
-        threads: settings.threads,
-        ..RunConfig::new(settings.photons, settings.seed)
-    };
     let invocation = Invocation::new([
         "python".into(),
         format!(
@@ -78,9 +73,13 @@ pub fn run(
             settings.central_mm
         ),
     ]);
-    let provenance = Provenance::new(&invocation, Some(loaded.device.info().version))
-        .scene(shown)
-        .run(&cfg, study.facts.threads);
+    let provenance = Provenance::of_study(
+        &invocation,
+        loaded.device.info().version,
+        shown,
+        (settings.photons, settings.seed),
+        study.facts.threads,
+    );
     let name = shown
         .path
         .file_name()

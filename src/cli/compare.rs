@@ -69,7 +69,10 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let load = |path: &std::path::Path, repr| {
         let scene = Scene::load_as(&device, path, &a.scene.vars.define, repr)?;
         warnings.show(&scene);
-        main_scene.get_or_insert_with(|| Provenance::new(&super::invocation(), None).scene(&scene));
+        main_scene.get_or_insert_with(|| {
+            let run = (cfg.photons, cfg.seed);
+            Provenance::of_study(&super::invocation(), device.info().version, &scene, run, 0)
+        });
         Ok(scene)
     };
     let bar = progress::bar(cfg.photons * runs.len() as u64, "photons", quiet);
@@ -99,11 +102,10 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     bar.finish_and_clear();
     let rows = rows?;
     let threads = rows.first().map_or(0, |r| r.measured.threads);
-    let provenance = Provenance {
-        embree_version: Some(device.info().version),
-        ..main_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
-    }
-    .run(&cfg, threads);
+    let provenance = main_scene.map_or_else(
+        || Provenance::of_table(&super::invocation()),
+        |p| p.with_threads(threads),
+    );
     let out = &a.output.scene_folder(&a.scene, "compare");
     write_compare(folder.path(), &rows, &provenance)
         .and_then(|_| folder.commit())

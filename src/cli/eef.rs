@@ -84,7 +84,7 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         "pixel_pitch_mm": pitch,
         "image_quality": q,
     });
-    write_sidecar(&plot, &Provenance::new(&super::invocation(), None), details)
+    write_sidecar(&plot, &Provenance::of_table(&super::invocation()), details)
         .with_context(|| format!("cannot write the sidecar of {}", plot.display()))?;
     if a.json {
         say!("{}", serde_json::to_string_pretty(&q)?);

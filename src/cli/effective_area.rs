@@ -4,14 +4,12 @@
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress};
-use anyhow::Context;
 use traxer::output::{effective_area_files, write_effective_area, Provenance};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
 use traxer::studies::effective_area::{
     photons_per_angle, sweep, AngleResult, AreaResult, AreaSweep,
 };
-use traxer::trace::RunConfig;
 
 /// Effective area A_eff(E, θ) in cm² and off-axis image quality.
 ///
@@ -92,10 +90,7 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
         a.resume,
     )?;
     let replay = study.replay();
-    super::signals::set_stop_message(format!(
-        "stopped; the angles so far are in {}: run the same command with --resume to continue",
-        study.record_path().display()
-    ));
+    super::signals::set_stop_message(study.stop_message("angles"));
     let quiet = a.output.quiet.quiet;
     let total = photons_per_angle(&scene, &s).saturating_mul(s.angles_arcmin.len() as u64);
     let bar = progress::bar(total, "photons", quiet);
@@ -106,18 +101,15 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
     });
     bar.finish_and_clear();
     let result = result?;
-    let cfg = RunConfig {
-        threads: a.sampling.threads,
-        ..RunConfig::new(a.photons, a.sampling.seed)
-    };
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(&scene)
-        .run(&cfg, result.threads);
+    let provenance = Provenance::of_study(
+        &super::invocation(),
+        device.info().version,
+        &scene,
+        (a.photons, a.sampling.seed),
+        result.threads,
+    );
     let out = &a.output.scene_folder(&a.scene, "effective_area");
-    let folder = study.folder;
-    write_effective_area(folder.path(), &result, a.radius, &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    study.finish(|dir| write_effective_area(dir, &result, a.radius, &provenance))?;
     if !quiet {
         print_sweep(&s, &result, out);
     }

@@ -4,7 +4,6 @@
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError};
-use anyhow::Context;
 use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
@@ -171,10 +170,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     if !quiet && a.resume {
         say!("resuming: {} evaluations recorded", replay.len());
     }
-    super::signals::set_stop_message(format!(
-        "stopped; the evaluations so far are in {}: run the same command with --resume to continue",
-        study.record_path().display()
-    ));
+    super::signals::set_stop_message(study.stop_message("evaluations"));
     // Progress in evaluations (DIRECT-L may stop early; the bar then ends
     // short of its length); the traces after the fit count as they finish.
     let evaluations = evaluations_planned(&a, &settings, predicted.len());
@@ -194,9 +190,13 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let after = after_fit(&a, (&mut scene, &mut predicted), &settings, &result, &bar);
     bar.finish_and_clear();
     let (spread, errors, predictions) = after?;
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(&scene)
-        .run(&run, result.threads);
+    let provenance = Provenance::of_study(
+        &super::invocation(),
+        device.info().version,
+        &scene,
+        (run.photons, run.seed),
+        result.threads,
+    );
     let report = FitReport {
         result: &result,
         settings: &settings,
@@ -208,10 +208,7 @@ pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
         predictions: &predictions,
     };
     let out = &a.output.scene_folder(&a.scene, "fit");
-    let folder = study.folder;
-    write_fit(folder.path(), &report, &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    study.finish(|dir| write_fit(dir, &report, &provenance))?;
     print_result(&report, out);
     Ok(())
 }

@@ -4,9 +4,7 @@
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
 use super::{progress, Warnings};
-use anyhow::Context;
 use traxer::embree::Device;
-use traxer::files::OutputFolder;
 use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
 use traxer::run::record::file_identity;
 use traxer::run::Study;
@@ -77,8 +75,10 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             .check_scene(&scene)
             .map_err(|e| StudyError::Input(e.to_string()))?;
         warnings.show(&scene);
-        first_scene
-            .get_or_insert_with(|| Provenance::new(&super::invocation(), None).scene(&scene));
+        first_scene.get_or_insert_with(|| {
+            let run = (cfg.photons, cfg.seed);
+            Provenance::of_study(&super::invocation(), device.info().version, &scene, run, 0)
+        });
         Ok(scene)
     };
     let bar = progress::bar(cfg.photons * values.len() as u64, "photons", quiet);
@@ -106,8 +106,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             a.var, scan.clipped
         );
     }
-    let embree = Some(device.info().version);
-    write(&a, study.folder, &scan, first_scene, embree, &cfg)?;
+    write(&a, study, &scan, first_scene)?;
     print_fits(&a, &scan)
 }
 
@@ -116,23 +115,18 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
 /// (focus.csv has its values).
 fn write(
     a: &FocusArgs,
-    folder: OutputFolder,
+    study: Study<FocusStep>,
     scan: &FocusScan,
     first_scene: Option<Provenance>,
-    embree_version: Option<String>,
-    cfg: &traxer::trace::RunConfig,
 ) -> anyhow::Result<()> {
-    let mut provenance = Provenance {
-        embree_version,
-        overrides: a.scene.vars.define.clone(),
-        ..first_scene.unwrap_or_else(|| Provenance::new(&super::invocation(), None))
-    }
-    .run(cfg, scan.threads);
+    let mut provenance = first_scene.map_or_else(
+        || Provenance::of_table(&super::invocation()),
+        |p| p.with_threads(scan.threads),
+    );
+    provenance.overrides = a.scene.vars.define.clone();
     provenance.variables.remove(&a.var);
-    let out = &a.output.scene_folder(&a.scene, "focus");
-    write_focus(folder.path(), scan, &a.var, (a.from, a.to), &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))
+    study.finish(|dir| write_focus(dir, scan, &a.var, (a.from, a.to), &provenance))?;
+    Ok(())
 }
 
 /// The scan's results folder and record (resumed with --resume).
@@ -156,10 +150,7 @@ fn open_study(
         id.into(),
         a.resume,
     )?;
-    super::signals::set_stop_message(format!(
-        "stopped; the positions so far are in {}: run the same command with --resume to continue",
-        study.record_path().display()
-    ));
+    super::signals::set_stop_message(study.stop_message("positions"));
     Ok(study)
 }
 

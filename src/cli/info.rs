@@ -49,8 +49,8 @@ pub fn run(a: InfoArgs) -> anyhow::Result<()> {
         .unwrap_or(1);
     if a.json {
         let v = serde_json::json!({
-            "traxer_version": env!("CARGO_PKG_VERSION"),
-            "git_hash": traxer::run::git_hash(),
+            "traxer_version": traxer::run::BUILD.version,
+            "git_hash": traxer::run::BUILD.git_hash,
             "embree": e,
             "embree_isa": isa,
             "cpu_features": cpu,

@@ -3,12 +3,10 @@
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress};
-use anyhow::Context;
 use traxer::output::{write_psf_library, Provenance, PSF_FILES};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
 use traxer::studies::psf::{check, library, points, PsfGrid, PsfImage};
-use traxer::trace::RunConfig;
 
 /// PSF library: images of a source at infinity over energies × off-axis angles ×
 /// azimuths, for X-ray simulators.
@@ -92,10 +90,7 @@ pub fn run(a: PsfArgs) -> anyhow::Result<()> {
     let out = a.output.scene_folder(&a.scene, "psf");
     let study: Study<PsfImage> = Study::open(&out, "psf", &PSF_FILES, id.into(), a.resume)?;
     let replay = study.replay();
-    super::signals::set_stop_message(format!(
-        "stopped; the points so far are in {}: run the same command with --resume to continue",
-        study.record_path().display()
-    ));
+    super::signals::set_stop_message(study.stop_message("points"));
     let quiet = a.output.quiet.quiet;
     let n_points = points(&g).len() as u64;
     let bar = progress::bar(g.photons.saturating_mul(n_points), "photons", quiet);
@@ -106,17 +101,14 @@ pub fn run(a: PsfArgs) -> anyhow::Result<()> {
     });
     bar.finish_and_clear();
     let lib = result?;
-    let cfg = RunConfig {
-        threads: a.sampling.threads,
-        ..RunConfig::new(a.photons, a.sampling.seed)
-    };
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(&scene)
-        .run(&cfg, lib.threads);
-    let folder = study.folder;
-    write_psf_library(folder.path(), &lib, &g, &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    let provenance = Provenance::of_study(
+        &super::invocation(),
+        device.info().version,
+        &scene,
+        (a.photons, a.sampling.seed),
+        lib.threads,
+    );
+    study.finish(|dir| write_psf_library(dir, &lib, &g, &provenance))?;
     if !quiet {
         print_library(&g, &lib, &out);
     }

@@ -94,7 +94,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
     });
     write_sidecar(
         &a.plot,
-        &Provenance::new(&super::invocation(), None),
+        &Provenance::of_table(&super::invocation()),
         details,
     )
     .with_context(|| format!("cannot write the sidecar of {}", a.plot.display()))?;

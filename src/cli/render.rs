@@ -212,9 +212,13 @@ pub fn run(a: RenderArgs) -> anyhow::Result<()> {
     let png = picture(&a, &scene, &cam, &image);
     write_rgb_png(&a.out, &png).with_context(|| format!("cannot write {}", a.out.display()))?;
     let threads = pool.current_num_threads();
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(&scene)
-        .seeded(a.sampling.seed, threads);
+    let provenance = Provenance::of_picture(
+        &super::invocation(),
+        device.info().version,
+        &scene,
+        a.sampling.seed,
+        threads,
+    );
     write_sidecar(&a.out, &provenance, details(&a, &cam, seconds))
         .with_context(|| format!("cannot write the sidecar of {}", a.out.display()))?;
     if !a.quiet.quiet {

@@ -122,7 +122,7 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         &e.table,
         &e.parts,
         &info,
-        &Provenance::new(&super::invocation(), None),
+        &Provenance::of_table(&super::invocation()),
     )?;
     folder.commit()?;
     print_totals(&e, a.distance_au);

@@ -4,7 +4,6 @@
 
 use super::args::{OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress, InputError, Warnings};
-use anyhow::Context;
 use std::cell::RefCell;
 use traxer::output::{write_systematics, Provenance, SYSTEMATICS_FILES};
 use traxer::run::record::base_identity;
@@ -12,7 +11,6 @@ use traxer::run::Study;
 use traxer::scene::Scene;
 use traxer::studies::systematics::{self, Outcome, Request, Settings, Systematics, METRICS};
 use traxer::studies::StudyError;
-use traxer::trace::RunConfig;
 
 /// The image's systematic uncertainty: the scene traced under each source of
 /// uncertainty with the same photons.
@@ -170,10 +168,7 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
         a.resume,
     )?;
     study.check_scene(&scene)?;
-    super::signals::set_stop_message(format!(
-        "stopped; the variations so far are in {}: run the same command with --resume to continue",
-        study.record_path().display()
-    ));
+    super::signals::set_stop_message(study.stop_message("variations"));
     let quiet = a.output.quiet.quiet;
     if !quiet {
         print_plan(&plan);
@@ -203,13 +198,14 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
     );
     bar.finish_and_clear();
     let s = result?;
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(&scene)
-        .run(&run_config(&a), s.facts.threads);
-    let folder = study.folder;
-    write_systematics(folder.path(), &s, &file_name(&a.scene.scene), &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    let provenance = Provenance::of_study(
+        &super::invocation(),
+        device.info().version,
+        &scene,
+        (a.photons, a.sampling.seed),
+        s.facts.threads,
+    );
+    study.finish(|dir| write_systematics(dir, &s, &file_name(&a.scene.scene), &provenance))?;
     if !quiet {
         print_table(&s);
         say!(
@@ -229,14 +225,6 @@ fn settings(a: &SystematicsArgs) -> Settings {
         threads: a.sampling.threads,
         sensor: a.sensor.clone(),
         central_mm: a.central,
-    }
-}
-
-/// Each variation's run, for the provenance.
-fn run_config(a: &SystematicsArgs) -> RunConfig {
-    RunConfig {
-        threads: a.sampling.threads,
-        ..RunConfig::new(a.photons, a.sampling.seed)
     }
 }
 

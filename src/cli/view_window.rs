@@ -26,7 +26,7 @@ use traxer::render::{
 };
 use traxer::scene::Scene;
 use traxer::trace::live::{feed, Published};
-use traxer::trace::{RunConfig, Tally};
+use traxer::trace::Tally;
 
 /// Passes after which a still picture stops refining.
 const MAX_PASSES: u64 = 1024;
@@ -339,10 +339,13 @@ fn save(
     names.push("frame.png".into());
     let folder = traxer::run::results_folder(dir, &names)?;
     let traced = tally.traced;
-    let cfg = RunConfig::new(traced.max(1), seed);
-    let provenance = Provenance::new(&super::invocation(), Some(device.info().version))
-        .scene(scene)
-        .run(&cfg, 1);
+    let provenance = Provenance::of_study(
+        &super::invocation(),
+        device.info().version,
+        scene,
+        (traced.max(1), seed),
+        1,
+    );
     let result = tally.into_result(0, 0.0, 1);
     let mut png = image::RgbImage::new(w as u32, h as u32);
     for (p, c) in png.pixels_mut().zip(frame) {

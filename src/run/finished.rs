@@ -63,10 +63,7 @@ pub fn write_results(
     fits: bool,
 ) -> std::io::Result<(usize, RunResult)> {
     let out = folder.target().to_path_buf();
-    let failed = |e: std::io::Error| {
-        let message = format!("cannot write the results into {}: {e}", out.display());
-        std::io::Error::new(e.kind(), message)
-    };
+    let failed = |e: std::io::Error| cannot_write(&out, e);
     write_state(&folder.path().join(RUN_STATE_FILE), header.clone(), &tally).map_err(failed)?;
     let result = tally.into_result(header.identity.photon_list, header.seconds, threads);
     // FITS carries the sky's frame, measured by tracing (a Sun scene only).
@@ -86,4 +83,10 @@ pub fn write_results(
     .map_err(failed)?;
     folder.commit().map_err(failed)?;
     Ok((files.len() + 1, result))
+}
+
+/// The one message for results that could not be written into `out`.
+pub(super) fn cannot_write(out: &Path, e: std::io::Error) -> std::io::Error {
+    let message = format!("cannot write the results into {}: {e}", out.display());
+    std::io::Error::new(e.kind(), message)
 }

@@ -121,6 +121,61 @@ impl TraceJob<'_> {
     }
 }
 
+/// A run traced in memory, nothing written (Python's `Scene.trace()` without
+/// `out`): its run state as a folder's would hold it, and its provenance.
+pub struct InMemory {
+    pub header: StateHeader,
+    pub tally: Tally,
+    pub threads: usize,
+    pub provenance: Provenance,
+}
+
+impl TraceJob<'_> {
+    /// Traces the whole job in memory; a stop request ends it with nothing kept.
+    pub fn run_in_memory(
+        &self,
+        invocation: &Invocation,
+        control: &dyn RunControl,
+    ) -> Result<InMemory, RunError> {
+        let mut part = RunPart::new(self.scene, &self.cfg, self.shard);
+        let start = Instant::now();
+        let progress = |n| control.advance(n);
+        let (tally, threads) = trace::run_part(
+            self.scene,
+            &self.cfg,
+            Tally::new(self.scene),
+            &progress,
+            &mut |_| match control.stop_requested() {
+                true => Flow::Stop,
+                false => Flow::Continue,
+            },
+        )?;
+        if tally.traced < self.cfg.photons {
+            return Err(Stopped(format!(
+                "stopped after {} of {} photons; nothing was kept",
+                tally.traced, self.cfg.photons
+            ))
+            .into());
+        }
+        part.seconds = start.elapsed().as_secs_f64();
+        let header = part.header(&tally);
+        let provenance = Provenance::of_run(
+            invocation,
+            self.embree_version.clone(),
+            self.scene,
+            &header,
+            Some(threads),
+            &[],
+        );
+        Ok(InMemory {
+            header,
+            tally,
+            threads,
+            provenance,
+        })
+    }
+}
+
 /// The results folder of a run of `scene`, prepared (locked, staged) for every
 /// file a trace may leave there.
 pub fn prepare_folder(
@@ -264,10 +319,14 @@ impl Sitting<'_> {
         }
         part.seconds = earlier + start.elapsed().as_secs_f64();
         let header = part.header(&tally);
-        let provenance = Provenance::new(self.invocation, Some(self.embree_version.to_string()))
-            .scene(self.scene)
-            .run(cfg, threads)
-            .parts(&header, &[]);
+        let provenance = Provenance::of_run(
+            self.invocation,
+            self.embree_version.to_string(),
+            self.scene,
+            &header,
+            Some(threads),
+            &[],
+        );
         let (files, result) = super::write_results(
             folder,
             self.scene,
@@ -364,7 +423,7 @@ pub fn open_stopped(dir: &Path, moved_scene: Option<&Path>) -> Result<Found, Run
         .into());
     }
     let (header, tally) = read_state(&path)?;
-    let this = (env!("CARGO_PKG_VERSION"), env!("TRAXER_GIT_HASH"));
+    let this = (super::BUILD.version, super::BUILD.git_hash);
     let id = &header.identity;
     if (id.traxer_version.as_str(), id.git_hash.as_str()) != this {
         return Err(InputError(format!(
@@ -401,6 +460,59 @@ pub fn open_stopped(dir: &Path, moved_scene: Option<&Path>) -> Result<Found, Run
         tally: Some(tally),
         shard,
     })))
+}
+
+/// A finished run in `dir`, with its scene loaded again (from `moved_scene`
+/// if the file moved) and checked to be the run's: the same scene file, input
+/// files and variables, so that its images are read with the geometry that made
+/// them. Another build may read it (the run state file's format is checked).
+pub fn open_finished(
+    dir: &Path,
+    moved_scene: Option<&Path>,
+) -> Result<(Device, Scene, StateHeader, Tally), RunError> {
+    let path = dir.join(RUN_STATE_FILE);
+    let (mut header, tally) = read_state(&path)?;
+    if !header.complete() {
+        return Err(InputError(format!(
+            "{}: holds a partial merge of shards",
+            path.display()
+        ))
+        .into());
+    }
+    // The results stand whichever build reads them: compare the rest.
+    let recorded = (
+        header.identity.traxer_version.clone(),
+        header.identity.git_hash.clone(),
+    );
+    header.identity.traxer_version = super::BUILD.version.into();
+    header.identity.git_hash = super::BUILD.git_hash.into();
+    let (device, scene) = reload_scene(
+        &header,
+        moved_scene,
+        |scene| {
+            format!(
+                "{}: the run's scene {} is no longer there; if it moved, give its new place (scene=NEW_PATH; its SHA-256 is checked)",
+                path.display(),
+                scene.display()
+            )
+        },
+        |diff, scene| {
+            format!(
+                "{}: the run is of {diff} as the scene {} now: the scene file or a file it reads changed since the run",
+                path.display(),
+                scene.display()
+            )
+        },
+    )?;
+    (header.identity.traxer_version, header.identity.git_hash) = recorded;
+    if !fits_scene(&tally, &scene) {
+        return Err(InputError(format!(
+            "{}: its images do not fit the scene's sensors",
+            path.display()
+        ))
+        .into());
+    }
+    Ok((device, scene, header, tally))
 }
 
 /// The scene of a recorded run (`header`: a checkpoint's or a shard's), loaded

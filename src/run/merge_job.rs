@@ -72,9 +72,14 @@ impl MergeJob<'_> {
         refuse_unfinished_run(out)?;
         refuse_other_run(out, &merged.header.identity, self.replace)?;
         let header = merged.header;
-        let provenance = Provenance::new(invocation, Some(device.info().version))
-            .scene(&scene)
-            .parts(&header, self.shards);
+        let provenance = Provenance::of_run(
+            invocation,
+            device.info().version,
+            &scene,
+            &header,
+            None,
+            self.shards,
+        );
         let (files, result) = super::write_results(
             folder,
             &scene,

@@ -32,11 +32,12 @@ pub mod study;
 
 pub use finished::{results_file_names, results_folder, save_results, write_results};
 pub use job::{
-    open_stopped, Finished, Found, Resumable, RunControl, RunError, RunSettings, TraceJob,
+    open_finished, open_stopped, Finished, Found, InMemory, Resumable, RunControl, RunError,
+    RunSettings, TraceJob,
 };
 pub use merge::{merge, MergeError, Merged};
 pub use merge_job::{MergeJob, MergedRun};
-pub use provenance::{git_hash, Invocation};
+pub use provenance::{git_hash, Build, Invocation, BUILD};
 pub use shard::Shard;
 pub use state_file::{read_header, read_state, state_bytes, write_state, RunStateError};
 pub use study::Study;
@@ -168,8 +169,8 @@ impl RunIdentity {
         photon_list: usize,
     ) -> RunIdentity {
         RunIdentity {
-            traxer_version: env!("CARGO_PKG_VERSION").into(),
-            git_hash: env!("TRAXER_GIT_HASH").into(),
+            traxer_version: BUILD.version.into(),
+            git_hash: BUILD.git_hash.into(),
             scene_sha256: scene.text_sha256.clone(),
             variables: scene.vars.clone(),
             inputs: scene.inputs.clone(),

@@ -23,8 +23,8 @@ use std::path::{Path, PathBuf};
 /// variables; studies add their settings.
 pub fn base_identity(scene: &Scene) -> serde_json::Map<String, Value> {
     let v = json!({
-        "traxer_version": env!("CARGO_PKG_VERSION"),
-        "git_hash": env!("TRAXER_GIT_HASH"),
+        "traxer_version": super::BUILD.version,
+        "git_hash": super::BUILD.git_hash,
         "scene_sha256": scene.text_sha256,
         "variables": scene.vars,
         "inputs": scene.inputs,
@@ -41,8 +41,8 @@ pub fn file_identity(
     let bytes = std::fs::read(scene)
         .map_err(|e| InputError(format!("{}: cannot read it: {e}", scene.display())))?;
     let v = json!({
-        "traxer_version": env!("CARGO_PKG_VERSION"),
-        "git_hash": env!("TRAXER_GIT_HASH"),
+        "traxer_version": super::BUILD.version,
+        "git_hash": super::BUILD.git_hash,
         "scene_sha256": crate::files::sha256_hex(&bytes),
         "overrides": overrides,
     });

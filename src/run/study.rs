@@ -2,8 +2,10 @@
 //! `effective-area`'s angles, `fit-figure-error`'s evaluations) in its results
 //! folder: the folder prepared for the study's files and its record, the record
 //! opened (resumed, or refused if a stopped study would be thrown away), each
-//! finished point recorded, and the files every load of the scene reads checked
-//! against the first load's (and a stopped sitting's).
+//! finished point recorded, the files every load of the scene reads checked
+//! against the first load's (and a stopped sitting's), and at the end the
+//! study's files written and put in place together ([`Study::finish`]). A
+//! study command only computes and prints.
 
 use super::record::{check_inputs, Record};
 use super::{results_folder, RunError};
@@ -59,6 +61,26 @@ impl<T: Serialize + DeserializeOwned + Clone> Study<T> {
     /// Where the record is (for the message that says how to resume).
     pub fn record_path(&self) -> &Path {
         &self.record_path
+    }
+
+    /// What a stop (Ctrl-C) during the study says: where its `points` so far
+    /// ("angles", "variations") are and how to continue.
+    pub fn stop_message(&self, points: &str) -> String {
+        format!(
+            "stopped; the {points} so far are in {}: run the same command with --resume to continue",
+            self.record_path.display()
+        )
+    }
+
+    /// Ends the study: `write` writes its files into the staged folder, which
+    /// then takes the results folder's place (with the record). A failure says
+    /// which folder could not be written.
+    pub fn finish<R>(self, write: impl FnOnce(&Path) -> std::io::Result<R>) -> std::io::Result<R> {
+        let out = self.folder.target().to_path_buf();
+        let failed = |e: std::io::Error| super::finished::cannot_write(&out, e);
+        let written = write(self.folder.path()).map_err(failed)?;
+        self.folder.commit().map_err(failed)?;
+        Ok(written)
     }
 
     /// A load of the study's scene: it must read the files the first load read.

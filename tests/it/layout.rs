@@ -258,3 +258,32 @@ fn no_function_is_over_100_lines_and_commands_only_build_run_and_print() {
         vec![(5, "a".to_string()), (1, "c".to_string())]
     );
 }
+
+#[test]
+fn provenance_is_built_only_in_run() {
+    // One record per kind of result (run, study, picture, table), made in
+    // src/run/provenance.rs: no front end assembles its own.
+    let mut files = Vec::new();
+    rust_files(&repo().join("src"), &mut files);
+    rust_files(&repo().join("python/src"), &mut files);
+    rust_files(&repo().join("examples"), &mut files);
+    let home = repo().join("src/run/provenance.rs");
+    let mut found = Vec::new();
+    for f in files.iter().filter(|f| **f != home) {
+        let text = std::fs::read_to_string(f).unwrap();
+        let code = code(&text);
+        let built = code.matches("Provenance {").count()
+            - code.matches("struct Provenance {").count()
+            - code.matches("impl Provenance {").count();
+        if code.contains("Provenance::new(") || built > 0 {
+            found.push(f.display().to_string());
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "provenance assembled outside run/provenance.rs: {found:?}"
+    );
+    // The check sees a construction where there is one.
+    let text = std::fs::read_to_string(&home).unwrap();
+    assert!(code(&text).contains("Provenance {"));
+}

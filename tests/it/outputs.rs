@@ -41,7 +41,7 @@ fn a_file_path_with_a_comma_stays_one_csv_field() {
         row("analytic", 1.0, 1.0),
         row("scenes/run 3, \"meshed\".toml", 1.1, 2.0),
     ];
-    let provenance = traxer::output::Provenance::new(&traxer::run::Invocation::new(["test"]), None);
+    let provenance = traxer::output::Provenance::of_table(&traxer::run::Invocation::new(["test"]));
     traxer::output::write_compare(dir.path(), &rows, &provenance).unwrap();
     let text = std::fs::read_to_string(dir.path().join("compare.csv")).unwrap();
     let mut r = csv::Reader::from_reader(text.as_bytes());

@@ -18,6 +18,7 @@ import json
 import math
 import os
 import pathlib
+import shutil
 import subprocess
 import threading
 import time
@@ -546,6 +547,23 @@ def test_a_python_run_stopped_by_ctrl_c_resumes_to_the_uninterrupted_result(tmp_
     assert np.array_equal(again.sensors["sensor"].flux, r.sensors["sensor"].flux)
     with pytest.raises(traxer.InputError, match="not the results folder of a stopped run"):
         traxer.resume(tmp_path)
+
+
+def test_resuming_a_finished_run_checks_its_scene(tmp_path):
+    """traxer.resume of a finished folder returns its result only with the
+    run's own scene: a scene file edited since (or a different one given as
+    scene=) is refused, not read as if it had made the images."""
+    (tmp_path / "scenes").mkdir()
+    shutil.copytree(REPO / "meshes", tmp_path / "meshes")
+    scene = tmp_path / "scenes" / "scene.toml"
+    shutil.copy(WOLTER, scene)
+    out = tmp_path / "run"
+    r = traxer.Scene(scene).trace(20_000, seed=3, out=out)
+    again = traxer.resume(out)
+    assert np.array_equal(again.sensors["sensor"].flux, r.sensors["sensor"].flux)
+    scene.write_text(scene.read_text() + "\n# edited\n")
+    with pytest.raises(traxer.InputError, match="changed since the run"):
+        traxer.resume(out)
 
 
 def test_the_example_runs(tmp_path):
