@@ -1,8 +1,14 @@
 //! traxer: an X-ray raytracer for grazing-incidence telescopes, on Intel Embree.
 //!
-//! Data flow (see ARCHITECTURE in the README):
-//! `scene` (file → description → built scene with Embree) → `source` (photons) →
-//! `trace` (photon loop, materials) → `sensor` (images) → `output` (files).
+//! Data flow (the layout and its rules: docs/layout.md):
+//! `scene` (file → description → built scene with Embree; `geometry`, `mesh`,
+//! `xray`, `source` build its parts) → `trace` (the photon loop: `source` emits,
+//! `raycast` finds hits, `material` decides) → `sensor` (exact images and their
+//! tallies) → `analysis` (HPD, EEF) → `output` (files). Around a run, `run`
+//! (provenance, results folder, checkpoints, shards, study records); above it,
+//! `studies` (focus, effective area, PSF, fits, systematics), `render` (visible
+//! light) and `bench`. Leaves used by all: `constants`, `colormap`, `files`,
+//! `text`, `random`, `progress`.
 #![deny(unsafe_code)]
 
 /// Declares a typed error that carries its message: for checks whose whole

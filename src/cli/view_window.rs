@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use traxer::analysis::FinishedImage;
 use traxer::colormap::Scale;
 use traxer::embree::Device;
-use traxer::output::{run_file_names, write_rgb_png, write_run, Provenance};
+use traxer::output::{run_file_names, write_rgb_png, write_run, Outputs, Provenance};
 use traxer::render::{
     overview_camera, part_labels, render_pass, to_srgb8, Camera, PartLabel, RenderSettings,
     SensorTexture,
@@ -335,7 +335,7 @@ fn save(
     frame: &[u32],
     (w, h): (usize, usize),
 ) -> anyhow::Result<()> {
-    let mut names = run_file_names(scene, false, false);
+    let mut names = run_file_names(scene, Outputs::default());
     names.push("frame.png".into());
     let folder = traxer::run::results_folder(dir, &names)?;
     let traced = tally.traced;

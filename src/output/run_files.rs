@@ -1,5 +1,12 @@
-//! The files of a trace run: per sensor `NAME.npy` (flux), `NAME_counts.npy`,
-//! `NAME.png` (linear), `NAME_log.png` and `NAME.json`; and `summary.json`.
+//! The files of a trace run: per sensor the images (`NAME.npy` flux,
+//! `NAME_counts.npy`), the figures (`NAME.png`, `NAME_log.png`,
+//! `NAME_pixels.png`, `NAME_eef.png`), `NAME_projections.csv` and `NAME.json`
+//! (named by `sensor::SensorFiles`), with a pixel grid its `NAME_grid.*`, with
+//! a gas its conversion depths, per path class and per emission process their
+//! images, and with `--fits` the FITS files; the photon list; `summary.json`.
+//!
+//! Data flow: `run::write_results` (or the live window's save) →
+//! [`write_run`] → per sensor `write_sensor` (figures by `sensor_figure`).
 
 use super::conversion::write_conversion;
 use super::history::{history_json, write_class_images, write_photon_list, PHOTON_LIST_FILES};
@@ -21,9 +28,19 @@ use crate::trace::RunResult;
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
 
+/// The optional outputs of a trace, chosen once by the front end.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Outputs {
+    /// Each sensor's image as FITS too (`--fits`).
+    pub fits: bool,
+    /// The photon list (`--photon-list N`, N > 0).
+    pub photon_list: bool,
+}
+
 /// Every file a trace of `scene` writes: each sensor's and summary.json, the
 /// photon list if one is asked for, and each sensor's FITS image with `fits`.
-pub fn run_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
+pub fn run_file_names(scene: &Scene, outputs: Outputs) -> Vec<String> {
+    let Outputs { fits, photon_list } = outputs;
     let list = photon_list
         .then_some(PHOTON_LIST_FILES)
         .into_iter()

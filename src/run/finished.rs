@@ -5,7 +5,7 @@
 
 use super::{write_state, StateHeader, CHECKPOINT_FILE, RUN_STATE_FILE};
 use crate::files::OutputFolder;
-use crate::output::{write_run, Provenance};
+use crate::output::{write_run, Outputs, Provenance};
 use crate::scene::Scene;
 use crate::trace::{RunResult, Tally};
 use std::path::Path;
@@ -34,7 +34,11 @@ pub fn save_results(
     fits: bool,
     replace: bool,
 ) -> Result<usize, super::RunError> {
-    let names = results_file_names(scene, header.identity.photon_list > 0, fits);
+    let outputs = Outputs {
+        fits,
+        photon_list: header.identity.photon_list > 0,
+    };
+    let names = results_file_names(scene, outputs);
     let folder = results_folder(out, &names)?;
     super::job::refuse_other_run(out, &header.identity, replace)?;
     Ok(write_results(folder, scene, header, tally, threads, provenance, fits)?.0)
@@ -43,8 +47,8 @@ pub fn save_results(
 /// Every file a finished run leaves in its results folder: the results, the run
 /// state, and the checkpoint a run keeps while it runs (listed so that a stale
 /// one is replaced, never mixed in).
-pub fn results_file_names(scene: &Scene, photon_list: bool, fits: bool) -> Vec<String> {
-    let mut names = crate::output::run_file_names(scene, photon_list, fits);
+pub fn results_file_names(scene: &Scene, outputs: Outputs) -> Vec<String> {
+    let mut names = crate::output::run_file_names(scene, outputs);
     names.push(RUN_STATE_FILE.into());
     names.push(CHECKPOINT_FILE.into());
     names

@@ -12,7 +12,7 @@ use super::{
 };
 use crate::embree::Device;
 use crate::files::OutputFolder;
-use crate::output::Provenance;
+use crate::output::{Outputs, Provenance};
 use crate::scene::Scene;
 use crate::trace::{self, Flow, RunConfig, RunResult, Tally, CHUNK};
 use std::path::{Path, PathBuf};
@@ -105,7 +105,11 @@ impl TraceJob<'_> {
         invocation: &Invocation,
         control: &dyn RunControl,
     ) -> Result<Finished, RunError> {
-        let folder = prepare_folder(out, self.scene, self.cfg.photon_list > 0, settings.fits)?;
+        let outputs = Outputs {
+            fits: settings.fits,
+            photon_list: self.cfg.photon_list > 0,
+        };
+        let folder = prepare_folder(out, self.scene, outputs)?;
         refuse_unfinished_run(out)?;
         let part = RunPart::new(self.scene, &self.cfg, self.shard);
         refuse_other_run(out, &part.identity, settings.replace)?;
@@ -181,12 +185,11 @@ impl TraceJob<'_> {
 pub fn prepare_folder(
     out: &Path,
     scene: &Scene,
-    photon_list: bool,
-    fits: bool,
+    outputs: Outputs,
 ) -> Result<OutputFolder, RunError> {
     Ok(super::results_folder(
         out,
-        &super::results_file_names(scene, photon_list, fits),
+        &super::results_file_names(scene, outputs),
     )?)
 }
 
@@ -385,7 +388,11 @@ impl Resumable {
             first_photon: self.shard.range().start,
             photon_list: id.photon_list,
         };
-        let folder = prepare_folder(&self.dir, &self.scene, id.photon_list > 0, settings.fits)?;
+        let outputs = Outputs {
+            fits: settings.fits,
+            photon_list: id.photon_list > 0,
+        };
+        let folder = prepare_folder(&self.dir, &self.scene, outputs)?;
         let mut part = RunPart::new(&self.scene, &cfg, self.shard);
         part.seconds = self.header.seconds;
         let embree_version = self.device.info().version;

@@ -11,7 +11,7 @@ use super::{
     CHECKPOINT_FILE, RUN_STATE_FILE,
 };
 use crate::embree::Device;
-use crate::output::Provenance;
+use crate::output::{Outputs, Provenance};
 use crate::scene::Scene;
 use crate::trace::Tally;
 use std::path::{Path, PathBuf};
@@ -67,8 +67,11 @@ impl MergeJob<'_> {
             }
             Ok(tally)
         })?;
-        let photon_list = first.identity.photon_list > 0;
-        let folder = prepare_folder(out, &scene, photon_list, self.fits)?;
+        let outputs = Outputs {
+            fits: self.fits,
+            photon_list: first.identity.photon_list > 0,
+        };
+        let folder = prepare_folder(out, &scene, outputs)?;
         refuse_unfinished_run(out)?;
         refuse_other_run(out, &merged.header.identity, self.replace)?;
         let header = merged.header;

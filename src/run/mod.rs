@@ -1,10 +1,13 @@
 //! The life of a run, for every front end (the CLI, the Python module, the live
-//! window): provenance built from the front end's [`Invocation`]; the results
-//! folder prepared, staged and put in place ([`finished`]); the identity of a run
-//! ([`RunIdentity`]: build, scene and every file it reads, variables, seed,
-//! counts); its run-state file ([`state_file`]: a finished run's `run_state.bin`,
-//! a stopped run's `checkpoint.bin`); shards ([`Shard`]) and their [`merge`]; and
-//! the point-by-point records of studies ([`record`]).
+//! window): provenance built once per kind of result from the front end's
+//! [`Invocation`] ([`provenance`]); a run traced into its results folder or in
+//! memory ([`TraceJob`]); the results folder prepared, staged and put in place
+//! ([`finished`]); the identity of a run ([`RunIdentity`]: [`BUILD`], scene and
+//! every file it reads, variables, seed, counts); its run-state file
+//! ([`state_file`]: a finished run's `run_state.bin`, a stopped run's
+//! `checkpoint.bin`); shards ([`Shard`]) and their [`merge`]; and studies
+//! ([`Study`]: their point-by-point [`record`], resumed, and their files written
+//! and put in place together).
 //!
 //! Data flow: `trace` accumulates a [`Tally`] (exact sums); this module saves it
 //! with what identifies the run in a run-state file. `traxer merge` reads the
