@@ -368,15 +368,7 @@ fn draw_overlay(
         // The legend in the plot's top left corner: the circles, inner first.
         let labels: Vec<&str> = o.circles_mm.iter().map(|(_, l)| l.as_str()).collect();
         let legend = format!("+ centroid;  circles: {}", labels.join(", "));
-        // On a pale box: a halo alone does not read on a speckled log image.
-        let font: TextStyle = ("sans-serif", 14).into_font().into();
-        let (tw, th) = root.estimate_text_size(&legend, &font)?;
-        let (lx, ly) = (xs.start + 8, ys.start + 6);
-        root.draw(&Rectangle::new(
-            [(lx - 4, ly - 3), (lx + tw as i32 + 4, ly + th as i32 + 3)],
-            WHITE.mix(0.8).filled(),
-        ))?;
-        haloed(&root, &legend, (lx, ly), 14)?;
+        boxed(&root, &legend, (xs.start + 8, ys.start + 6), 14)?;
         let c = at(cx, cy);
         if inside(c) {
             let red = RGBColor(230, 40, 40).stroke_width(2);
@@ -385,10 +377,26 @@ fn draw_overlay(
         }
     }
     if let Some(m) = &o.message {
-        haloed(&root, m, (xs.start + 16, (ys.start + ys.end) / 2 - 10), 20)?;
+        // Centred on the image.
+        let style: TextStyle = ("sans-serif", 20).into_font().into();
+        let (tw, _) = root.estimate_text_size(m, &style)?;
+        let x = ((xs.start + xs.end) / 2 - tw as i32 / 2).max(xs.start + 8);
+        boxed(&root, m, (x, (ys.start + ys.end) / 2 - 10), 20)?;
     }
     root.present()?;
     Ok(())
+}
+
+/// Haloed text on a pale box: a halo alone does not read on a speckled log
+/// image.
+fn boxed(root: &Area, text: &str, (x, y): (i32, i32), size: u32) -> Result<(), Error> {
+    let style: TextStyle = ("sans-serif", size).into_font().into();
+    let (tw, th) = root.estimate_text_size(text, &style)?;
+    root.draw(&Rectangle::new(
+        [(x - 4, y - 3), (x + tw as i32 + 4, y + th as i32 + 3)],
+        WHITE.mix(0.8).filled(),
+    ))?;
+    haloed(root, text, (x, y), size)
 }
 
 /// Black text in a white halo: readable on any colour of the map.
