@@ -501,10 +501,11 @@ def resume(
     """Continues the stopped run in ``folder`` (a ``Scene.trace(..., out=folder,
     checkpoint_every=S)`` or ``traxer trace --checkpoint-every S`` that was
     stopped) to its end, writing the same files as an uninterrupted run, and
-    returns its result. A finished run's folder returns its result at once.
-    ``scene``: where the scene file is now, if it moved (its SHA-256 is
-    checked). Ctrl-C stops it again after the current batch, with the
-    checkpoint written."""
+    returns its result. A finished run's folder returns its result at once,
+    once its scene is checked to be the run's (the same file, input files and
+    variables). ``scene``: where the scene file is now, if it moved (its
+    SHA-256 is checked). Ctrl-C stops it again after the current batch, with
+    the checkpoint written."""
 
 def reflectivity(
     coating: str,
