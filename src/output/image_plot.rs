@@ -400,7 +400,7 @@ fn boxed(root: &Area, text: &str, (x, y): (i32, i32), size: u32) -> Result<(), E
 }
 
 /// Black text in a white halo: readable on any colour of the map.
-fn haloed(root: &Area, text: &str, (x, y): (i32, i32), size: u32) -> Result<(), Error> {
+pub(super) fn haloed(root: &Area, text: &str, (x, y): (i32, i32), size: u32) -> Result<(), Error> {
     let halo = ("sans-serif", size).into_font().color(&WHITE);
     for (dx, dy) in [
         (-1, -1),

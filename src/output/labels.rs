@@ -3,6 +3,7 @@
 //! the sky, on metal and on the glowing sensor alike. Where the labels go is the
 //! renderer's business (`render::part_labels`); this only draws them.
 
+use super::image_plot::haloed;
 use super::plot::register_font;
 use plotters::prelude::*;
 
@@ -13,7 +14,6 @@ pub fn draw_labels(img: &mut image::RgbImage, labels: &[(&str, (usize, usize))])
     let size = (h as f64 / 28.0).clamp(11.0, 28.0);
     let backend = BitMapBackend::with_buffer(img, (w, h));
     let area = backend.into_drawing_area();
-    let halo = ("sans-serif", size).into_font().color(&WHITE);
     let ink = ("sans-serif", size).into_font().color(&BLACK);
     let gap = (size * 0.4) as i32;
     for &(text, (col, row)) in labels {
@@ -34,19 +34,7 @@ pub fn draw_labels(img: &mut image::RgbImage, labels: &[(&str, (usize, usize))])
         // worth losing the render for.
         let _ = area.draw(&Circle::new((x, y), 3, WHITE.filled()));
         let _ = area.draw(&Circle::new((x, y), 2, BLACK.filled()));
-        for (dx, dy) in [
-            (-1, -1),
-            (-1, 1),
-            (1, -1),
-            (1, 1),
-            (0, -1),
-            (0, 1),
-            (-1, 0),
-            (1, 0),
-        ] {
-            let _ = area.draw_text(text, &halo, (tx + dx, ty + dy));
-        }
-        let _ = area.draw_text(text, &ink, (tx, ty));
+        let _ = haloed(&area, text, (tx, ty), size as u32);
     }
     let _ = area.present();
 }
