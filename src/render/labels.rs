@@ -8,6 +8,7 @@
 use super::camera::Frame;
 use crate::raycast::intersect;
 use crate::scene::{Camera, Scene};
+use rayon::prelude::*;
 use std::collections::BTreeMap;
 
 /// A part's name and the pixel (column, row) its label points at.
@@ -24,29 +25,43 @@ const MIN_SHARE: f64 = 2e-4;
 /// The labels of the parts (and the Sun) seen in a `width` × `height` picture.
 pub fn part_labels(scene: &Scene, camera: &Camera, width: usize, height: usize) -> Vec<PartLabel> {
     let frame = Frame::new(camera, width as f64 / height as f64);
-    let mut seen: BTreeMap<String, Vec<(usize, usize)>> = BTreeMap::new();
-    for row in 0..height {
-        for col in 0..width {
-            let (origin, dir) = frame.ray(
-                (col as f64 + 0.5) / width as f64,
-                (row as f64 + 0.5) / height as f64,
-            );
-            let part = match intersect(scene, origin, dir, None) {
-                Some(hit) => scene.objects[hit.object].part.clone(),
-                None => match &scene.sky.sun {
-                    Some(sun) if dir.dot(sun.direction) >= sun.cos_radius => "Sun".to_string(),
-                    _ => continue,
-                },
-            };
+    // What each pixel shows: a part (borrowed from the scene), or None for the
+    // Sun's disk (kept apart, so that an object named "Sun" is not mistaken
+    // for it); rows in parallel, as the render's.
+    let rows: Vec<Vec<(Option<&str>, usize)>> = (0..height)
+        .into_par_iter()
+        .map(|row| {
+            (0..width)
+                .filter_map(|col| {
+                    let (origin, dir) = frame.ray(
+                        (col as f64 + 0.5) / width as f64,
+                        (row as f64 + 0.5) / height as f64,
+                    );
+                    match intersect(scene, origin, dir, None) {
+                        Some(hit) => Some((Some(scene.objects[hit.object].part.as_str()), col)),
+                        None => match &scene.sky.sun {
+                            Some(sun) if dir.dot(sun.direction) >= sun.cos_radius => {
+                                Some((None, col))
+                            }
+                            _ => None,
+                        },
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let mut seen: BTreeMap<Option<&str>, Vec<(usize, usize)>> = BTreeMap::new();
+    for (row, hits) in rows.into_iter().enumerate() {
+        for (part, col) in hits {
             seen.entry(part).or_default().push((col, row));
         }
     }
     let min_pixels = (MIN_SHARE * (width * height) as f64).max(1.0);
     seen.into_iter()
-        .filter(|(text, pixels)| text == "Sun" || pixels.len() as f64 >= min_pixels)
-        .map(|(text, pixels)| PartLabel {
+        .filter(|(part, pixels)| part.is_none() || pixels.len() as f64 >= min_pixels)
+        .map(|(part, pixels)| PartLabel {
             pixel: nearest_to_middle(&pixels),
-            text,
+            text: part.unwrap_or("Sun").to_string(),
         })
         .collect()
 }
