@@ -119,16 +119,24 @@ pub struct GeneratedMaterial {
     pub span: Range<usize>,
 }
 
+/// What expanding the assemblies gives besides their objects.
+pub struct Expanded {
+    /// The mirror materials the objects use.
+    pub materials: Vec<GeneratedMaterial>,
+    /// What is legal in a prescription but probably not meant, by assembly.
+    pub warnings: Vec<String>,
+}
+
 /// Expands the `[[assemblies]]` of a description into ordinary objects (appended
-/// to `desc.objects`); returns the mirror materials they use. Files an assembly
-/// names are relative to `dir`.
+/// to `desc.objects`). Files an assembly names are relative to `dir`.
 pub fn expand(
     at: SceneText,
     dir: &Path,
     desc: &mut SceneDesc,
     inputs: &InputFiles,
-) -> Result<Vec<GeneratedMaterial>, SceneError> {
+) -> Result<Expanded, SceneError> {
     let mut materials = Vec::new();
+    let mut warnings = Vec::new();
     for a in std::mem::take(&mut desc.assemblies) {
         let span = a.span();
         let (kind, t) = match a.into_inner() {
@@ -136,9 +144,17 @@ pub fn expand(
             AssemblyDesc::LlnlTelescope(t) => ("llnl_telescope", t),
         };
         let site = Site { at, span, kind };
-        expand_telescope(&site, dir, &t, &mut desc.objects, &mut materials, inputs)?;
+        let data = expand_telescope(&site, dir, &t, &mut desc.objects, &mut materials, inputs)?;
+        warnings.extend(
+            data.nesting_warnings()
+                .into_iter()
+                .map(|w| format!("{} `{}`: {w}", site.kind, data.name)),
+        );
     }
-    Ok(materials)
+    Ok(Expanded {
+        materials,
+        warnings,
+    })
 }
 
 /// Where an assembly is written: for its messages.
@@ -309,7 +325,7 @@ fn expand_telescope(
     objects: &mut Vec<Spanned<ObjectDesc>>,
     materials: &mut Vec<GeneratedMaterial>,
     inputs: &InputFiles,
-) -> Result<(), SceneError> {
+) -> Result<Telescope, SceneError> {
     let (data, prefix) = telescope_data(site, dir, t, inputs)?;
     let choices = part_choices(site, t, &data)?;
     let span = &site.span;
@@ -385,5 +401,5 @@ fn expand_telescope(
             },
         ));
     }
-    Ok(())
+    Ok(data)
 }

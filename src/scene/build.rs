@@ -64,7 +64,8 @@ pub(super) fn build(
     );
     let dir = path.parent().unwrap_or(Path::new("."));
     let inputs = InputFiles::default();
-    for m in assemblies::expand(at, dir, &mut desc, &inputs)? {
+    let expanded = assemblies::expand(at, dir, &mut desc, &inputs)?;
+    for m in expanded.materials {
         materials.add_generated(&m.name, m.desc, m.span);
     }
 
@@ -96,7 +97,8 @@ pub(super) fn build(
         .map_err(|e| at.whole(format!("Embree could not build the scene: {e}")))?;
     let bvh_seconds = bvh_start.elapsed().as_secs_f64();
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
-    let warnings = builder.warnings;
+    let mut warnings = expanded.warnings;
+    warnings.extend(builder.warnings);
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
     Ok(Scene {
         path: path.to_path_buf(),

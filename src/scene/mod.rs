@@ -23,6 +23,7 @@ mod objects;
 mod placement;
 mod shapes;
 pub mod telescope;
+mod telescope_nesting;
 pub mod telescope_parts;
 mod vars;
 

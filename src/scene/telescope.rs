@@ -258,6 +258,7 @@ impl Telescope {
             self.validate_shell(i)
                 .map_err(|m| InvalidTelescopeData::from(format!("shell {}: {m}", i + 1)))?;
         }
+        self.check_nesting().map_err(InvalidTelescopeData::from)?;
         if let Some(s) = &self.spider {
             let ok = s.arms > 0
                 && s.arm_width_deg > 0.0
@@ -338,6 +339,21 @@ impl Telescope {
                 }
             }
         }
+        // A mirror steeper than a few degrees reflects no X-rays: such a shell
+        // is a unit mistake (R3 in cm, f in m) or R3 ≥ f, not a design.
+        for (mirror, angle) in [("front", self.alpha(i)), ("rear", self.alpha_rear(i))] {
+            if angle.to_degrees() > MAX_GRAZING_DEG {
+                return Err(format!(
+                    "its {mirror} mirror meets the axis at {:.2}°, not at a grazing angle (X-ray mirrors reflect below about 2°, and traxer refuses more than {MAX_GRAZING_DEG}°): are the radii and focal_length_mm = {} both in mm{}?",
+                    angle.to_degrees(),
+                    crate::text::number(self.focal_length_mm),
+                    if self.profile == Profile::Wolter1 { ", and R3 much smaller than f" } else { "" }
+                ));
+            }
+        }
         Ok(())
     }
 }
+
+/// The steepest mirror a prescription may have, degrees to the axis.
+const MAX_GRAZING_DEG: f64 = 5.0;

@@ -220,3 +220,100 @@ fn sources_the_scene_cannot_vary_are_refused_by_name() {
     assert!(err.contains("has no covariance"), "{err}");
     assert!(!dir.path().join("x").exists(), "nothing written");
 }
+
+/// A gas detector under a parallel beam (silently_wrong's scene) with the
+/// pointing variable a built-in source varies: a scene that loads in
+/// milliseconds, for refusals that must come before the first photon.
+fn small_scene(dir: &std::path::Path) -> std::path::PathBuf {
+    let text = crate::silently_wrong::GAS_SCENE.replace("[vars]\n", "[vars]\noffset_x = 0.0\n");
+    crate::common::write(dir, "small.toml", &text)
+}
+
+#[test]
+fn a_variable_varied_twice_a_misspelt_preset_and_impossible_draws_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = small_scene(dir.path());
+    let out = dir.path().join("x");
+    let base = |args: &[&str]| {
+        let mut c = traxer();
+        c.arg("systematics")
+            .arg(&scene)
+            .args(["-n", "100", "-q", "-o"])
+            .arg(&out)
+            .args(args);
+        c
+    };
+    // Before: pointing_x and --vary offset_x both varied offset_x, and the
+    // total counted it twice (σ √2 too big).
+    let err = run_fails(&mut base(&["--vary", "offset_x=-1:1"]), 2);
+    assert!(
+        err.contains("pointing_x already varies `offset_x`") && err.contains("--pointing"),
+        "{err}"
+    );
+    let err = run_fails(
+        &mut base(&[
+            "--sources",
+            "pointing_x",
+            "--vary",
+            "energy=2:3",
+            "--vary",
+            "energy=1:4",
+        ]),
+        2,
+    );
+    assert!(err.contains("--vary energy is given twice"), "{err}");
+    // Before: a misspelt preset made the figure "skipped" and the study ran
+    // without it, exit 0.
+    let err = run_fails(&mut base(&["--figure-preset", "llnl_pantr"]), 2);
+    assert!(err.contains("cannot vary figure"), "{err}");
+    let err = run_fails(
+        &mut base(&["--sources", "pointing_x", "--figure-hold", "none"]),
+        2,
+    );
+    assert!(
+        err.contains("--figure-hold is given but figure is not among --sources"),
+        "{err}"
+    );
+    let err = run_fails(&mut base(&["--figure-draws", "0"]), 2);
+    assert!(
+        err.contains("--figure-draws 0") && err.contains("at least 2"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+}
+
+#[test]
+fn a_range_end_the_scene_refuses_is_found_before_the_first_photon() {
+    // Before: the nominal scene and the low end were traced, the high end
+    // refused, and the record left behind could never be resumed.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = small_scene(dir.path());
+    let out = dir.path().join("x");
+    let err = run_fails(
+        traxer()
+            .arg("systematics")
+            .arg(&scene)
+            .args(["-n", "1000", "--sources", "pointing_x"])
+            .args(["--vary", "energy=3:-1", "-q", "-o"])
+            .arg(&out),
+        2,
+    );
+    assert!(err.contains("LOW must be below HIGH"), "{err}");
+    let err = run_fails(
+        traxer()
+            .arg("systematics")
+            .arg(&scene)
+            .args(["-n", "1000", "--sources", "pointing_x"])
+            .args(["--vary", "energy=-1:3", "-q", "-o"])
+            .arg(&out),
+        2,
+    );
+    assert!(
+        err.contains("vary:energy (energy=-1.0)") && err.contains("nothing was traced"),
+        "{err}"
+    );
+    assert!(
+        !out.join("systematics_checkpoint.json").exists(),
+        "no record to resume"
+    );
+}

@@ -310,3 +310,119 @@ fn a_shell_may_have_its_own_length_and_azimuth_span() {
         (-45.0, 90.0)
     );
 }
+
+/// A user's prescription (`profile`, then the `shells = [...]` body) beside a
+/// scene that uses it: the scene's load result.
+fn prescription(
+    head: &str,
+    shells: &str,
+) -> Result<traxer::scene::Scene, traxer::scene::SceneError> {
+    let dir = tempfile::tempdir().unwrap();
+    let data = format!(
+        "name = \"mine\"\n{head}\nmirror_length_mm = 100.0\nwall_thickness_mm = 0.5\ncoating = \"gold\"\nshells = [ {shells} ]\n"
+    );
+    crate::common::write(dir.path(), "mine.toml", &data);
+    let scene = "[[sources]]\ntype = \"parallel\"\naperture = { center = [0, 0, 200], radius = 90.0 }\nenergy = { line = 1.49 }\n\n[[assemblies]]\ntype = \"nested_telescope\"\ndata = \"mine.toml\"\ncentral_stop = true\n";
+    let path = crate::common::write(dir.path(), "scene.toml", scene);
+    traxer::scene::Scene::load(&crate::common::device(), &path, &[])
+}
+
+fn refusal(head: &str, shells: &str) -> String {
+    match prescription(head, shells) {
+        Ok(_) => panic!("{shells}: the prescription should be refused"),
+        Err(e) => e.to_string(),
+    }
+}
+
+const WOLTER: &str = "profile = \"wolter1\"\nfocal_length_mm = 1500.0";
+
+#[test]
+fn a_prescription_listed_outermost_first_or_twice_or_with_intersecting_walls_is_refused() {
+    // Before: each of these traced without a word (the central stop on the
+    // outermost shell took 64 % of the flux in a trial).
+    assert!(prescription(
+        WOLTER,
+        "{ r3_mm = 50.0 }, { r3_mm = 60.0 }, { r3_mm = 70.0 }"
+    )
+    .is_ok());
+    let e = refusal(
+        WOLTER,
+        "{ r3_mm = 70.0 }, { r3_mm = 60.0 }, { r3_mm = 50.0 }",
+    );
+    assert!(
+        e.contains("innermost first") && e.contains("shell 2") && e.contains("reverse it"),
+        "{e}"
+    );
+    let e = refusal(
+        WOLTER,
+        "{ r3_mm = 50.0 }, { r3_mm = 70.0 }, { r3_mm = 60.0 }",
+    );
+    assert!(
+        e.contains("innermost first") && e.contains("shell 3") && !e.contains("reverse"),
+        "{e}"
+    );
+    let e = refusal(
+        WOLTER,
+        "{ r3_mm = 50.0 }, { r3_mm = 60.0 }, { r3_mm = 50.0 }",
+    );
+    assert!(e.contains("shells 1 and 3 are the same shell"), "{e}");
+    // Shell 1's 12 mm wall reaches through shell 2's mirror 10 mm further out.
+    let e = refusal(
+        WOLTER,
+        "{ r3_mm = 50.0, thickness_mm = 12.0 }, { r3_mm = 60.0 }",
+    );
+    assert!(e.contains("shells 1 and 2 intersect"), "{e}");
+    // Two cones whose mirrors cross: shell 2 starts inside shell 1's entrance.
+    let cone = "profile = \"cone\"\nfocal_length_mm = 1500.0";
+    let e = refusal(
+        cone,
+        "{ r1_mm = 60.0, r2_mm = 59.0, r4_mm = 58.9, r5_mm = 56.0 }, { r1_mm = 60.4, r2_mm = 59.2, r4_mm = 59.1, r5_mm = 55.5 }",
+    );
+    assert!(e.contains("shells 1 and 2 intersect"), "{e}");
+}
+
+#[test]
+fn a_shell_behind_the_inner_wall_or_steeper_than_a_grazing_angle_is_named() {
+    // R3 > f: a mirror at 11° to the axis reflects no X-rays.
+    let e = refusal(WOLTER, "{ r3_mm = 1600.0 }");
+    assert!(
+        e.contains("not at a grazing angle") && e.contains("shell 1"),
+        "{e}"
+    );
+    // Shell 1, 300 mm long with an 8 mm wall, rises above shell 2 (100 mm):
+    // its wall ends at r = 60.44 mm at its entrance, beyond shell 2's whole
+    // aperture (r = 59.0 … 59.97 mm), while everywhere beside shell 2 it
+    // stays 0.56 mm or more inside shell 2's mirrors. No wall crosses a
+    // mirror, but shell 2 gets no on-axis light.
+    let e = refusal(
+        WOLTER,
+        "{ r3_mm = 50.0, thickness_mm = 8.0, mirror_length_mm = 300.0 }, { r3_mm = 59.0 }",
+    );
+    assert!(
+        e.contains("shell 2's front mirror receives no on-axis X-rays"),
+        "{e}"
+    );
+    // 200 mm long, the wall shadows 65 % of shell 2's aperture: legal, with a
+    // warning; the shipped optics have none.
+    let scene = prescription(
+        WOLTER,
+        "{ r3_mm = 50.0, thickness_mm = 8.0, mirror_length_mm = 200.0 }, { r3_mm = 59.0 }",
+    )
+    .unwrap();
+    assert!(
+        scene
+            .warnings
+            .iter()
+            .any(|w| w.contains("shadows") && w.contains("shell 2")),
+        "{:?}",
+        scene.warnings
+    );
+    for name in ["llnl", "wolter1_demo", "xmm_newton"] {
+        let t = traxer::scene::telescope::Telescope::shipped(name).unwrap();
+        assert!(
+            t.nesting_warnings().is_empty(),
+            "{name}: {:?}",
+            t.nesting_warnings()
+        );
+    }
+}

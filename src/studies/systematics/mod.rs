@@ -180,6 +180,7 @@ pub fn run(
         threads: s.threads,
         ..RunConfig::new(s.photons, s.seed)
     };
+    check_variations(load, plan, replay, &spec)?;
     let start = Instant::now();
     let nominal_figure = figure_of(nominal);
     let mut outcomes = Vec::new();
@@ -226,6 +227,37 @@ pub fn run(
             threads,
         },
     ))
+}
+
+/// Loads every variation's scene that is still to be traced (each set of
+/// overrides once) before the first photon: a range end the scene refuses is
+/// found now, not after hours of tracing with a record that can never be
+/// resumed.
+fn check_variations(
+    load: &dyn Fn(&[String]) -> Result<Scene, StudyError>,
+    plan: &Plan,
+    replay: &[Outcome],
+    spec: &SensorSpec,
+) -> Result<(), StudyError> {
+    let mut checked: Vec<&[String]> = Vec::new();
+    for (k, v) in plan.variations.iter().enumerate() {
+        let recorded = replay
+            .get(k)
+            .is_some_and(|o| o.source == v.source && o.label == v.label);
+        if recorded || v.defines.is_empty() || checked.contains(&v.defines.as_slice()) {
+            continue;
+        }
+        let scene = load(&v.defines).map_err(|e| {
+            StudyError::Input(format!(
+                "{} ({}): the scene refuses this variation, so nothing was traced: {e}",
+                v.source,
+                v.defines.join(" ")
+            ))
+        })?;
+        check_same_sensor(&scene, spec, v)?;
+        checked.push(&v.defines);
+    }
+    Ok(())
 }
 
 /// The figure error the scene's mirrors have (the first mirror's).

@@ -102,7 +102,20 @@ pub const SOURCES: [&str; 8] = [
 pub const GAS_PRESSURE_SPAN_MBAR: f64 = 50.0;
 pub const GAS_TEMPERATURE_SPAN_K: f64 = 10.0;
 
-/// The scene variables a source sets.
+/// The option that sets a built-in source's range or alternative.
+fn option_of(source: &str) -> Option<&'static str> {
+    Some(match source {
+        "solar_model" => "--solar-model",
+        "pointing_x" | "pointing_y" => "--pointing",
+        "tilt_x" | "tilt_y" => "--tilt",
+        "gas_pressure" => "--gas-pressure",
+        "gas_temperature" => "--gas-temperature",
+        _ => return None,
+    })
+}
+
+/// The scene variables a source sets (none for a `--vary` source, which the
+/// variable names itself).
 fn variables(source: &str) -> &'static [&'static str] {
     match source {
         "figure" => &[],
@@ -112,7 +125,8 @@ fn variables(source: &str) -> &'static [&'static str] {
         "tilt_x" => &["telescope_tilt_x"],
         "tilt_y" => &["telescope_tilt_y"],
         "gas_pressure" => &["gas_pressure_mbar"],
-        _ => &["gas_temperature_k"],
+        "gas_temperature" => &["gas_temperature_k"],
+        _ => &[],
     }
 }
 
@@ -128,6 +142,30 @@ pub fn plan(scene: &Scene, r: &Request) -> Result<Plan, StudyError> {
             ));
         }
     }
+    if r.figure_draws < 2
+        && r.sources
+            .as_ref()
+            .is_none_or(|s| s.iter().any(|n| n == "figure"))
+    {
+        return bad(format!(
+            "--figure-draws {}: the figure's standard deviation needs at least 2 draws (20 or more for a useful one); to leave the figure out, name the other sources with --sources",
+            r.figure_draws
+        ));
+    }
+    // An option that only one source reads names that source: a misspelt
+    // --figure-preset must be refused, not the figure quietly skipped.
+    let named_by_option = |source: &str| match source {
+        "figure" => [
+            ("--figure-preset", r.figure_preset.is_some()),
+            ("--figure-hold", r.figure_hold.is_some()),
+        ]
+        .into_iter()
+        .find(|(_, given)| *given)
+        .map(|(o, _)| o),
+        "gas_pressure" => r.gas_pressure_mbar.map(|_| "--gas-pressure"),
+        "gas_temperature" => r.gas_temperature_k.map(|_| "--gas-temperature"),
+        _ => None,
+    };
     let mut p = Plan {
         sources: Vec::new(),
         variations: vec![Variation {
@@ -140,7 +178,15 @@ pub fn plan(scene: &Scene, r: &Request) -> Result<Plan, StudyError> {
         notes: Vec::new(),
     };
     for source in SOURCES {
-        let asked = r.sources.as_ref().map(|s| s.iter().any(|n| n == source));
+        let mut asked = r.sources.as_ref().map(|s| s.iter().any(|n| n == source));
+        if let Some(option) = named_by_option(source) {
+            if asked == Some(false) {
+                return bad(format!(
+                    "{option} is given but {source} is not among --sources: add it, or drop {option}"
+                ));
+            }
+            asked = Some(true);
+        }
         if asked == Some(false) {
             continue;
         }
@@ -155,6 +201,26 @@ pub fn plan(scene: &Scene, r: &Request) -> Result<Plan, StudyError> {
             }
             Err(reason) if asked.is_none() => p.skipped.push((source.into(), reason)),
             Err(reason) => return bad(format!("cannot vary {source}: {reason}")),
+        }
+    }
+    for (k, (name, _)) in r.vary.iter().enumerate() {
+        if r.vary[..k].iter().any(|(n, _)| n == name) {
+            return bad(format!(
+                "--vary {name} is given twice: one range per variable"
+            ));
+        }
+        // Varied twice, the variable's effect would enter the total twice
+        // (σ √2 too big where the two ranges agree).
+        if let Some(src) = p
+            .sources
+            .iter()
+            .find(|src| variables(&src.name).contains(&name.as_str()))
+        {
+            return bad(format!(
+                "--vary {name}: the source {0} already varies `{name}`, and its effect would be counted twice; set {0}'s range with its own option{1}, or leave {0} out with --sources",
+                src.name,
+                option_of(&src.name).map_or(String::new(), |o| format!(" ({o})"))
+            ));
         }
     }
     for (name, range) in &r.vary {
