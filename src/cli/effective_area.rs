@@ -50,7 +50,7 @@ pub struct EffectiveAreaArgs {
     pub radius: Option<f64>,
     /// Continue the stopped sweep whose results folder is --out: run the same
     /// command with --resume; the angles it recorded
-    /// (effective_area_checkpoint.json) are not traced again.
+    /// (effective_area_checkpoint.jsonl) are not traced again.
     #[arg(long)]
     pub resume: bool,
     #[command(flatten)]

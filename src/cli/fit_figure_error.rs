@@ -24,7 +24,7 @@ use traxer::studies::{pick_sensor, Diameters};
 /// relative errors of HPD, 80 % and 90 % diameters — is smooth; NLopt's DIRECT-L
 /// searches the bounds globally, Sbplx polishes the best point. Writes
 /// history.csv, fit.json and figure_error.toml (a preset for data/figure_errors.toml
-/// or a scene's [figure_errors]) into --out; while it runs, fit_checkpoint.json
+/// or a scene's [figure_errors]) into --out; while it runs, fit_checkpoint.jsonl
 /// records every evaluation, so that a stopped fit continues with --resume.
 /// After the fit: the parameters' errors (Monte Carlo, and for --target-error)
 /// and, for each --predict scene, its diameters with their errors (fit.json).
@@ -83,7 +83,7 @@ pub struct FitFigureErrorArgs {
     #[arg(value_name = "PRESET", long, default_value = "fitted")]
     pub name: String,
     /// Continue the stopped fit whose results folder is --out: run the same
-    /// command with --resume; the evaluations it recorded (fit_checkpoint.json)
+    /// command with --resume; the evaluations it recorded (fit_checkpoint.jsonl)
     /// are taken instead of traced, and the fit ends as if never stopped.
     #[arg(long)]
     pub resume: bool,

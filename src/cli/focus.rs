@@ -42,7 +42,7 @@ pub struct FocusArgs {
     #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
     /// Continue the stopped scan whose results folder is --out: run the same
-    /// command with --resume; the positions it recorded (focus_checkpoint.json)
+    /// command with --resume; the positions it recorded (focus_checkpoint.jsonl)
     /// are not traced again.
     #[arg(long)]
     pub resume: bool,

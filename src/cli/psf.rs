@@ -54,7 +54,7 @@ pub struct PsfArgs {
     #[arg(value_name = "PIXELS", long, default_value = "101")]
     pub window: u32,
     /// Continue the stopped library whose results folder is --out: run the same
-    /// command with --resume; the points it recorded (psf_checkpoint.json) are
+    /// command with --resume; the points it recorded (psf_checkpoint.jsonl) are
     /// not traced again.
     #[arg(long)]
     pub resume: bool,

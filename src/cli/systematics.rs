@@ -81,7 +81,7 @@ pub struct SystematicsArgs {
     pub central: f64,
     /// Continue the stopped study whose results folder is --out: run the same
     /// command with --resume; the variations it recorded
-    /// (systematics_checkpoint.json) are not traced again.
+    /// (systematics_checkpoint.jsonl) are not traced again.
     #[arg(long)]
     pub resume: bool,
     #[command(flatten)]

@@ -30,6 +30,7 @@ mod processes;
 mod psf;
 pub use processes::process_images;
 pub use psf::{normalised as normalised_psf, write_psf_library, PSF_FILES};
+pub use sensor_figure::stopped_by_part;
 mod provenance;
 mod run_files;
 mod sensor_figure;

@@ -1,16 +1,19 @@
 //! The running record of a study that traces point after point
 //! (`fit-figure-error`'s evaluations, `focus`'s steps, `effective-area`'s
-//! angles): `NAME_checkpoint.json` in the results folder, rewritten atomically
-//! after every point, with what identifies the study (scene, variables, photons,
-//! seed, its settings, traxer build). `--resume` reads it back and the study
+//! angles): `NAME_checkpoint.jsonl` in the results folder, a header line with
+//! what identifies the study (scene, variables, photons, seed, its settings,
+//! traxer build), then one line per finished point, appended (a study of n
+//! points writes O(n) bytes, not the O(n²) of a file rewritten per point). `--resume` reads it back and the study
 //! takes the recorded points instead of tracing them again; every point depends
 //! only on its settings and seed, so a study stopped at any moment and resumed
 //! ends exactly as an uninterrupted one. The file disappears when the results
 //! are put in place (it is not among them).
 //!
-//! The record carries the SHA-256 of the files the scene reads (`inputs`) and,
-//! under `sha256`, that of its own text without that key: a record whose inputs
-//! changed, or that was edited or damaged, is refused rather than replayed.
+//! The header carries the SHA-256 of the files the scene reads (`inputs`) and,
+//! under `sha256`, that of its own text without that key; each point's line
+//! the SHA-256 of the line before's and its point's text (a chain): a record
+//! whose inputs changed, or that was edited or damaged, is refused rather than
+//! replayed.
 
 use super::InputError;
 use crate::files::atomic_write;
@@ -58,6 +61,9 @@ pub struct Record<T> {
     /// record them with the first load and check every later one).
     inputs: Option<InputHashes>,
     items: Vec<T>,
+    /// The chained SHA-256 of the last line on disk; `None` until this
+    /// sitting has written the whole file once (the next point rewrites it).
+    chain: Option<String>,
     /// A write failed (said once; the study goes on).
     failed: bool,
 }
@@ -65,7 +71,7 @@ pub struct Record<T> {
 impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
     /// The file name of `study`'s record.
     pub fn file_name(study: &str) -> String {
-        format!("{study}_checkpoint.json")
+        format!("{study}_checkpoint.jsonl")
     }
 
     /// Opens `study`'s record in `out`: with `resume`, the stopped study's
@@ -79,10 +85,11 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
     ) -> Result<Record<T>, InputError> {
         let mut record = Record {
             path: out.join(Self::file_name(study)),
-            format: format!("traxer {study} checkpoint 1"),
+            format: format!("traxer {study} checkpoint 2"),
             identity,
             inputs: None,
             items: Vec::new(),
+            chain: None,
             failed: false,
         };
         let p = record.path.display();
@@ -107,43 +114,68 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
     }
 
     /// The recorded points and inputs, after checking the record is whole and
-    /// this study's.
+    /// this study's. A last line without its newline is a point whose append a
+    /// kill cut short: left out (its point is traced again).
     #[allow(clippy::type_complexity)]
     fn read(&self) -> Result<(Vec<T>, Option<InputHashes>), InputError> {
         let p = self.path.display();
         let text = std::fs::read_to_string(&self.path)
             .map_err(|e| InputError(format!("{p}: cannot read it: {e}")))?;
-        let mut doc: Value = serde_json::from_str(&text)
-            .map_err(|e| InputError(format!("{p}: is not a traxer record: {e}")))?;
-        let recorded = doc
+        let damaged = |line: usize| {
+            InputError(format!(
+                "{p}: line {line} is damaged or was edited (its `sha256` is not that of its contents and the lines before): remove the file to start the study afresh"
+            ))
+        };
+        let whole = text.rsplit_once('\n').map_or("", |(whole, _)| whole);
+        let mut lines = whole.lines();
+        let mut header: Value = lines
+            .next()
+            .and_then(|l| serde_json::from_str(l).ok())
+            .ok_or_else(|| InputError(format!("{p}: is not a traxer record")))?;
+        let recorded = header
             .as_object_mut()
             .and_then(|d| d.remove("sha256"))
             .unwrap_or_default();
-        if recorded.as_str() != Some(checksum(&doc).as_str()) {
-            return Err(InputError(format!(
-                "{p}: is damaged or was edited (its `sha256` is not that of its contents): remove it to start the study afresh"
-            )));
+        let mut chain = checksum(&header);
+        if recorded.as_str() != Some(chain.as_str()) {
+            return Err(damaged(1));
         }
-        if doc["format"] != self.format.as_str() {
+        if header["format"] != self.format.as_str() {
             return Err(InputError(format!(
                 "{p}: is not a record of this command (`format` is not \"{}\")",
                 self.format
             )));
         }
-        if let Some(diff) = difference(&doc["identity"], &self.identity) {
+        if let Some(diff) = difference(&header["identity"], &self.identity) {
             return Err(InputError(format!(
                 "{p}: records another run: {diff}; resume with the same scene, options and traxer build"
             )));
         }
-        let inputs = match doc.get("inputs") {
+        let inputs = match header.get("inputs") {
             None => None,
             Some(v) => Some(
                 serde_json::from_value(v.clone())
                     .map_err(|e| InputError(format!("{p}: its inputs cannot be read: {e}")))?,
             ),
         };
-        let points = serde_json::from_value(doc["points"].clone())
-            .map_err(|e| InputError(format!("{p}: its points cannot be read: {e}")))?;
+        let mut points = Vec::new();
+        for (k, line) in lines.enumerate() {
+            let mut doc: Value = serde_json::from_str(line).map_err(|_| damaged(k + 2))?;
+            let recorded = doc
+                .as_object_mut()
+                .and_then(|d| d.remove("sha256"))
+                .unwrap_or_default();
+            chain = chained(&chain, &doc["point"]);
+            if recorded.as_str() != Some(chain.as_str()) {
+                return Err(damaged(k + 2));
+            }
+            points.push(serde_json::from_value(doc["point"].take()).map_err(|e| {
+                InputError(format!(
+                    "{p}: its point on line {} cannot be read: {e}",
+                    k + 2
+                ))
+            })?);
+        }
         Ok((points, inputs))
     }
 
@@ -155,7 +187,11 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
 
     /// Records the files the scene read, written with the next point.
     pub fn set_inputs(&mut self, inputs: &InputHashes) {
-        self.inputs.get_or_insert_with(|| inputs.clone());
+        if self.inputs.is_none() {
+            self.inputs = Some(inputs.clone());
+            // The header carries them: the next point rewrites the file.
+            self.chain = None;
+        }
     }
 
     /// Points recorded before (to take instead of tracing).
@@ -163,26 +199,30 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
         &self.items
     }
 
-    /// The point at `position` (0-based) is done: recorded and the file
-    /// rewritten, unless it was recorded before. The first failure to write is
-    /// returned as a warning to show (the study goes on, but cannot be resumed).
+    /// The point at `position` (0-based) is done: recorded, unless it was
+    /// recorded before. The point is appended as one line, so a study of n
+    /// points writes O(n) bytes in all; the file is written whole (atomically)
+    /// only by a sitting's first point. The first failure to write is returned
+    /// as a warning to show (the study goes on, but cannot be resumed).
     #[must_use = "a failed write is returned as a warning to show"]
     pub fn add(&mut self, position: usize, item: &T) -> Option<String> {
         if position < self.items.len() {
             return None;
         }
         self.items.push(item.clone());
-        let mut doc = json!({
-            "format": self.format,
-            "identity": self.identity,
-            "points": self.items,
-        });
-        if let Some(inputs) = &self.inputs {
-            doc["inputs"] = json!(inputs);
-        }
-        doc["sha256"] = checksum(&doc).into();
-        let text = serde_json::to_string(&doc).expect("plain values");
-        match atomic_write(&self.path, text.as_bytes()) {
+        let written = match &self.chain {
+            Some(chain) => {
+                let (line, chain) = point_line(chain, item);
+                self.chain = Some(chain);
+                append(&self.path, line.as_bytes())
+            }
+            None => {
+                let (text, chain) = self.whole_text();
+                self.chain = Some(chain);
+                atomic_write(&self.path, text.as_bytes())
+            }
+        };
+        match written {
             Err(err) if !self.failed => {
                 self.failed = true;
                 Some(format!(
@@ -192,13 +232,62 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
             _ => None,
         }
     }
+
+    /// The whole record's text and the chain after its last line.
+    fn whole_text(&self) -> (String, String) {
+        let mut header = json!({
+            "format": self.format,
+            "identity": self.identity,
+        });
+        if let Some(inputs) = &self.inputs {
+            header["inputs"] = json!(inputs);
+        }
+        let mut chain = checksum(&header);
+        header["sha256"] = chain.clone().into();
+        let mut text = serde_json::to_string(&header).expect("plain values");
+        text.push('\n');
+        for item in &self.items {
+            let (line, next) = point_line(&chain, item);
+            text.push_str(&line);
+            chain = next;
+        }
+        (text, chain)
+    }
 }
 
-/// The SHA-256 of a record's text (without its `sha256` key). serde_json writes
-/// the keys of its maps in one order and numbers exactly (`float_roundtrip`),
-/// so the text read back and written again is the text written.
+/// A point's line (with its newline) after the line whose chain is `chain`,
+/// and the chain after it.
+fn point_line<T: Serialize>(chain: &str, item: &T) -> (String, String) {
+    let point = json!(item);
+    let next = chained(chain, &point);
+    let mut line =
+        serde_json::to_string(&json!({ "point": point, "sha256": next })).expect("plain values");
+    line.push('\n');
+    (line, next)
+}
+
+/// Appends one line in a single write: a kill leaves at most that line
+/// without its newline, which reading leaves out.
+fn append(path: &Path, line: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut f = std::fs::OpenOptions::new().append(true).open(path)?;
+    f.write_all(line)?;
+    f.sync_data()
+}
+
+/// The SHA-256 of a record's header text (without its `sha256` key). serde_json
+/// writes the keys of its maps in one order and numbers exactly
+/// (`float_roundtrip`), so the text read back and written again is the text
+/// written.
 fn checksum(doc: &Value) -> String {
     crate::files::sha256_hex(serde_json::to_string(doc).expect("plain values").as_bytes())
+}
+
+/// The chain after a point: the SHA-256 of the previous line's chain and the
+/// point's text, so that an edited, removed or reordered line is found.
+fn chained(chain: &str, point: &Value) -> String {
+    let text = serde_json::to_string(point).expect("plain values");
+    crate::files::sha256_hex(format!("{chain}{text}").as_bytes())
 }
 
 /// Whether `scene` read the same files as recorded (`then`, if any); else which

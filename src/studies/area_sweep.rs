@@ -45,9 +45,16 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
             s.energies[k - 1]
         ));
     }
-    if let Some(k) =
-        (1..s.angles_arcmin.len()).find(|&k| s.angles_arcmin[..k].contains(&s.angles_arcmin[k]))
-    {
+    // The size before the angles' repeats: refused at once, however long.
+    let points = s.energies.len() as u64 * s.angles_arcmin.len() as u64;
+    if points > MAX_SWEEP_POINTS {
+        return bad(format!(
+            "{} energies × {} angles = {points} points: at most {MAX_SWEEP_POINTS} (each point is kept in memory and in the sweep's record)",
+            s.energies.len(),
+            s.angles_arcmin.len()
+        ));
+    }
+    if let Some(k) = first_repeat(&s.angles_arcmin) {
         return bad(format!(
             "angles: {}′ is given twice (number {}); each off-axis angle once",
             s.angles_arcmin[k],
@@ -61,14 +68,6 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     {
         return bad("angles are off-axis angles in arcminutes, below 90°".into());
     }
-    let points = s.energies.len() as u64 * s.angles_arcmin.len() as u64;
-    if points > MAX_SWEEP_POINTS {
-        return bad(format!(
-            "{} energies × {} angles = {points} points: at most {MAX_SWEEP_POINTS} (each point is kept in memory and in the sweep's record)",
-            s.energies.len(),
-            s.angles_arcmin.len()
-        ));
-    }
     if s.photons < 2 {
         return bad("photons must be at least 2 per angle".into());
     }
@@ -76,4 +75,33 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
         return bad("the counting radius must be a positive length (mm)".into());
     }
     Ok(())
+}
+
+/// The position of the first value equal to an earlier one, in O(n log n): a
+/// search of each value among those before it took a minute on a sweep the
+/// size cap refuses anyway.
+fn first_repeat(values: &[f64]) -> Option<usize> {
+    // −0 and +0 are one angle: sorted as +0.
+    let key = |i: usize| if values[i] == 0.0 { 0.0 } else { values[i] };
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+    // Equal values sit together, the earliest first: each later one of a run
+    // is a repeat.
+    order
+        .windows(2)
+        .filter(|w| values[w[0]] == values[w[1]])
+        .map(|w| w[1])
+        .min()
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn the_first_repeat_is_the_earliest_value_seen_before() {
+        use super::first_repeat;
+        assert_eq!(first_repeat(&[1.0, 2.0, 3.0]), None);
+        assert_eq!(first_repeat(&[3.0, 1.0, 2.0, 1.0, 3.0]), Some(3));
+        assert_eq!(first_repeat(&[0.0, 5.0, -0.0]), Some(2));
+        assert_eq!(first_repeat(&[2.0, 2.0, 2.0]), Some(1));
+    }
 }

@@ -313,7 +313,7 @@ fn a_range_end_the_scene_refuses_is_found_before_the_first_photon() {
         "{err}"
     );
     assert!(
-        !out.join("systematics_checkpoint.json").exists(),
+        !out.join("systematics_checkpoint.jsonl").exists(),
         "no record to resume"
     );
 }
