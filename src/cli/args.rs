@@ -179,6 +179,32 @@ pub fn parse_count(s: &str) -> Result<u64, String> {
 }
 
 /// Parses "a,b,c" or "start:stop:step" (inclusive of stop).
+/// The values start, start + step, … up to stop (with a tolerance of 1e-9
+/// steps), each the number a person would write: where start and step have
+/// at most 12 decimals, value i is (A + i·S) / 10^d in integers, so that
+/// 0.1:30:0.1 ends at 30 (not 30.000000000000004, beyond the Henke tables)
+/// and its third value is 0.3 (not 0.30000000000000004 in file names).
+fn decimal_range(a: f64, b: f64, step: f64) -> Vec<f64> {
+    let count = ((b - a) / step + 1e-9).floor() as usize;
+    let decimals = |x: f64| {
+        (0..=12).find(|&d| {
+            let scale = 10f64.powi(d);
+            let n = (x * scale).round();
+            n.abs() < 2f64.powi(52) && n / scale == x
+        })
+    };
+    match (decimals(a), decimals(step)) {
+        (Some(da), Some(ds)) => {
+            let scale = 10f64.powi(da.max(ds));
+            let (start, inc) = ((a * scale).round(), (step * scale).round());
+            (0..=count)
+                .map(|i| (start + inc * i as f64) / scale)
+                .collect()
+        }
+        _ => (0..=count).map(|i| a + step * i as f64).collect(),
+    }
+}
+
 pub fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, super::InputError> {
     let bad = || {
         super::InputError(format!(
@@ -197,8 +223,7 @@ pub fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, super::InputError> 
                 "--{what} {s}: need stop ≥ start, step > 0 and at most a million values"
             )));
         }
-        let count = ((b - a) / step + 1e-9).floor() as usize;
-        (0..=count).map(|i| a + step * i as f64).collect()
+        decimal_range(a, b, step)
     } else if parts.len() == 1 {
         s.split(',')
             .map(|p| p.trim().parse().map_err(|_| bad()))
@@ -210,4 +235,23 @@ pub fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, super::InputError> 
         return Err(bad());
     }
     Ok(values)
+}
+
+#[cfg(test)]
+mod range_tests {
+    #[test]
+    fn ranges_hold_the_numbers_a_person_writes() {
+        let v = super::decimal_range(0.1, 30.0, 0.1);
+        assert_eq!(v.len(), 300);
+        assert_eq!(v[2], 0.3);
+        assert_eq!(v[119], 12.0);
+        assert_eq!(*v.last().unwrap(), 30.0);
+        assert_eq!(
+            super::decimal_range(0.0, 1.0, 0.25),
+            [0.0, 0.25, 0.5, 0.75, 1.0]
+        );
+        // Not decimal: as before.
+        let third = 1.0 / 3.0;
+        assert_eq!(super::decimal_range(0.0, 1.0, third).len(), 4);
+    }
 }

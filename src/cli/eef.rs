@@ -6,7 +6,7 @@ use anyhow::Context;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use traxer::analysis::{analyse, ImageGeometry};
-use traxer::files::check_output_file;
+use traxer::files::{check_output_file, MANIFEST};
 use traxer::output::{
     read_fits_image, read_image, sidecar_path, write_eef_plot, write_sidecar, FitsImage, Provenance,
 };
@@ -20,7 +20,8 @@ use traxer::output::{
 /// from the sensor's JSON next to it; the focal length likewise (FOCALLEN, the
 /// sensor's). Prints the centroid and the 50/80/90 % diameters (mm, and arcsec
 /// with a focal length) and writes the EEF plot with a sidecar (PLOT.json:
-/// provenance and the numbers).
+/// provenance and the numbers): beside the image, or, for an image in a
+/// results folder (which holds one run's results), in the current folder.
 #[derive(clap::Args)]
 pub struct EefArgs {
     /// The image (.npy or .fits).
@@ -31,7 +32,8 @@ pub struct EefArgs {
     /// Pixel pitch in mm (x,y or one value for square pixels).
     #[arg(value_name = "MM", long, value_delimiter = ',')]
     pub pixel_pitch: Vec<f64>,
-    /// EEF plot to write (default: IMAGE_eef.png next to the image).
+    /// EEF plot to write (default: IMAGE_eef.png next to the image, or in the
+    /// current folder if the image lies in a results folder).
     #[arg(value_name = "PNG", long)]
     pub plot: Option<PathBuf>,
     /// Print JSON instead of text.
@@ -62,14 +64,7 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
     let Some((q, eef)) = analyse(&image, &g, focal_length) else {
         return Err(InputError(format!("{}: the image holds no flux", a.image.display())).into());
     };
-    let plot = a.plot.clone().unwrap_or_else(|| {
-        let stem = a
-            .image
-            .file_stem()
-            .map(|s| s.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        a.image.with_file_name(format!("{stem}_eef.png"))
-    });
+    let plot = plot_path(&a)?;
     check_output_file(&plot)?;
     check_output_file(&sidecar_path(&plot))?;
     write_eef_plot(
@@ -95,6 +90,53 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
         }
     }
     Ok(())
+}
+
+/// Whether `dir` is a traxer results folder (it holds the list of one run's
+/// files).
+fn is_results_folder(dir: &Path) -> bool {
+    dir.join(MANIFEST).is_file()
+}
+
+/// Where the EEF plot goes: --plot, else IMAGE_eef.png beside the image, or
+/// in the current folder when the image lies in a results folder. A results
+/// folder holds one run's results: `NAME_eef.png` there is the trace's own
+/// plot, which an analysis of the image must not silently replace.
+fn plot_path(a: &EefArgs) -> Result<PathBuf, InputError> {
+    let folder = |p: &Path| {
+        p.parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."))
+            .to_path_buf()
+    };
+    let refuse = |plot: &Path| {
+        InputError(format!(
+            "{}: {} is a traxer results folder, which holds one run's results (its own plots among them): give --plot a place outside it",
+            plot.display(),
+            folder(plot).display()
+        ))
+    };
+    if let Some(p) = &a.plot {
+        return match is_results_folder(&folder(p)) {
+            true => Err(refuse(p)),
+            false => Ok(p.clone()),
+        };
+    }
+    let stem = a
+        .image
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = format!("{stem}_eef.png");
+    let beside = a.image.with_file_name(&name);
+    if !is_results_folder(&folder(&beside)) {
+        return Ok(beside);
+    }
+    let here = PathBuf::from(&name);
+    match is_results_folder(Path::new(".")) {
+        true => Err(refuse(&here)),
+        false => Ok(here),
+    }
 }
 
 /// The image, its pitch and focal length where the file or its sensor's JSON

@@ -9,7 +9,7 @@
 mod folder;
 pub mod temporaries;
 
-pub use folder::OutputFolder;
+pub use folder::{OutputFolder, MANIFEST};
 
 use sha2::{Digest, Sha256};
 use std::io::Write;

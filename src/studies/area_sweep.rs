@@ -80,7 +80,7 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
 /// The position of the first value equal to an earlier one, in O(n log n): a
 /// search of each value among those before it took a minute on a sweep the
 /// size cap refuses anyway.
-fn first_repeat(values: &[f64]) -> Option<usize> {
+pub(crate) fn first_repeat(values: &[f64]) -> Option<usize> {
     // −0 and +0 are one angle: sorted as +0.
     let key = |i: usize| if values[i] == 0.0 { 0.0 } else { values[i] };
     let mut order: Vec<usize> = (0..values.len()).collect();

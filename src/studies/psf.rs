@@ -11,7 +11,7 @@
 //! (a stopped library resumes from the points it recorded) and `output::psf`
 //! writes the FITS file, the npy stack and the JSON description.
 
-use super::area_sweep::{check as check_sweep, AreaSweep, MAX_SWEEP_POINTS};
+use super::area_sweep::{check as check_sweep, first_repeat, AreaSweep, MAX_SWEEP_POINTS};
 use super::effective_area::{beam, image_stays_on_the_sensor};
 use super::{pick_sensor, StudyError};
 use crate::analysis::{analyse, ImageGeometry};
@@ -112,12 +112,25 @@ pub fn check(g: &PsfGrid) -> Result<(), StudyError> {
         radius_mm: None,
     })?;
     let bad = |m: String| Err(StudyError::Input(m));
+    // SIXTE's PSF and vignetting readers take θ ≥ 0 (the off-axis angle) and
+    // φ for the side; a negative θ would be a point they never look up.
+    if let Some(a) = g.angles_arcmin.iter().find(|a| **a < 0.0) {
+        return bad(format!(
+            "angles: {}′ is negative: a PSF library's off-axis angle θ is ≥ 0 (as SIXTE reads THETA), and the side is the azimuth: give --angles {} --azimuths with 180 added",
+            crate::text::number(*a),
+            crate::text::number(-*a)
+        ));
+    }
     if g.azimuths_deg.is_empty() || g.azimuths_deg.iter().any(|p| !p.is_finite()) {
         return bad("azimuths are angles in degrees".into());
     }
-    if let Some(k) =
-        (1..g.azimuths_deg.len()).find(|&k| g.azimuths_deg[..k].contains(&g.azimuths_deg[k]))
-    {
+    if g.azimuths_deg.len() as u64 > MAX_SWEEP_POINTS {
+        return bad(format!(
+            "{} azimuths: at most {MAX_SWEEP_POINTS}",
+            g.azimuths_deg.len()
+        ));
+    }
+    if let Some(k) = first_repeat(&g.azimuths_deg) {
         return bad(format!(
             "azimuths: {}° is given twice (number {}); each azimuth once",
             g.azimuths_deg[k],

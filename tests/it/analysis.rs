@@ -233,3 +233,44 @@ fn rectangle_and_disk_overlap_areas() {
     assert!((rectangle_in_disk(a, 9.0, -9.0, 9.0, r) - segment).abs() < 1e-12);
     assert_eq!(rectangle_in_disk(2.0, 3.0, 2.0, 3.0, 1.0), 0.0);
 }
+
+#[test]
+fn eef_of_a_traced_image_leaves_the_results_folder_as_the_trace_wrote_it() {
+    // Before: `traxer eef out/chip.npy` replaced the trace's own chip_eef.png
+    // and chip_eef.json inside the results folder.
+    use crate::common::{run_fails, run_ok, traxer, write};
+    let dir = tempfile::tempdir().unwrap();
+    let scene = write(dir.path(), "gas.toml", crate::silently_wrong::GAS_SCENE);
+    let out = dir.path().join("out");
+    run_ok(
+        traxer()
+            .args(["trace", "-n", "2000", "-q", "-o"])
+            .arg(&out)
+            .arg(&scene),
+    );
+    let own = std::fs::read(out.join("chip_eef.png")).unwrap();
+    let work = dir.path().join("work");
+    std::fs::create_dir(&work).unwrap();
+    run_ok(
+        traxer()
+            .current_dir(&work)
+            .arg("eef")
+            .arg(out.join("chip.npy"))
+            .arg("-q"),
+    );
+    assert!(work.join("chip_eef.png").is_file() && work.join("chip_eef.json").is_file());
+    assert_eq!(std::fs::read(out.join("chip_eef.png")).unwrap(), own);
+    let err = run_fails(
+        traxer()
+            .arg("eef")
+            .arg(out.join("chip.npy"))
+            .arg("--plot")
+            .arg(out.join("mine.png")),
+        2,
+    );
+    assert!(err.contains("is a traxer results folder"), "{err}");
+    // From inside the results folder, there is nowhere to put it unasked.
+    let err = run_fails(traxer().current_dir(&out).args(["eef", "chip.npy"]), 2);
+    assert!(err.contains("give --plot a place outside it"), "{err}");
+    assert!(!out.join("mine.png").exists());
+}

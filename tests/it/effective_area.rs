@@ -324,3 +324,38 @@ fn effective_area_refuses_what_it_cannot_sweep() {
         assert!(!out.exists(), "nothing written");
     }
 }
+
+#[test]
+fn a_range_of_energies_and_angles_holds_the_numbers_as_written() {
+    // Before: 0.1:30:0.1 ended at 30.000000000000004 keV and was refused as
+    // beyond the Henke tables; 0:0.3:0.1 named an ARF
+    // effective_area_0.30000000000000004arcmin.arf.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("a");
+    let run = crate::common::run_ok(
+        crate::common::traxer()
+            .arg("effective-area")
+            .arg(crate::common::repo().join("scenes/llnl_effective_area.toml"))
+            .args(["--energies", "0.1:30:0.1", "--angles", "0:0.3:0.1"])
+            .args(["-n", "200", "-o"])
+            .arg(&out),
+    );
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(!stdout.contains("0000000"), "{stdout}");
+    for angle in ["0", "0.1", "0.2", "0.3"] {
+        let arf = out.join(format!("effective_area_{angle}arcmin.arf"));
+        assert!(arf.is_file(), "{}", arf.display());
+    }
+    let csv = std::fs::read_to_string(out.join("effective_area.csv")).unwrap();
+    assert!(!csv.contains("0000000"), "{}", &csv[..csv.len().min(2000)]);
+    assert!(
+        csv.lines().any(|l| l.starts_with("0.3,30,")),
+        "{}",
+        &csv[..500]
+    );
+    assert!(
+        csv.lines().any(|l| l.starts_with("0.1,12,")),
+        "{}",
+        &csv[..500]
+    );
+}

@@ -75,7 +75,15 @@ fn quiet_commands_say_nothing_on_stderr() {
             ],
             false,
         ),
-        (vec!["eef".into(), p("tr/sensor.npy")], false),
+        (
+            vec![
+                "eef".into(),
+                p("tr/sensor.npy"),
+                "--plot".into(),
+                p("sensor_eef.png"),
+            ],
+            false,
+        ),
         (vec!["solar-flux".into(), "--out".into(), p("sf")], false),
         (
             vec![

@@ -313,3 +313,23 @@ fn messages_name_the_cli_options_and_print_numbers_readably() {
     );
     assert!(err.contains("a grazing angle is 0° to 90°"), "{err}");
 }
+
+#[test]
+fn a_psf_library_refuses_a_negative_off_axis_angle() {
+    // Before: psf.fits got THETA = −5, a point SIXTE never looks up.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p");
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("psf")
+            .arg(crate::common::repo().join("scenes/xmm_effective_area.toml"))
+            .args(["--angles", "-5", "-n", "100", "-q", "-o"])
+            .arg(&out),
+        2,
+    );
+    assert!(
+        err.contains("-5′ is negative") && err.contains("--angles 5"),
+        "{err}"
+    );
+    assert!(!out.exists(), "nothing written");
+}
