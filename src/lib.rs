@@ -62,7 +62,8 @@ pub mod xray;
 /// file, an output location, a setting) rather than a failure of the machine:
 /// the binary exits with code 2 for these, the Python module raises `InputError`.
 pub fn is_bad_input(e: &(dyn std::error::Error + 'static)) -> bool {
-    e.is::<scene::SceneError>()
+    e.downcast_ref::<scene::SceneError>()
+        .is_some_and(scene::SceneError::is_bad_input)
         || e.is::<mesh::MeshError>()
         || e.is::<output::NpyError>()
         || e.is::<files::OutputLocationError>()

@@ -9,10 +9,12 @@
 //! sensor positions, whose diameters [`focus::fit_defocus`] fits.
 
 pub mod centre;
+mod doubts;
 pub mod eef;
 mod finished;
 pub mod focus;
 
+pub use doubts::doubts;
 pub use finished::FinishedImage;
 
 use eef::EncircledFlux;

@@ -4,7 +4,10 @@
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
 use super::{load_xray_scene, progress};
-use traxer::output::{effective_area_files, write_effective_area, Provenance};
+use traxer::output::{
+    effective_area_files, sixte_vignetting_refused, write_effective_area, Provenance,
+    SIXTE_VIGNETTING,
+};
 use traxer::run::record::base_identity;
 use traxer::run::Study;
 use traxer::studies::effective_area::{
@@ -152,10 +155,18 @@ fn print_sweep(s: &AreaSweep, result: &AreaResult, out: &std::path::Path) {
         );
     }
     let files = effective_area_files(&s.angles_arcmin, &s.energies);
-    let arfs = files.len() - traxer::output::EFFECTIVE_AREA_FILES.len();
+    let arfs = files.iter().filter(|f| f.ends_with(".arf")).count();
+    let sixte = files.iter().any(|f| f == SIXTE_VIGNETTING);
     let arf_note = match arfs {
         0 => " (no ARF: an ARF's energy bins need two energies or more)".to_string(),
         n => format!(", {n} of them OGIP ARFs (effective_area_<angle>arcmin.arf)"),
     };
     say!("wrote {} files to {}{arf_note}", files.len(), out.display());
+    match sixte_vignetting_refused(&s.angles_arcmin) {
+        Some(why) if arfs > 0 => say!("no {SIXTE_VIGNETTING} (SIXTE's vignetting): {why}"),
+        _ if sixte => {
+            say!("{SIXTE_VIGNETTING}: the vignetting as SIXTE reads it (THETA in degrees)")
+        }
+        _ => {}
+    }
 }

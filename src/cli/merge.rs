@@ -63,7 +63,7 @@ pub fn run(a: MergeArgs) -> anyhow::Result<()> {
             id.total_photons
         );
     }
-    super::report::warn_empty_sensors(&scene, &finished.result);
+    super::report::warn_about_sensors(&scene, &finished.result);
     if !a.output.quiet.quiet {
         super::report::report(&scene, &finished.result);
         say!(

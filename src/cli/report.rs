@@ -4,10 +4,21 @@
 use traxer::analysis::FinishedImage;
 use traxer::trace::RunResult;
 
-/// A warning on stderr (shown even with `-q`) for each sensor no photon
-/// reached: its images are all zeros, which is rarely what was meant.
-pub fn warn_empty_sensors(scene: &traxer::scene::Scene, result: &RunResult) {
+/// Warnings on stderr (shown even with `-q`) for each sensor no photon
+/// reached (its images are all zeros, which is rarely what was meant) and for
+/// the doubts of `analysis::doubts` (a sensor that sees the source directly,
+/// circles beyond the sensor's edge).
+pub fn warn_about_sensors(scene: &traxer::scene::Scene, result: &RunResult) {
+    let mirrors = scene
+        .objects
+        .iter()
+        .any(|o| matches!(o.material, traxer::material::Material::Mirror { .. }));
+    let rate = scene.rate_per_unit_weight(result.stats.photons_emitted);
     for (spec, img) in scene.sensors.iter().zip(&result.images) {
+        let finished = FinishedImage::of(spec, img, rate);
+        for d in traxer::analysis::doubts(spec, img, &finished, mirrors) {
+            tell!("warning: {d}");
+        }
         if img.total_counts() == 0 {
             tell!(
                 "warning: NO PHOTON reached sensor `{}` ({} photons traced): its images are empty. Check that the source points at the telescope (a sun's `direction` points towards the Sun, a beam's is its direction of travel) and where the sensor sits.",

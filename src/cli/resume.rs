@@ -39,7 +39,7 @@ impl RunControl for CliControl {
 /// The end of a run on stdout: its report and where its files are.
 pub fn finish(scene: &Scene, finished: Finished, control: &CliControl, quiet: bool) {
     control.bar.finish_and_clear();
-    super::report::warn_empty_sensors(scene, &finished.result);
+    super::report::warn_about_sensors(scene, &finished.result);
     if !quiet {
         super::report::report(scene, &finished.result);
         say!(

@@ -8,7 +8,14 @@
 //!
 //! Also the sweep's vignetting as a FITS table, `vignetting.fits`: one row per
 //! angle and energy with the area, its error and the area over the on-axis
-//! area at that energy.
+//! area at that energy; and the same vignetting in the layout SIXTE's
+//! reader takes (`libsixt/vignetting.c`: OGIP CAL/GEN/92-021's VIGNET
+//! table), `vignetting_sixte.fits`: one row whose vector columns ENERG_LO,
+//! ENERG_HI (keV), THETA (degrees, where the PSF's THETA is in arcmin), PHI
+//! (degrees) and VIGNET, an (energy, θ, φ) array with energy varying fastest,
+//! its shape in TDIM5. SIXTE takes the bin whose (ENERG_LO, ENERG_HI] holds
+//! the photon's energy, the nearest θ and the first φ, and multiplies the
+//! on-axis ARF by it: so VIGNET is the area over the on-axis area.
 //!
 //! Data flow: `output::effective_area` writes these beside effective_area.csv
 //! from the same `AreaResult`; X-ray spectral tools (XSPEC, Sherpa) read them.
@@ -49,7 +56,8 @@ pub fn energy_bins(energies: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
     Some((lo, hi))
 }
 
-/// Writes the ARFs (TELESCOP: the scene traced) and `vignetting.fits`.
+/// Writes the ARFs (TELESCOP: the scene traced), SIXTE's vignetting file and
+/// `vignetting.fits`.
 pub fn write_responses(dir: &Path, r: &AreaResult, provenance: &Provenance) -> std::io::Result<()> {
     let telescope = provenance
         .scene_path
@@ -57,6 +65,7 @@ pub fn write_responses(dir: &Path, r: &AreaResult, provenance: &Provenance) -> s
         .and_then(|p| Path::new(p).file_stem())
         .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned());
     write_arfs(dir, r, &telescope, provenance)?;
+    write_sixte_vignetting(dir, r, provenance)?;
     write_vignetting(dir, r, provenance)
 }
 
@@ -144,6 +153,127 @@ fn arf_file(
         "area at the sweep's energy in each bin",
         "edges half-way between the sweep's energies",
     );
+    provenance_keys(&mut keys, provenance, "effective_area.json");
+    write_keys(&mut f, &hdu, keys)
+}
+
+/// The file of the vignetting as SIXTE reads it.
+pub const SIXTE_VIGNETTING: &str = "vignetting_sixte.fits";
+
+/// Why a sweep over these angles gets no SIXTE vignetting file, if it gets
+/// none: SIXTE multiplies the on-axis ARF by it, so the sweep must hold the
+/// axis, and its off-axis angle θ is ≥ 0 (the side is φ).
+pub fn sixte_vignetting_refused(angles_arcmin: &[f64]) -> Option<&'static str> {
+    if angles_arcmin.iter().any(|a| *a < 0.0) {
+        Some("a negative angle: SIXTE's θ is ≥ 0, the side is the azimuth")
+    } else if !angles_arcmin.contains(&0.0) {
+        Some("no on-axis angle (0): SIXTE scales the on-axis ARF by it")
+    } else {
+        None
+    }
+}
+
+/// Writes SIXTE's vignetting file into `dir` when the sweep allows one
+/// ([`sixte_vignetting_refused`], and two energies or more for the bins);
+/// returns whether it did.
+pub fn write_sixte_vignetting(
+    dir: &Path,
+    r: &AreaResult,
+    provenance: &Provenance,
+) -> std::io::Result<bool> {
+    let angles: Vec<f64> = r.angles.iter().map(|a| a.off_axis_arcmin).collect();
+    let energies: Vec<f64> = match r.angles.first() {
+        Some(a) => a.points.iter().map(|p| p.energy_kev).collect(),
+        None => return Ok(false),
+    };
+    let Some(bins) = energy_bins(&energies) else {
+        return Ok(false);
+    };
+    if sixte_vignetting_refused(&angles).is_some() {
+        return Ok(false);
+    }
+    let path = dir.join(SIXTE_VIGNETTING);
+    let tmp = tempfile::Builder::new().prefix("traxer-vig-").tempdir()?;
+    let tmp_file = tmp.path().join(SIXTE_VIGNETTING);
+    sixte_vignetting_file(&tmp_file, r, bins, provenance).map_err(|e| {
+        std::io::Error::other(format!(
+            "{}: writing SIXTE's vignetting table: {e}",
+            path.display()
+        ))
+    })?;
+    atomic_write(&path, &std::fs::read(&tmp_file)?)?;
+    Ok(true)
+}
+
+fn sixte_vignetting_file(
+    path: &Path,
+    r: &AreaResult,
+    (lo, hi): (Vec<f64>, Vec<f64>),
+    provenance: &Provenance,
+) -> fitsio::errors::Result<()> {
+    let on_axis = r
+        .angles
+        .iter()
+        .find(|a| a.off_axis_arcmin == 0.0)
+        .expect("checked: the sweep holds the axis");
+    let (n_e, n_theta) = (lo.len(), r.angles.len());
+    // [φ][θ][E] in memory is FITS's (E, θ, φ) with E varying fastest.
+    let mut vignet = Vec::with_capacity(n_e * n_theta);
+    for a in &r.angles {
+        for (p, axis) in a.points.iter().zip(&on_axis.points) {
+            // Where nothing reaches the sensor on axis the ARF is 0, and so is
+            // SIXTE's product whatever VIGNET says: 0 rather than NaN.
+            vignet.push(match axis.area_cm2 > 0.0 {
+                true => p.area_cm2 / axis.area_cm2,
+                false => 0.0,
+            });
+        }
+    }
+    let theta_deg: Vec<f64> = r.angles.iter().map(|a| a.off_axis_arcmin / 60.0).collect();
+    let columns: [(&str, Vec<f64>, &str); 5] = [
+        ("ENERG_LO", lo, "keV"),
+        ("ENERG_HI", hi, "keV"),
+        ("THETA", theta_deg, "deg"),
+        ("PHI", vec![r.azimuth_deg], "deg"),
+        ("VIGNET", vignet, ""),
+    ];
+    let mut f = FitsFile::create(path).open()?;
+    let descriptions = columns
+        .iter()
+        .map(|(name, values, _)| {
+            ColumnDescription::new(*name)
+                .with_type(ColumnDataType::Float)
+                .that_repeats(values.len())
+                .create()
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let hdu = f.create_table("VIGNET", &descriptions)?;
+    for (name, values, _) in &columns {
+        let single: Vec<f32> = values.iter().map(|v| *v as f32).collect();
+        hdu.write_col(&mut f, *name, &single)?;
+    }
+    let mut keys = Keys::default();
+    for (k, (_, _, unit)) in columns.iter().enumerate() {
+        if !unit.is_empty() {
+            keys.text(&format!("TUNIT{}", k + 1), unit, "");
+        }
+    }
+    keys.text(
+        "TDIM5",
+        &format!("({n_e},{n_theta},1)"),
+        "VIGNET[phi][theta][energy]",
+    );
+    keys.text("HDUCLASS", "OGIP", "format conforms to OGIP standard");
+    keys.text("HDUDOC", "CAL/GEN/92-021", "OGIP memo on spatial responses");
+    keys.text("HDUCLAS1", "RESPONSE", "");
+    keys.text("HDUCLAS2", "VIGNET", "");
+    keys.text("HDUVERS", "1.0.0", "version of the format");
+    keys.text(
+        "VIGNDEF",
+        "AREA(E, THETA) / AREA(E, 0)",
+        "scales the on-axis ARF",
+    );
+    keys.text("COUNTS", &r.counts, "what the area counts");
     provenance_keys(&mut keys, provenance, "effective_area.json");
     write_keys(&mut f, &hdu, keys)
 }

@@ -23,11 +23,16 @@ pub const EFFECTIVE_AREA_FILES: [&str; 7] = [
 ];
 
 /// Every file of a sweep over these angles and energies: the seven above and,
-/// with at least two energies, one OGIP ARF per angle ([`super::arf_name`]).
+/// with at least two energies, one OGIP ARF per angle ([`super::arf_name`])
+/// and, if the angles start on the axis and none is negative, SIXTE's
+/// vignetting file ([`super::SIXTE_VIGNETTING`]).
 pub fn effective_area_files(angles_arcmin: &[f64], energies: &[f64]) -> Vec<String> {
     let mut names: Vec<String> = EFFECTIVE_AREA_FILES.iter().map(|s| s.to_string()).collect();
     if super::energy_bins(energies).is_some() {
         names.extend(angles_arcmin.iter().map(|&a| super::arf_name(a)));
+        if super::sixte_vignetting_refused(angles_arcmin).is_none() {
+            names.push(super::SIXTE_VIGNETTING.to_string());
+        }
     }
     names
 }

@@ -6,16 +6,20 @@
 //! primary included, is one 2-D image for one (energy, off-axis angle,
 //! azimuth), normalised to a sum of 1, with `ENERGY` [eV], `THETA` [arcmin] and
 //! `PHI` [deg]; its axes `DETX`/`DETY` in metres (`CUNIT` m, `CDELT` the pixel
-//! pitch), the reference pixel `CRPIX` the window's centre and `CRVAL` that
-//! pixel's offset from the nominal image position f·tan θ (cos φ, sin φ), so
-//! that nominal position + CRVAL + (pixel − CRPIX)·CDELT is where traxer imaged
-//! it on the sensor (local axes). An alternative WCS `A` gives the sensor's
-//! own mm (`X`, `Y`), and `PSFFRAC` the window's share of the flux on the
+//! pitch) in SIXTE's frame of that azimuth: SIXTE places a pixel at
+//! R(φ)·[(f·tan θ, 0) + CRVAL + (pixel − CRPIX)·CDELT], turning the image by φ
+//! about the axis. So the reference pixel `CRPIX` is the window's centre,
+//! `CRVAL` its place on the sensor (local axes) turned back by φ, less
+//! (f·tan θ, 0); and at φ ≠ 0 the image is the sensor's window turned back by
+//! φ, resampled bilinearly (`PSFROT`), so that SIXTE's turn puts every pixel
+//! where traxer imaged it. At φ = 0 the image is the traced window, pixel for
+//! pixel. An alternative WCS `A` gives the sensor's own mm (`X`, `Y`; with
+//! the turn in `PCi_jA`), and `PSFFRAC` the window's share of the flux on the
 //! sensor (the images are normalised over the window).
 //!
-//! `psf.npy` holds the same normalised images as float64 [angle, azimuth,
-//! energy, iy, ix]; `psf.json` the grid, each window's place and share, and the
-//! provenance.
+//! `psf.npy` holds the traced windows, normalised, as float64 [angle, azimuth,
+//! energy, iy, ix] on the sensor's axes (not turned); `psf.json` the grid, each
+//! window's place and share, and the provenance.
 
 use super::fits::{provenance_keys, without_primary_extname, write_keys, Keys};
 use super::npy::write_npy_f64;
@@ -72,12 +76,13 @@ fn description(lib: &PsfLibrary, grid: &PsfGrid, provenance: &Provenance) -> ser
         "provenance": provenance,
         "what": "the image of the scene's parallel beam tilted to each off-axis angle and azimuth at each energy, on the sensor, in a window around its centroid, normalised to a sum of 1 over the window",
         "files": {
-            "psf.fits": "one image per HDU (the primary included) in the order of psf.npy, with ENERGY [eV], THETA [arcmin], PHI [deg], DETX/DETY in m (CRVAL: the reference pixel's offset from f·tan θ (cos φ, sin φ) on the sensor's axes) and WCS A in the sensor's mm; the layout SIXTE's PSF reader takes (OGIP CAL/GEN/92-027 keywords)",
-            "psf.npy": "float64 [angle, azimuth, energy, iy, ix], ix along the sensor's local x",
+            "psf.fits": "one image per HDU (the primary included) in the order of psf.npy, with ENERGY [eV], THETA [arcmin], PHI [deg], DETX/DETY in m in SIXTE's frame of each azimuth (SIXTE turns the image by PHI; CRVAL: the reference pixel's place turned back by PHI, less (f·tan THETA, 0); at PHI ≠ 0 the window turned back by PHI, bilinearly: PSFROT) and WCS A in the sensor's mm; the layout SIXTE's PSF reader takes (OGIP CAL/GEN/92-027 keywords)",
+            "psf.npy": "float64 [angle, azimuth, energy, iy, ix], the traced windows on the sensor's axes (not turned), ix along the sensor's local x",
         },
         "sensor": lib.sensor,
         "focal_length_mm": lib.focal_length_mm,
         "pixel_pitch_mm": lib.pitch_mm,
+        "sensor_size_mm": lib.size_mm,
         "window_pixels": lib.window,
         "energies_keV": grid.energies,
         "angles_arcmin": grid.angles_arcmin,
@@ -149,7 +154,7 @@ fn fits_file(
             0 => f.primary_hdu()?,
             _ => f.create_image("PSF".to_string(), &description)?,
         };
-        hdu.write_image(&mut f, &normalised(image))?;
+        hdu.write_image(&mut f, &in_sixte_frame(image, lib))?;
         let mut keys = keys(lib, image, k, provenance);
         if k == 0 {
             grid_keys(&mut keys, grid);
@@ -157,6 +162,46 @@ fn fits_file(
         write_keys(&mut f, &hdu, keys)?;
     }
     Ok(())
+}
+
+/// The image as SIXTE's frame of its azimuth holds it, normalised: the
+/// traced window itself at φ = 0 (mod 360°); else the window turned back by
+/// φ about its centre pixel, each output pixel's centre looked up in the
+/// traced window by bilinear interpolation (zero beyond it).
+fn in_sixte_frame(image: &PsfImage, lib: &PsfLibrary) -> Vec<f64> {
+    let traced = normalised(image);
+    let (sin, cos) = image.azimuth_deg.to_radians().sin_cos();
+    if image.azimuth_deg.rem_euclid(360.0) == 0.0 {
+        return traced;
+    }
+    let w = lib.window as usize;
+    let c = 0.5 * (w as f64 - 1.0);
+    let [px, py] = lib.pitch_mm;
+    let at = |ix: isize, iy: isize| -> f64 {
+        let inside = (0..w as isize).contains(&ix) && (0..w as isize).contains(&iy);
+        if inside {
+            traced[iy as usize * w + ix as usize]
+        } else {
+            0.0
+        }
+    };
+    let mut out = vec![0.0; w * w];
+    for j in 0..w {
+        for i in 0..w {
+            // The pixel's offset from the centre (mm) in SIXTE's frame, turned
+            // by φ onto the sensor, in the traced window's pixels.
+            let (u, v) = ((i as f64 - c) * px, (j as f64 - c) * py);
+            let x = c + (u * cos - v * sin) / px;
+            let y = c + (u * sin + v * cos) / py;
+            let (x0, y0) = (x.floor(), y.floor());
+            let (fx, fy) = (x - x0, y - y0);
+            let (x0, y0) = (x0 as isize, y0 as isize);
+            out[j * w + i] = (1.0 - fy) * ((1.0 - fx) * at(x0, y0) + fx * at(x0 + 1, y0))
+                + fy * ((1.0 - fx) * at(x0, y0 + 1) + fx * at(x0 + 1, y0 + 1));
+        }
+    }
+    let sum: f64 = out.iter().sum();
+    out.iter().map(|v| v / sum).collect()
 }
 
 /// The keywords of image `k`.
@@ -198,17 +243,21 @@ fn keys(lib: &PsfLibrary, image: &PsfImage, k: usize, provenance: &Provenance) -
         (image.angle_arcmin / 60.0).to_radians(),
         image.azimuth_deg.to_radians(),
     );
-    let nominal = [
-        lib.focal_length_mm * theta.tan() * phi.cos(),
-        lib.focal_length_mm * theta.tan() * phi.sin(),
-    ];
+    // The window's centre pixel on the sensor (local mm): sensor pixel i
+    // (from 0) has its centre at (i + 0.5)·pitch − size/2, and the window's
+    // pixel `centre` (from 1) is sensor pixel corner + centre − 1.
+    let at: [f64; 2] = std::array::from_fn(|axis| {
+        (image.corner[axis] as f64 + centre - 0.5) * lib.pitch_mm[axis] - 0.5 * lib.size_mm[axis]
+    });
+    // In SIXTE's frame of azimuth φ: turned back by φ, less (f·tan θ, 0).
+    let (sin, cos) = phi.sin_cos();
+    let turned = [cos * at[0] + sin * at[1], -sin * at[0] + cos * at[1]];
+    let offset = [turned[0] - lib.focal_length_mm * theta.tan(), turned[1]];
+    turn_keys(&mut keys, image.azimuth_deg);
     for (axis, name) in [(0usize, "X"), (1, "Y")] {
         let n = axis + 1;
         let pitch = lib.pitch_mm[axis];
-        // The window's centre pixel on the sensor (local mm): sensor pixel i
-        // (from 0) has its centre at (i + 0.5)·pitch − size/2, and the window's
-        // pixel `centre` (from 1) is sensor pixel corner + centre − 1.
-        let at = (image.corner[axis] as f64 + centre - 0.5) * pitch - 0.5 * lib.size_mm[axis];
+        let at = at[axis];
         keys.text(
             &format!("CTYPE{n}"),
             &format!("DET{name}"),
@@ -218,8 +267,8 @@ fn keys(lib: &PsfLibrary, image: &PsfImage, k: usize, provenance: &Provenance) -
         keys.float(&format!("CRPIX{n}"), centre, "the window's centre pixel");
         keys.float(
             &format!("CRVAL{n}"),
-            (at - nominal[axis]) * M_PER_MM,
-            "[m] its offset from f tan(THETA) along PHI",
+            offset[axis] * M_PER_MM,
+            "[m] SIXTE frame: offset from (f tan THETA, 0)",
         );
         keys.float(&format!("CDELT{n}"), pitch * M_PER_MM, "[m] pixel pitch");
         keys.text(
@@ -248,6 +297,28 @@ fn keys(lib: &PsfLibrary, image: &PsfImage, k: usize, provenance: &Provenance) -
     );
     provenance_keys(&mut keys, provenance, PSF_FILES[2]);
     keys
+}
+
+/// At φ ≠ 0 the image is turned back by φ: said (PSFROT) and undone in the
+/// sensor's WCS A (its PC matrix turns by φ).
+fn turn_keys(keys: &mut Keys, azimuth_deg: f64) {
+    if azimuth_deg.rem_euclid(360.0) == 0.0 {
+        return;
+    }
+    let (sin, cos) = azimuth_deg.to_radians().sin_cos();
+    keys.float(
+        "PSFROT",
+        azimuth_deg,
+        "[deg] window turned back by PHI, bilinear",
+    );
+    for (name, value) in [
+        ("PC1_1A", cos),
+        ("PC1_2A", -sin),
+        ("PC2_1A", sin),
+        ("PC2_2A", cos),
+    ] {
+        keys.float(name, value, "the turn by PHI onto the sensor");
+    }
 }
 
 /// The scene's file stem, for TELESCOP.

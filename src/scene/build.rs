@@ -81,8 +81,11 @@ pub(super) fn build(
     for (index, od) in std::mem::take(&mut desc.objects).into_iter().enumerate() {
         let id = u32::try_from(index).map_err(|_| at.whole("too many objects"))?;
         let object = builder.build(index, od, &mut materials)?;
-        triangle_count += embree_binding::attach(&mut embree, id, &object.geometry)
-            .map_err(|e| at.whole(format!("object `{}`: {e}", object.name)))?;
+        triangle_count +=
+            embree_binding::attach(&mut embree, id, &object.geometry).map_err(|e| {
+                at.whole(format!("object `{}`: {e}", object.name))
+                    .of_machine()
+            })?;
         objects.push(object);
     }
     if let Some((name, span)) = materials.unused() {
@@ -92,9 +95,10 @@ pub(super) fn build(
     check_foils(at, &materials.foils, &sources)?;
     check_gas(at, &materials.sensors, &sources)?;
     let bvh_start = std::time::Instant::now();
-    let embree = embree
-        .commit()
-        .map_err(|e| at.whole(format!("Embree could not build the scene: {e}")))?;
+    let embree = embree.commit().map_err(|e| {
+        at.whole(format!("Embree could not build the scene: {e}"))
+            .of_machine()
+    })?;
     let bvh_seconds = bvh_start.elapsed().as_secs_f64();
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
     let mut warnings = expanded.warnings;

@@ -2,7 +2,9 @@
 
 use std::path::{Path, PathBuf};
 
-/// A problem with a scene file or its command-line overrides (exit code 2).
+/// A problem with a scene file or its command-line overrides (exit code 2),
+/// or, marked [`SceneError::of_machine`], the machine's failure to build a
+/// scene that is fine (Embree out of memory: exit code 1).
 #[derive(Debug, thiserror::Error)]
 #[error("{}{}: {message}", file.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
 pub struct SceneError {
@@ -13,6 +15,8 @@ pub struct SceneError {
     /// The dotted key of the value at fault (`objects[2].shape.radius`), when
     /// the problem is located at a value of the file (the message names it too).
     pub key: Option<String>,
+    /// The machine failed, not the scene.
+    pub machine: bool,
 }
 
 impl SceneError {
@@ -22,7 +26,22 @@ impl SceneError {
             line,
             message: message.into(),
             key: None,
+            machine: false,
         }
+    }
+
+    /// The same error, as the machine's failure (Embree could not build the
+    /// scene), not the scene's.
+    pub fn of_machine(self) -> SceneError {
+        SceneError {
+            machine: true,
+            ..self
+        }
+    }
+
+    /// Whether the scene (the user's input) is at fault.
+    pub fn is_bad_input(&self) -> bool {
+        !self.machine
     }
 
     /// The same error, about the value at `key`.

@@ -87,10 +87,16 @@ impl<'a> ObjectBuilder<'a> {
         let geometry = self.geometry(&od, ospan.clone(), &name, &material, transform)?;
         let (lo, hi) = geometry.world_bounds();
         if !within_world(&[lo, hi]) {
+            let point = |p: glam::DVec3| {
+                let c: Vec<String> = p.to_array().map(crate::text::number).into();
+                format!("[{}]", c.join(", "))
+            };
             return Err(self.at.error(
                 ospan,
                 format!(
-                    "object `{name}` reaches from {lo} to {hi} mm: everything must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry; check the sizes, the transform and the mesh units)"
+                    "object `{name}` reaches from {} to {} mm: everything must lie within ±{WORLD_LIMIT_MM:e} mm of the origin (float32 geometry; check the sizes, the transform and the mesh units)",
+                    point(lo),
+                    point(hi)
                 ),
             ));
         }

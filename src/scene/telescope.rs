@@ -254,11 +254,33 @@ impl Telescope {
         if self.shells.is_empty() {
             return Err("no shells".to_string().into());
         }
+        if self.shells.len() > MAX_SHELLS {
+            return Err(format!(
+                "{} shells: at most {MAX_SHELLS} (the most nested X-ray optics have a few hundred; each shell is about a dozen objects and a MB of the scene's memory)",
+                self.shells.len()
+            )
+            .into());
+        }
+        for (key, value) in [
+            ("focal_length_mm", self.focal_length_mm),
+            ("mirror_length_mm", self.mirror_length_mm),
+            ("gap_mm", self.gap_mm),
+        ] {
+            if value > MAX_LENGTH_MM {
+                return Err(format!(
+                    "{key} = {} mm: beyond any telescope (at most {} mm)",
+                    crate::text::number(value),
+                    crate::text::number(MAX_LENGTH_MM)
+                )
+                .into());
+            }
+        }
         for i in 0..self.shells.len() {
             self.validate_shell(i)
                 .map_err(|m| InvalidTelescopeData::from(format!("shell {}: {m}", i + 1)))?;
         }
         self.check_nesting().map_err(InvalidTelescopeData::from)?;
+        self.check_spider_radii()?;
         if let Some(s) = &self.spider {
             let ok = s.arms > 0
                 && s.arm_width_deg > 0.0
@@ -274,9 +296,54 @@ impl Telescope {
         Ok(())
     }
 
+    /// The spider's arms must span radii from inner to outer: the defaults (the
+    /// innermost shell's opening, the outermost wall) where not given.
+    fn check_spider_radii(&self) -> Result<(), InvalidTelescopeData> {
+        let Some(s) = &self.spider else {
+            return Ok(());
+        };
+        let inner = s
+            .inner_radius_mm
+            .unwrap_or_else(|| self.front_inner_radius(0));
+        let outer = s.outer_radius_mm.unwrap_or_else(|| self.outer_radius());
+        if inner < outer {
+            return Ok(());
+        }
+        let said = |given: Option<f64>, key: &str, value: f64, default: &str| match given {
+            Some(_) => format!("{key} = {}", crate::text::number(value)),
+            None => format!(
+                "{} ({key} not given: {default})",
+                crate::text::number((value * 1e3).round() / 1e3)
+            ),
+        };
+        Err(format!(
+            "spider: its arms would reach from {} to {} mm: the inner radius must be below the outer one",
+            said(s.inner_radius_mm, "inner_radius_mm", inner, "the innermost shell's opening"),
+            said(s.outer_radius_mm, "outer_radius_mm", outer, "the outermost wall")
+        )
+        .into())
+    }
+
     fn validate_shell(&self, i: usize) -> Result<(), String> {
         let s = &self.shells[i];
         let pos = |x: f64| x.is_finite() && x > 0.0;
+        for (key, value) in [
+            ("r1_mm", s.r1_mm),
+            ("r2_mm", s.r2_mm),
+            ("r3_mm", s.r3_mm),
+            ("r4_mm", s.r4_mm),
+            ("r5_mm", s.r5_mm),
+            ("mirror_length_mm", s.mirror_length_mm),
+            ("thickness_mm", s.thickness_mm),
+        ] {
+            if let Some(v) = value.filter(|v| *v > MAX_LENGTH_MM) {
+                return Err(format!(
+                    "{key} = {} mm: beyond any telescope (at most {} mm)",
+                    crate::text::number(v),
+                    crate::text::number(MAX_LENGTH_MM)
+                ));
+            }
+        }
         if !pos(self.length(i)) {
             return Err("mirror_length_mm must be > 0".into());
         }
@@ -354,6 +421,12 @@ impl Telescope {
         Ok(())
     }
 }
+
+/// The most shells a prescription may have.
+const MAX_SHELLS: usize = 1000;
+
+/// The longest length (mm) a prescription may give: 10 km.
+const MAX_LENGTH_MM: f64 = 1e7;
 
 /// The steepest mirror a prescription may have, degrees to the axis.
 const MAX_GRAZING_DEG: f64 = 5.0;

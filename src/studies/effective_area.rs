@@ -74,6 +74,9 @@ pub struct AreaResult {
     pub counts: String,
     /// The beam's cross-section on axis (cm²).
     pub aperture_cm2: f64,
+    /// The azimuth (degrees) the beam is tilted towards, the source's
+    /// `off_axis_azimuth`.
+    pub azimuth_deg: f64,
     pub angles: Vec<AngleResult>,
     pub seconds: f64,
     pub threads: usize,
@@ -244,6 +247,7 @@ pub fn sweep(
         sensor: spec.name.clone(),
         counts,
         aperture_cm2: base.tilted(0.0).cross_section() / 100.0,
+        azimuth_deg: base.off_axis_azimuth,
         angles,
         seconds: start.elapsed().as_secs_f64(),
         threads: pool.current_num_threads(),

@@ -38,7 +38,11 @@ pub enum StudyError {
 impl StudyError {
     /// Whether the user's input is at fault (rather than the machine).
     pub fn is_bad_input(&self) -> bool {
-        matches!(self, StudyError::Scene(_) | StudyError::Input(_))
+        match self {
+            StudyError::Scene(e) => e.is_bad_input(),
+            StudyError::Input(_) => true,
+            _ => false,
+        }
     }
 }
 

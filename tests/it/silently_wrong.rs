@@ -337,3 +337,43 @@ fn a_merge_keeps_the_results_of_another_run_unless_asked_to_replace_them() {
     run_ok(&mut merge("1", &[]));
     run_ok(&mut merge("2", &["--replace"]));
 }
+
+#[test]
+fn a_sensor_that_sees_the_source_past_the_mirrors_or_circles_beyond_its_edge_is_named() {
+    // Before: both ran with exit 0 and nothing on stderr (a sensor in front of
+    // the optic gave an "HPD" of 2479″ drawn beyond the sensor's edge).
+    let dir = tempfile::tempdir().unwrap();
+    // The beam falls 5 mm off the centre of the 14 mm chip; a mirror beside
+    // it, which no photon reaches.
+    let text = GAS_SCENE.replace("center = [0, 0, 10]", "center = [5, 0, 10]")
+        + "\n[[objects]]\nname = \"flat\"\nmaterial = \"mirror\"\nshape = { type = \"rectangle\", size = [10.0, 10.0] }\ntransform = [ { translate = [50, 0, 0] } ]\n";
+    let scene = write(dir.path(), "s.toml", &text);
+    let out = run_ok(
+        traxer()
+            .args(["trace", "-n", "20000", "-q", "-o"])
+            .arg(dir.path().join("o"))
+            .arg(&scene),
+    );
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("none of the") && err.contains("was reflected by a mirror"),
+        "{err}"
+    );
+    assert!(
+        err.contains("80 % circle") && err.contains("beyond the sensor"),
+        "{err}"
+    );
+    // Centred and without the mirror: neither.
+    let scene = write(dir.path(), "t.toml", GAS_SCENE);
+    let out = run_ok(
+        traxer()
+            .args(["trace", "-n", "20000", "-q", "-o"])
+            .arg(dir.path().join("p"))
+            .arg(&scene),
+    );
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -426,3 +426,41 @@ fn a_shell_behind_the_inner_wall_or_steeper_than_a_grazing_angle_is_named() {
         );
     }
 }
+
+#[test]
+fn a_prescription_out_of_bounds_is_refused_by_its_key_not_by_a_part() {
+    // Before: a spider whose radii cross was "shape: disk needs 0 ≤
+    // inner_radius < radius", naming no file or key; 1e308 mm printed 309
+    // digits; 10 000 shells ran Embree out of memory after 11 GB.
+    let dir = tempfile::tempdir().unwrap();
+    let data = "name = \"mine\"\nprofile = \"wolter1\"\nfocal_length_mm = 1500.0\nmirror_length_mm = 100.0\nwall_thickness_mm = 0.5\ncoating = \"gold\"\nspider = { arms = 4, arm_width_deg = 2.0, inner_radius_mm = 80.0 }\nshells = [ { r3_mm = 50.0 }, { r3_mm = 60.0 } ]\n";
+    crate::common::write(dir.path(), "mine.toml", data);
+    let scene = "[[sources]]\ntype = \"parallel\"\naperture = { center = [0, 0, 200], radius = 90.0 }\nenergy = { line = 1.49 }\n\n[[assemblies]]\ntype = \"nested_telescope\"\ndata = \"mine.toml\"\nspider_distance = 10.0\n";
+    let path = crate::common::write(dir.path(), "scene.toml", scene);
+    let load = || match traxer::scene::Scene::load(&crate::common::device(), &path, &[]) {
+        Ok(_) => panic!("refused"),
+        Err(e) => e.to_string(),
+    };
+    let e = load();
+    assert!(
+        e.contains("mine.toml")
+            && e.contains("spider")
+            && e.contains("inner_radius_mm = 80")
+            && e.contains("outermost wall"),
+        "{e}"
+    );
+    let long = data.replace("mirror_length_mm = 100.0", "mirror_length_mm = 1e308");
+    crate::common::write(dir.path(), "mine.toml", &long);
+    let e = load();
+    assert!(
+        e.contains("mirror_length_mm = 1e308 mm") && e.len() < 400,
+        "{e}"
+    );
+    let many: Vec<String> = (0..1001)
+        .map(|k| format!("{{ r3_mm = {} }}", 50.0 + 0.6 * k as f64))
+        .collect();
+    let many = data.replace("{ r3_mm = 50.0 }, { r3_mm = 60.0 }", &many.join(", "));
+    crate::common::write(dir.path(), "mine.toml", &many);
+    let e = load();
+    assert!(e.contains("1001 shells: at most 1000"), "{e}");
+}

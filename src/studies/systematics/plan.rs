@@ -203,26 +203,7 @@ pub fn plan(scene: &Scene, r: &Request) -> Result<Plan, StudyError> {
             Err(reason) => return bad(format!("cannot vary {source}: {reason}")),
         }
     }
-    for (k, (name, _)) in r.vary.iter().enumerate() {
-        if r.vary[..k].iter().any(|(n, _)| n == name) {
-            return bad(format!(
-                "--vary {name} is given twice: one range per variable"
-            ));
-        }
-        // Varied twice, the variable's effect would enter the total twice
-        // (σ √2 too big where the two ranges agree).
-        if let Some(src) = p
-            .sources
-            .iter()
-            .find(|src| variables(&src.name).contains(&name.as_str()))
-        {
-            return bad(format!(
-                "--vary {name}: the source {0} already varies `{name}`, and its effect would be counted twice; set {0}'s range with its own option{1}, or leave {0} out with --sources",
-                src.name,
-                option_of(&src.name).map_or(String::new(), |o| format!(" ({o})"))
-            ));
-        }
-    }
+    check_vary(r, &p.sources)?;
     for (name, range) in &r.vary {
         let (what, vs) = range_of(scene, name, *range, &format!("vary:{name}"), "")?;
         p.sources.push(SourcePlan {
@@ -236,6 +217,32 @@ pub fn plan(scene: &Scene, r: &Request) -> Result<Plan, StudyError> {
         return bad("no source of uncertainty to vary: the scene supports none of those asked for (give --vary NAME=LOW:HIGH)".into());
     }
     Ok(p)
+}
+
+/// Refuses a `--vary` given twice or of a variable a planned source already
+/// varies.
+fn check_vary(r: &Request, sources: &[SourcePlan]) -> Result<(), StudyError> {
+    let bad = |m: String| Err(StudyError::Input(m));
+    for (k, (name, _)) in r.vary.iter().enumerate() {
+        if r.vary[..k].iter().any(|(n, _)| n == name) {
+            return bad(format!(
+                "--vary {name} is given twice: one range per variable"
+            ));
+        }
+        // Varied twice, the variable's effect would enter the total twice
+        // (σ √2 too big where the two ranges agree).
+        if let Some(src) = sources
+            .iter()
+            .find(|src| variables(&src.name).contains(&name.as_str()))
+        {
+            return bad(format!(
+                "--vary {name}: the source {0} already varies `{name}`, and its effect would be counted twice; set {0}'s range with its own option{1}, or leave {0} out with --sources",
+                src.name,
+                option_of(&src.name).map_or(String::new(), |o| format!(" ({o})"))
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A source's variations, or why the scene cannot vary it.
