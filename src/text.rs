@@ -14,9 +14,46 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// `s` cut to about `max` characters for a message: the start, how many
+/// characters were left out, and the end (a 100 000-character value is not
+/// echoed whole).
+pub fn shorten(s: &str, max: usize) -> String {
+    let n = s.chars().count();
+    if n <= max {
+        return s.to_string();
+    }
+    let head: String = s.chars().take(max * 2 / 3).collect();
+    let tail: String = s.chars().skip(n - max / 6).collect();
+    format!("{head}…({} characters)…{tail}", n - max * 2 / 3 - max / 6)
+}
+
+/// `s` with every word (a run without spaces) longer than `max` characters
+/// shortened ([`shorten`]): for messages that quote what a user gave.
+pub fn shorten_words(s: &str, max: usize) -> String {
+    if s.len() <= max {
+        return s.to_string();
+    }
+    s.split(' ')
+        .map(|w| shorten(w, max))
+        .collect::<Vec<_>>()
+        .join(" ")
+}
+
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::{number, shorten, shorten_words};
+
+    #[test]
+    fn long_words_are_cut_in_the_middle() {
+        assert_eq!(shorten("abc", 10), "abc");
+        let long = "1".repeat(1000);
+        let s = shorten_words(&format!("value \"{long}\" refused"), 120);
+        assert!(
+            s.starts_with("value \"111") && s.ends_with("11\" refused"),
+            "{s}"
+        );
+        assert!(s.contains("characters)") && s.len() < 200, "{s}");
+    }
 
     #[test]
     fn numbers_stay_short_and_exact() {

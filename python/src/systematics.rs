@@ -30,7 +30,7 @@ pub fn run(
     systematics::check(&settings).map_err(lib)?;
     let plan = systematics::plan(shown, &req).map_err(lib)?;
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
-        let defines = [shown.overrides.as_slice(), extra].concat();
+        let defines = traxer::scene::merged_overrides(&shown.overrides, extra);
         Ok(Scene::load(&loaded.device, &shown.path, &defines)?)
     };
     let bar = progress_bar(

@@ -69,7 +69,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
     let mut warnings = Warnings::default();
     let mut first_scene = None;
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
-        let defines = [a.scene.vars.define.as_slice(), extra].concat();
+        let defines = traxer::scene::merged_overrides(&a.scene.vars.define, extra);
         let scene = Scene::load(&device, &a.scene.scene, &defines)?;
         study
             .check_scene(&scene)

@@ -175,7 +175,7 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
     }
     let warnings = RefCell::new(Warnings::default());
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
-        let defines = [a.scene.vars.define.as_slice(), extra].concat();
+        let defines = traxer::scene::merged_overrides(&a.scene.vars.define, extra);
         let s = Scene::load(&device, &a.scene.scene, &defines)?;
         warnings.borrow_mut().show(&s);
         Ok(s)

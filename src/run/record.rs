@@ -307,10 +307,35 @@ fn difference(recorded: &Value, now: &Value) -> Option<String> {
     let (Some(a), Some(b)) = (recorded.as_object(), now.as_object()) else {
         return Some("its identity cannot be read".into());
     };
-    b.iter().find(|(k, v)| a.get(*k) != Some(v)).map(|(k, v)| {
-        format!(
-            "{k} {} there, {v} now",
-            a.get(k).map_or("(none)".into(), Value::to_string)
-        )
-    })
+    b.iter()
+        .find(|(k, v)| a.get(*k) != Some(v))
+        .map(|(k, v)| match (a.get(k), v) {
+            // Lists (angles, energies, variations): where they part, not both
+            // whole.
+            (Some(Value::Array(x)), Value::Array(y)) => {
+                let at = x.iter().zip(y).position(|(p, q)| p != q);
+                let value = |l: &[Value], i: usize| l.get(i).map_or("nothing".into(), |v| short(v));
+                match at {
+                    Some(i) => format!(
+                        "{k}: number {} is {} there, {} now ({} values there, {} now)",
+                        i + 1,
+                        value(x, i),
+                        value(y, i),
+                        x.len(),
+                        y.len()
+                    ),
+                    None => format!("{k}: {} values there, {} now", x.len(), y.len()),
+                }
+            }
+            (there, now) => format!(
+                "{k} {} there, {} now",
+                there.map_or("(none)".into(), short),
+                short(now)
+            ),
+        })
+}
+
+/// A value for a message, at most 120 characters.
+fn short(v: &Value) -> String {
+    crate::text::shorten(&v.to_string(), 120)
 }

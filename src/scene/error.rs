@@ -19,12 +19,18 @@ pub struct SceneError {
     pub machine: bool,
 }
 
+/// The longest word (a run without spaces: a value, a path) a message quotes
+/// whole.
+const MAX_WORD: usize = 300;
+
 impl SceneError {
     pub fn new(file: &Path, line: Option<usize>, message: impl Into<String>) -> SceneError {
         SceneError {
             file: file.to_path_buf(),
             line,
-            message: message.into(),
+            // A value of 100 000 characters (a -D, a string in the file) is
+            // quoted shortened, not whole.
+            message: crate::text::shorten_words(&message.into(), MAX_WORD),
             key: None,
             machine: false,
         }

@@ -26,6 +26,7 @@ pub mod telescope;
 mod telescope_nesting;
 pub mod telescope_parts;
 mod vars;
+pub use vars::merged_overrides;
 
 pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
 pub use assemblies::{AssemblyDesc, NestedTelescopeDesc};

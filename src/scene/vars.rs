@@ -29,7 +29,7 @@ pub fn substitute(
             ))
         }
     };
-    for o in overrides {
+    for (k, o) in overrides.iter().enumerate() {
         let Some((name, value)) = o.split_once('=') else {
             return Err(SceneError::new(
                 file,
@@ -38,6 +38,20 @@ pub fn substitute(
             ));
         };
         let name = name.trim();
+        if let Some(first) = overrides[..k]
+            .iter()
+            .find(|p| override_name(p) == Some(name))
+        {
+            return Err(SceneError::new(
+                file,
+                None,
+                format!(
+                    "variable `{name}` is overridden twice (-D {} and -D {}): give it once",
+                    crate::text::shorten(first, 80),
+                    crate::text::shorten(o, 80)
+                ),
+            ));
+        }
         if !vars.contains_key(name) {
             let known: Vec<&str> = vars.keys().map(|s| s.as_str()).collect();
             return Err(SceneError::new(
@@ -63,6 +77,27 @@ pub fn substitute(
         offset += line.len();
     }
     Ok((out, vars))
+}
+
+/// The variable a `name=value` override sets.
+fn override_name(o: &str) -> Option<&str> {
+    o.split_once('=').map(|(n, _)| n.trim())
+}
+
+/// The overrides `base` with `extra` on top: an extra override replaces the
+/// base's of the same variable (a study setting the variable it varies over
+/// the user's `-D` of it), so that no variable is overridden twice.
+pub fn merged_overrides(base: &[String], extra: &[String]) -> Vec<String> {
+    let replaced = |o: &String| {
+        extra
+            .iter()
+            .any(|e| override_name(e).is_some() && override_name(e) == override_name(o))
+    };
+    base.iter()
+        .filter(|o| !replaced(o))
+        .chain(extra)
+        .cloned()
+        .collect()
 }
 
 /// A -D value: TOML syntax if it parses (numbers, booleans, arrays, quoted

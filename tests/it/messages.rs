@@ -274,3 +274,55 @@ fn a_pixel_grid_beside_its_sensor_warns() {
     );
     assert!(!String::from_utf8_lossy(&out.stderr).contains("pixel_grid"));
 }
+
+#[test]
+fn a_define_given_twice_or_of_100_000_characters_is_said_short() {
+    // Before: the second -D silently won, and a 100 000-character value was
+    // echoed whole (100 kB on stderr).
+    let dir = tempfile::tempdir().unwrap();
+    let trace = |defines: &[String]| {
+        let mut c = traxer();
+        c.arg("trace").arg(repo().join("scenes/panter_al_ka.toml"));
+        for d in defines {
+            c.args(["-D", d]);
+        }
+        c.args(["-n", "10", "-q", "-o"]).arg(dir.path().join("o"));
+        run_fails(&mut c, 2)
+    };
+    let err = trace(&["sensor_z=-1519".into(), "sensor_z=-1500".into()]);
+    assert!(
+        err.contains("`sensor_z` is overridden twice") && err.contains("-D sensor_z=-1500"),
+        "{err}"
+    );
+    let err = trace(&[format!("sensor_z={}", "1".repeat(100_000))]);
+    assert!(
+        err.len() < 2000 && err.contains("characters)"),
+        "{} bytes: {}",
+        err.len(),
+        &err[..err.len().min(3000)]
+    );
+}
+
+#[test]
+fn a_study_over_a_define_of_its_own_variable_takes_the_study_value() {
+    // A focus scan sets sensor_z itself: the user's -D sensor_z is the
+    // nominal value it replaces, not a second override to refuse.
+    let dir = tempfile::tempdir().unwrap();
+    crate::common::run_ok(
+        traxer()
+            .arg("focus")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args([
+                "-D",
+                "sensor_z=-1519",
+                "--from",
+                "-1510",
+                "--to",
+                "-1530",
+                "--steps",
+                "4",
+            ])
+            .args(["-n", "2000", "-q", "-o"])
+            .arg(dir.path().join("f")),
+    );
+}
