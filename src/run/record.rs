@@ -314,7 +314,7 @@ fn difference(recorded: &Value, now: &Value) -> Option<String> {
             // whole.
             (Some(Value::Array(x)), Value::Array(y)) => {
                 let at = x.iter().zip(y).position(|(p, q)| p != q);
-                let value = |l: &[Value], i: usize| l.get(i).map_or("nothing".into(), |v| short(v));
+                let value = |l: &[Value], i: usize| l.get(i).map_or("nothing".into(), short);
                 match at {
                     Some(i) => format!(
                         "{k}: number {} is {} there, {} now ({} values there, {} now)",
