@@ -10,8 +10,10 @@ case "${1:-}" in -h | --help) awk 'NR > 1 && /^#/ { sub(/^# ?/, ""); print; next
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
-if [ ! -x target/release/traxer ]; then
+# Cargo builds into CARGO_TARGET_DIR when it is set.
+bin="${CARGO_TARGET_DIR:-target}/release/traxer"
+if [ ! -x "$bin" ]; then
   echo "run-example: building traxer (the first build compiles every dependency: about 6 minutes on 2 cores)" >&2
 fi
 cargo build --release
-./target/release/traxer trace scenes/panter_al_ka.toml --photons 4000000 --out out/panter_al_ka "$@"
+"$bin" trace scenes/panter_al_ka.toml --photons 4000000 --out out/panter_al_ka "$@"

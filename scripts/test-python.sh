@@ -20,6 +20,8 @@ if [ ! -x "$venv/bin/python" ]; then
   fi
 fi
 "$venv/bin/python" -m pip install -q --disable-pip-version-check -r tests/python/requirements.txt
-[ -x target/release/traxer ] || cargo build --release
+# Cargo builds into CARGO_TARGET_DIR when it is set.
+bin="$(cd "${CARGO_TARGET_DIR:-target}" 2>/dev/null && pwd)/release/traxer"
+[ -x "$bin" ] || { cargo build --release; bin="$(cd "${CARGO_TARGET_DIR:-target}" && pwd)/release/traxer"; }
 "$venv/bin/python" -m pip install -q --disable-pip-version-check --force-reinstall --no-deps ./python
-TRAXER="$PWD/target/release/traxer" "$venv/bin/python" -m pytest -q -rs tests/python "$@"
+TRAXER="$bin" "$venv/bin/python" -m pytest -q -rs tests/python "$@"

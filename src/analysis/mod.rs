@@ -167,6 +167,32 @@ pub fn analyse(
     ))
 }
 
+/// The flux of `image` within each radius of `radii_mm` about `centre_mm` (a
+/// signal region), each pixel's flux spread over its area as for the EEF.
+pub fn flux_within(
+    image: &[f64],
+    g: &ImageGeometry,
+    centre_mm: [f64; 2],
+    radii_mm: &[f64],
+) -> Vec<f64> {
+    let encircled = EncircledFlux::new(
+        image
+            .iter()
+            .enumerate()
+            .filter(|(_, &v)| v > 0.0)
+            .map(|(k, &v)| {
+                let (x, y) = g.center(k % g.nx, k / g.nx);
+                (
+                    x - 0.5 * g.pitch[0] - centre_mm[0],
+                    y - 0.5 * g.pitch[1] - centre_mm[1],
+                    v,
+                )
+            }),
+        g.pitch,
+    );
+    radii_mm.iter().map(|&r| encircled.flux_within(r)).collect()
+}
+
 /// Sums of the image along y (a function of x) and along x (a function of y).
 pub fn projections(image: &[f64], g: &ImageGeometry) -> (Vec<f64>, Vec<f64>) {
     let mut px = vec![0.0; g.nx];

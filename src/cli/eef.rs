@@ -19,7 +19,8 @@ use traxer::output::{
 /// mm, else, for traxer's own images (NAME.npy, NAME_grid.npy, class images),
 /// from the sensor's JSON next to it; the focal length likewise (FOCALLEN, the
 /// sensor's). Prints the centroid and the 50/80/90 % diameters (mm, and arcsec
-/// with a focal length) and writes the EEF plot with a sidecar (PLOT.json:
+/// with a focal length), with --radius the flux in signal regions (circles
+/// about the centroid or --center), and writes the EEF plot with a sidecar (PLOT.json:
 /// provenance and the numbers): beside the image, or, for an image in a
 /// results folder (which holds one run's results), in the current folder.
 #[derive(clap::Args)]
@@ -36,6 +37,24 @@ pub struct EefArgs {
     /// current folder if the image lies in a results folder).
     #[arg(value_name = "PNG", long)]
     pub plot: Option<PathBuf>,
+    /// Signal regions: the flux within these radii (mm, comma-separated) of
+    /// the centroid, or of --center, printed as fractions of the image's flux.
+    #[arg(
+        value_name = "MM",
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    pub radius: Vec<f64>,
+    /// The signal regions' centre (mm, x,y from the image's centre; the
+    /// frame of the printed centroid) instead of the centroid.
+    #[arg(
+        value_name = "X,Y",
+        long,
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
+    pub center: Vec<f64>,
     /// Print JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -64,6 +83,7 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
     let Some((q, eef)) = analyse(&image, &g, focal_length) else {
         return Err(InputError(format!("{}: the image holds no flux", a.image.display())).into());
     };
+    let regions = signal_regions(&a, &image, &g, &q)?;
     let plot = plot_path(&a)?;
     check_output_file(&plot)?;
     check_output_file(&sidecar_path(&plot))?;
@@ -82,9 +102,16 @@ pub fn run(a: EefArgs) -> anyhow::Result<()> {
     write_sidecar(&plot, &Provenance::of_table(&super::invocation()), details)
         .with_context(|| format!("cannot write the sidecar of {}", plot.display()))?;
     if a.json {
-        say!("{}", serde_json::to_string_pretty(&q)?);
+        let mut v = serde_json::to_value(&q)?;
+        if let Some(r) = &regions {
+            v["signal_regions"] = r.json();
+        }
+        say!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print_quality(&q);
+        if let Some(r) = &regions {
+            r.print();
+        }
         if !a.quiet.quiet {
             tell!("wrote {}", plot.display());
         }
@@ -137,6 +164,86 @@ fn plot_path(a: &EefArgs) -> Result<PathBuf, InputError> {
         true => Err(refuse(&here)),
         false => Ok(here),
     }
+}
+
+/// The flux within circles about one centre.
+struct SignalRegions {
+    centre_mm: [f64; 2],
+    /// Whether the centre is the centroid (else --center).
+    about_centroid: bool,
+    radii_mm: Vec<f64>,
+    flux: Vec<f64>,
+    total: f64,
+}
+
+impl SignalRegions {
+    fn json(&self) -> serde_json::Value {
+        json!({
+            "center_mm": self.centre_mm,
+            "about": if self.about_centroid { "the centroid" } else { "--center" },
+            "regions": self.radii_mm.iter().zip(&self.flux).map(|(r, f)| json!({
+                "radius_mm": r,
+                "flux": f,
+                "fraction": f / self.total,
+            })).collect::<Vec<_>>(),
+        })
+    }
+
+    fn print(&self) {
+        let about = match self.about_centroid {
+            true => "the centroid",
+            false => "the given centre",
+        };
+        for (r, f) in self.radii_mm.iter().zip(&self.flux) {
+            say!(
+                "within {} mm of {about} ({:.4}, {:.4}): {:.2} % of the flux ({f:.6e} of {:.6e})",
+                traxer::text::number(*r),
+                self.centre_mm[0],
+                self.centre_mm[1],
+                100.0 * f / self.total,
+                self.total
+            );
+        }
+    }
+}
+
+/// The flux within --radius of the centroid or --center, if asked.
+fn signal_regions(
+    a: &EefArgs,
+    image: &[f64],
+    g: &ImageGeometry,
+    q: &traxer::analysis::ImageQuality,
+) -> Result<Option<SignalRegions>, InputError> {
+    if a.radius.is_empty() {
+        if !a.center.is_empty() {
+            return Err(InputError(
+                "--center is the centre of the --radius circles: give --radius too".into(),
+            ));
+        }
+        return Ok(None);
+    }
+    if let Some(r) = a.radius.iter().find(|r| !(r.is_finite() && **r > 0.0)) {
+        return Err(InputError(format!(
+            "--radius {}: expected positive radii in mm",
+            traxer::text::number(*r)
+        )));
+    }
+    let centre_mm = match a.center.as_slice() {
+        [] => q.centroid_mm,
+        [x, y] if x.is_finite() && y.is_finite() => [*x, *y],
+        _ => {
+            return Err(InputError(
+                "--center takes two numbers, x,y in mm from the image's centre".into(),
+            ))
+        }
+    };
+    Ok(Some(SignalRegions {
+        centre_mm,
+        about_centroid: a.center.is_empty(),
+        flux: traxer::analysis::flux_within(image, g, centre_mm, &a.radius),
+        radii_mm: a.radius.clone(),
+        total: q.total_flux,
+    }))
 }
 
 /// The image, its pitch and focal length where the file or its sensor's JSON
@@ -273,7 +380,17 @@ fn sensor_of(image: &Path) -> Option<SensorInfo> {
                 focal_length_mm,
             });
         }
-        if lists(sensor.get("files")) {
+        // The per-process images (NAME_primakoff.npy, ...) are listed under
+        // by_process, on the sensor's pixels.
+        let process_image = sensor
+            .get("by_process")
+            .and_then(|b| b.get("processes"))
+            .and_then(|p| p.as_array())
+            .is_some_and(|p| {
+                p.iter()
+                    .any(|e| e.get("file").and_then(|f| f.as_str()) == Some(&name))
+            });
+        if lists(sensor.get("files")) || process_image {
             let p = sensor.get("pixel_pitch_mm")?;
             let pitch_mm = [p.get(0)?.as_f64()?, p.get(1)?.as_f64()?];
             return Some(SensorInfo {

@@ -22,7 +22,7 @@ use traxer::mesh::{self, MeshError, MeshPart, Skipped};
 /// the error the tracer would give).
 #[derive(clap::Args)]
 pub struct InspectArgs {
-    /// Mesh files (.gltf, .glb, .obj).
+    /// Mesh files (.gltf, .glb, .obj, .stl).
     #[arg(required = true)]
     pub files: Vec<PathBuf>,
     /// Print JSON (keys documented in docs/inspect.md) instead of text.

@@ -1,4 +1,4 @@
-//! Mesh files: import from glTF 2.0 and Wavefront OBJ into
+//! Mesh files: import from glTF 2.0, Wavefront OBJ and STL into
 //! [`TriangleMesh`]es (the in-memory form lives in `geometry`), export of
 //! tessellated shapes, and inspection.
 //!
@@ -14,6 +14,7 @@ mod guard;
 mod obj_import;
 mod polygon;
 pub mod quality;
+mod stl_import;
 pub mod units;
 
 pub use crate::geometry::TriangleMesh;
@@ -65,7 +66,7 @@ impl ImportReport {
 pub enum MeshError {
     #[error("mesh file {path}: {message}")]
     Invalid { path: PathBuf, message: String },
-    #[error("mesh file {path}: unsupported file type (expected .gltf, .glb or .obj)")]
+    #[error("mesh file {path}: unsupported file type (expected .gltf, .glb, .obj or .stl)")]
     UnknownFormat { path: PathBuf },
 }
 
@@ -150,7 +151,7 @@ impl MeshPart {
     }
 }
 
-/// Loads a `.gltf`, `.glb` or `.obj` file, applying glTF node transforms, and
+/// Loads a `.gltf`, `.glb`, `.obj` or `.stl` file, applying glTF node transforms, and
 /// checks it ([`TriangleMesh::validate`]). Vertex normals are always present in the
 /// result: from the file where it has them, computed otherwise.
 pub fn load(path: &Path) -> Result<(TriangleMesh, ImportReport), MeshError> {
@@ -163,7 +164,7 @@ pub fn load_parts(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErro
     if path.is_dir() {
         return Err(MeshError::invalid(
             path,
-            "is a folder, not a mesh file (.gltf, .glb or .obj)",
+            "is a folder, not a mesh file (.gltf, .glb, .obj or .stl)",
         ));
     }
     let ext = path
@@ -174,6 +175,7 @@ pub fn load_parts(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErro
     match ext.as_str() {
         "gltf" | "glb" => gltf_import::load(path),
         "obj" => obj_import::load(path),
+        "stl" => stl_import::load(path),
         _ => Err(MeshError::UnknownFormat {
             path: path.to_path_buf(),
         }),

@@ -1,8 +1,9 @@
 //! The encircled-energy plot of an image: flux fraction against radius (in
-//! arcseconds when the focal length is known, else mm), with the 50/80/90 %
-//! radii marked.
+//! arcseconds when the focal length is known, with mm on the top axis, else
+//! mm), with the 50/80/90 % radii marked.
 
-use super::{line_plot, Series};
+use super::plot::{line_plot_with_top_axis, TopAxis};
+use super::Series;
 use crate::analysis::{arcsec_of_radius, Eef, ImageQuality};
 use std::path::Path;
 
@@ -49,12 +50,18 @@ pub fn write_eef_plot(
         };
         series.push(Series::line(label, vec![(r, 0.0), (r, frac), (0.0, frac)]).without_markers());
     }
-    line_plot(
+    // A signal region is a circle on the detector in mm: the top axis gives
+    // the radius in mm beside the arcsec (linear: mm = f·tan r, and r is at
+    // most minutes of arc, where tan r = r to 1e-7).
+    let top = q.focal_length_mm.map(|f| TopAxis {
+        label: "radius r [mm on the sensor]",
+        scale: f * (1.0 / 3600.0_f64).to_radians(),
+    });
+    line_plot_with_top_axis(
         path,
-        title,
-        x_label,
-        "fraction of flux",
+        (title, x_label, "fraction of flux"),
         &series,
         (900, 600),
+        top,
     )
 }

@@ -8,6 +8,7 @@
 
 use super::write_rgb_png;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 use std::path::Path;
 use std::sync::Once;
 
@@ -171,6 +172,24 @@ pub fn line_plot(
     series: &[Series],
     size: (u32, u32),
 ) -> std::io::Result<()> {
+    line_plot_with_top_axis(path, (title, x_label, y_label), series, size, None)
+}
+
+/// A second x axis along the top of a line plot: the bottom axis's values
+/// times `scale`, under `label` (an EEF in arcsec gets mm on top).
+pub struct TopAxis<'a> {
+    pub label: &'a str,
+    pub scale: f64,
+}
+
+/// [`line_plot`] with, if given, a second x axis along the top.
+pub fn line_plot_with_top_axis(
+    path: &Path,
+    (title, x_label, y_label): (&str, &str, &str),
+    series: &[Series],
+    size: (u32, u32),
+    top: Option<TopAxis>,
+) -> std::io::Result<()> {
     register_font();
     let (w, h) = size;
     let mut buf = vec![0u8; (w * h * 3) as usize];
@@ -194,9 +213,23 @@ pub fn line_plot(
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         let draw = || -> Result<(), Box<dyn std::error::Error + '_>> {
             root.fill(&WHITE)?;
-            let mut chart = ChartBuilder::on(&root)
-                .caption(typeset(title), ("sans-serif", 22))
-                .margin(12)
+            // With a top axis (drawn by hand: the mesh would put the bottom
+            // axis's labels there too) the title goes above the room it needs.
+            let titled;
+            let mut builder = match top {
+                None => {
+                    let mut b = ChartBuilder::on(&root);
+                    b.caption(typeset(title), ("sans-serif", 22)).margin(12);
+                    b
+                }
+                Some(_) => {
+                    titled = root.titled(&typeset(title), ("sans-serif", 22))?;
+                    let mut b = ChartBuilder::on(&titled);
+                    b.margin(12).margin_top(50);
+                    b
+                }
+            };
+            let mut chart = builder
                 .x_label_area_size(45)
                 .y_label_area_size(85)
                 .build_cartesian_2d(x0..x1, y_lo..y_hi)?;
@@ -219,6 +252,9 @@ pub fn line_plot(
                     .label_font(("sans-serif", 15))
                     .draw()?;
             }
+            if let Some(t) = &top {
+                draw_top_axis(&root, &chart, t, (x0, x1), y_hi)?;
+            }
             root.present()?;
             Ok(())
         };
@@ -226,6 +262,47 @@ pub fn line_plot(
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
     write_rgb_png(path, &img)
+}
+
+/// The top axis: ticks at round values of the top quantity along the plot's
+/// upper edge, their labels above and the axis name above them.
+fn draw_top_axis<'b>(
+    root: &DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>,
+    chart: &Chart<'_, 'b>,
+    top: &TopAxis,
+    (x0, x1): (f64, f64),
+    y_hi: f64,
+) -> Result<(), Box<dyn std::error::Error + 'b>> {
+    let (a, b) = (x0 * top.scale, x1 * top.scale);
+    let span = a.abs().max(b.abs());
+    let rough = (b - a) / 8.0;
+    let decade = 10f64.powf(rough.log10().floor());
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * decade)
+        .find(|s| *s >= rough)
+        .unwrap_or(10.0 * decade);
+    let style =
+        TextStyle::from(("sans-serif", 15).into_font()).pos(Pos::new(HPos::Center, VPos::Bottom));
+    let mut k = (a / step).ceil();
+    let mut edge = 0;
+    while k * step <= b + 1e-9 * step {
+        let v = k * step;
+        let (px, py) = chart.backend_coord(&(v / top.scale, y_hi));
+        root.draw(&PathElement::new(vec![(px, py), (px, py - 5)], BLACK))?;
+        root.draw(&Text::new(tick_label(v, span), (px, py - 7), style.clone()))?;
+        edge = py;
+        k += 1.0;
+    }
+    let (lo, _) = chart.backend_coord(&(x0, y_hi));
+    let (hi, _) = chart.backend_coord(&(x1, y_hi));
+    root.draw(&PathElement::new(vec![(lo, edge), (hi, edge)], BLACK))?;
+    root.draw(&Text::new(
+        typeset(top.label),
+        ((lo + hi) / 2, edge - 26),
+        style,
+    ))?;
+    Ok(())
 }
 
 type Chart<'a, 'b> = ChartContext<

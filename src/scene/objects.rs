@@ -252,7 +252,7 @@ impl<'a> ObjectBuilder<'a> {
             return Err(self.at.error(
                 sspan,
                 format!(
-                    "object `{name}`: mesh file {} is a folder; give the .gltf, .glb or .obj file in it",
+                    "object `{name}`: mesh file {} is a folder; give the .gltf, .glb, .obj or .stl file in it",
                     file.display()
                 ),
             ));

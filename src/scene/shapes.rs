@@ -21,7 +21,7 @@ use serde::Deserialize;
 /// shape = { type = "rectangle", size = [14.0, 14.0] }             # in local z = 0, facing +z
 /// shape = { type = "box", size = [1.0, 2.0, 3.0] }                # centred on the origin
 /// shape = { type = "sphere", radius = 5.0 }
-/// shape = { type = "mesh", file = "../meshes/bore.gltf" }         # .gltf, .glb or .obj
+/// shape = { type = "mesh", file = "../meshes/bore.gltf" }         # .gltf, .glb, .obj or .stl
 /// ```
 #[derive(Debug, Deserialize, Clone)]
 #[serde(tag = "type", rename_all = "snake_case")]

@@ -118,6 +118,50 @@ fn eef_command_on_an_npy_from_elsewhere() {
         "{q}"
     );
     assert!(dir.path().join("disk_eef.png").is_file());
+    // Signal regions: a circle of 0.5 mm about the centroid holds (0.5/1)² of
+    // the uniform disk; one of 0.5 mm about (1, 0), on the disk's edge, the
+    // lens where the two circles overlap over π·1²; pixels of 0.01 mm blur the
+    // edges by about a pixel: 1 % allowed.
+    let out = crate::common::run_ok(
+        crate::common::traxer()
+            .args(["eef", "--json", "--pixel-pitch", "0.01", "--radius", "0.5"])
+            .arg("--plot")
+            .arg(dir.path().join("r.png"))
+            .arg(&path),
+    );
+    let q: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = q["signal_regions"]["regions"][0]["fraction"]
+        .as_f64()
+        .unwrap();
+    assert!((f - 0.25).abs() < 0.01, "{q}");
+    let out = crate::common::run_ok(
+        crate::common::traxer()
+            .args(["eef", "--json", "--pixel-pitch", "0.01", "--radius", "0.5"])
+            .args(["--center", "1,0", "--plot"])
+            .arg(dir.path().join("r.png"))
+            .arg(&path),
+    );
+    let q: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let f = q["signal_regions"]["regions"][0]["fraction"]
+        .as_f64()
+        .unwrap();
+    let lens = |big: f64, small: f64, d: f64| {
+        let a = small * small * ((d * d + small * small - big * big) / (2.0 * d * small)).acos();
+        let b = big * big * ((d * d + big * big - small * small) / (2.0 * d * big)).acos();
+        let c = 0.5
+            * ((-d + small + big) * (d + small - big) * (d - small + big) * (d + small + big))
+                .sqrt();
+        a + b - c
+    };
+    let expected = lens(1.0, 0.5, 1.0) / std::f64::consts::PI;
+    assert!((f - expected).abs() < 0.01, "{f} vs {expected}");
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .args(["eef", "--pixel-pitch", "0.01", "--radius", "-1"])
+            .arg(&path),
+        2,
+    );
+    assert!(err.contains("--radius -1"), "{err}");
     // Without a pitch (and no sidecar), or with garbage, exit code 2.
     let err = crate::common::run_fails(crate::common::traxer().arg("eef").arg(&path), 2);
     assert!(err.contains("--pixel-pitch"), "{err}");

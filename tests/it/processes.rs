@@ -266,3 +266,34 @@ fn abc_process_images_split_the_sun_as_its_processes_emit() {
         }
     }
 }
+
+#[test]
+fn eef_finds_the_pitch_of_a_process_image_as_of_the_total() {
+    // Before: `traxer eef NAME_primakoff.npy` asked for --pixel-pitch, while
+    // NAME.npy beside it took the pitch from the sensor's JSON.
+    let dir = tempfile::tempdir().unwrap();
+    pinhole(dir.path(), "primakoff+abc");
+    let out = dir.path().join("o");
+    crate::common::run_ok(
+        crate::common::traxer()
+            .args(["trace", "-n", "20000", "-q", "-o"])
+            .arg(&out)
+            .arg(dir.path().join("scene.toml")),
+    );
+    let diameters = |file: &str| {
+        let r = crate::common::run_ok(
+            crate::common::traxer()
+                .current_dir(dir.path())
+                .args(["eef", "--json"])
+                .arg(out.join(file)),
+        );
+        let q: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+        q["hpd_mm"].as_f64().unwrap()
+    };
+    let (total, primakoff) = (diameters("film.npy"), diameters("film_primakoff.npy"));
+    // The same Sun through the same pinhole: HPDs of tens of mm, alike.
+    assert!(
+        total > 1.0 && (primakoff / total - 1.0).abs() < 0.3,
+        "{total} {primakoff}"
+    );
+}
