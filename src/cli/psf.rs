@@ -20,7 +20,9 @@ use traxer::studies::psf::{check, library, points, PsfGrid, PsfImage};
 /// HDU with ENERGY [eV], THETA [arcmin], PHI [deg] and DETX/DETY in m: the
 /// layout SIXTE reads, OGIP CAL/GEN/92-027), psf.npy [angle, azimuth, energy,
 /// iy, ix] and psf.json. Example (XMM-Newton at three energies, 0–15′):
-///   traxer psf scenes/xmm_effective_area.toml --energies 1.5,4,8 --angles 0:15:5 --window 201
+///   traxer psf scenes/xmm_effective_area.toml -D figure_error=xmm_newton --energies 1.5,4,8 --angles 0:15:5 --window 201
+/// (the module's fitted figure error: without it the mirrors are perfect, and
+/// the command says so)
 #[derive(clap::Args)]
 pub struct PsfArgs {
     #[command(flatten)]
@@ -87,6 +89,11 @@ pub fn run(a: PsfArgs) -> anyhow::Result<()> {
         ("sensor".into(), serde_json::json!(g.sensor)),
         ("window".into(), g.window.into()),
     ]);
+    if perfect_mirrors(&scene) {
+        tell!(
+            "note: the scene's mirrors have a perfect figure and no roughness: these are the ideal optic's PSFs, far sharper than a real module's (give the scene its figure error, e.g. -D figure_error=xmm_newton for XMM-Newton's fitted 15″ HPD)"
+        );
+    }
     let out = a.output.scene_folder(&a.scene, "psf");
     let study: Study<PsfImage> = Study::open(&out, "psf", &PSF_FILES, id.into(), a.resume)?;
     let replay = study.replay();
@@ -113,6 +120,22 @@ pub fn run(a: PsfArgs) -> anyhow::Result<()> {
         print_library(&g, &lib, &out);
     }
     Ok(())
+}
+
+/// Whether the scene has mirrors and every one reflects exactly specularly
+/// (no figure error, no roughness).
+fn perfect_mirrors(scene: &traxer::scene::Scene) -> bool {
+    use traxer::material::Material;
+    let mut mirrors = scene.objects.iter().filter_map(|o| match &o.material {
+        Material::Mirror {
+            figure_error,
+            roughness,
+            ..
+        } => Some(figure_error.is_none_or(|f| f.is_perfect()) && roughness.is_none()),
+        _ => None,
+    });
+    let first = mirrors.next();
+    first.is_some_and(|p| p && mirrors.all(|p| p))
 }
 
 /// The library's summary on stdout: its points and the least share of the

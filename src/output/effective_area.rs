@@ -187,7 +187,7 @@ fn area_curves(r: &AreaResult) -> (Vec<Series>, String) {
         ),
         false => format!("effective area on {}", r.sensor),
     };
-    let title = format!("{title} (bands: ±1σ Monte Carlo)");
+    let title = format!("{}: {title} (bands: ±1σ Monte Carlo)", r.optic);
     (by_energy, title)
 }
 
@@ -245,7 +245,7 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
     } else {
         "diameter around the centroid [mm]"
     };
-    let title = format!("off-axis image quality on {}", r.sensor);
+    let title = format!("{}: off-axis image quality on {}", r.optic, r.sensor);
     line_plot(
         &paths[2],
         &title,
@@ -328,7 +328,7 @@ fn vignetting_curves(r: &AreaResult) -> (Vec<Series>, String) {
             ),
         );
     }
-    let mut title = format!("vignetting on {} (bands: ±1σ)", r.sensor);
+    let mut title = format!("{}: vignetting on {} (bands: ±1σ)", r.optic, r.sensor);
     if !no_area.is_empty() {
         title.push_str(&format!("; {} left out: no area", no_area.join(", ")));
     }

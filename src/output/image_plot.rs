@@ -26,6 +26,8 @@ pub struct Overlay {
     pub circles_mm: Vec<(f64, String)>,
     /// Written across the image (e.g. "no photons reached this sensor").
     pub message: Option<String>,
+    /// Written in the image's lower left corner (e.g. how the scale is clipped).
+    pub corner: Option<String>,
 }
 
 /// The second pair of axes, above and right of the image: the mm axes mapped
@@ -86,6 +88,10 @@ pub struct ImageFigure<'a> {
     pub note: Option<String>,
     /// Marks over the image.
     pub overlay: Overlay,
+    /// The top of a linear scale, where not the brightest pixel (a few hot
+    /// pixels would leave the image blank); brighter pixels take the top
+    /// colour, and `unit` says so.
+    pub top: Option<f64>,
 }
 
 /// Room around the image for labels, in screen pixels.
@@ -99,6 +105,11 @@ const COLOUR_BAR: u32 = 150;
 const MARGIN: u32 = 14;
 /// The image's longer side on screen.
 const IMAGE_SIDE: f64 = 560.0;
+
+/// The circles' dashes, inner first: (drawn, period) in screen pixels along
+/// the circle (solid, dashed, dotted), and their marks in the legend.
+const CIRCLE_DASHES: [(f64, f64); 3] = [(1.0, 1.0), (9.0, 14.0), (2.5, 6.0)];
+const CIRCLE_MARKS: [&str; 3] = ["—", "– –", "···"];
 
 /// The height of the note's line under the orientation line.
 const NOTE_LINE: u32 = 18;
@@ -128,7 +139,7 @@ pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()>
     let note = if fig.note.is_some() { NOTE_LINE } else { 0 };
     let h = TOP_TITLE + arcsec + ih + BOTTOM + 24 + MARGIN + note;
     let mut buf = vec![0u8; (w * h * 3) as usize];
-    let max = max_value(&fig.values);
+    let max = fig.top.unwrap_or_else(|| max_value(&fig.values));
     let plot_area = {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         let r = draw_frame(&root, fig, h, (iw, ih), arcsec, max);
@@ -337,7 +348,7 @@ fn draw_overlay(
     (xs, ys): (std::ops::Range<i32>, std::ops::Range<i32>),
 ) -> Result<(), Error> {
     let o = &fig.overlay;
-    if o.centroid_mm.is_none() && o.message.is_none() {
+    if o.centroid_mm.is_none() && o.message.is_none() && o.corner.is_none() {
         return Ok(());
     }
     let (w, h) = img.dimensions();
@@ -353,20 +364,46 @@ fn draw_overlay(
     };
     let inside = |(px, py): (i32, i32)| xs.contains(&px) && ys.contains(&py);
     if let Some([cx, cy]) = o.centroid_mm {
-        for (r, _) in &o.circles_mm {
-            let points: Vec<(i32, i32)> = (0..=360)
+        // Solid, dashed, dotted: the circles tell themselves apart where
+        // they come close, and the legend says which is which.
+        for (k, (r, _)) in o.circles_mm.iter().enumerate() {
+            let (on, period) = CIRCLE_DASHES[k.min(CIRCLE_DASHES.len() - 1)];
+            let points: Vec<(i32, i32)> = (0..=1440)
                 .map(|d| {
-                    let t = (d as f64).to_radians();
+                    let t = (d as f64 / 4.0).to_radians();
                     at(cx + r * t.cos(), cy + r * t.sin())
                 })
                 .collect();
-            for run in points.split(|p| !inside(*p)).filter(|r| r.len() > 1) {
-                root.draw(&PathElement::new(run.to_vec(), BLACK.stroke_width(3)))?;
-                root.draw(&PathElement::new(run.to_vec(), WHITE.stroke_width(1)))?;
+            // Arc length along the circle on screen, for the dashes.
+            let mut s = 0.0;
+            let mut drawn = Vec::with_capacity(points.len());
+            for (i, p) in points.iter().enumerate() {
+                if i > 0 {
+                    let q = points[i - 1];
+                    s += f64::from(p.0 - q.0).hypot(f64::from(p.1 - q.1));
+                }
+                drawn.push(inside(*p) && s % period < on);
+            }
+            let mut start = 0;
+            while start < points.len() {
+                let end = (start..points.len())
+                    .find(|&i| drawn[i] != drawn[start])
+                    .unwrap_or(points.len());
+                if drawn[start] && end - start > 1 {
+                    let run = points[start..end].to_vec();
+                    root.draw(&PathElement::new(run.clone(), BLACK.stroke_width(3)))?;
+                    root.draw(&PathElement::new(run, WHITE.stroke_width(1)))?;
+                }
+                start = end;
             }
         }
         // The legend in the plot's top left corner: the circles, inner first.
-        let labels: Vec<&str> = o.circles_mm.iter().map(|(_, l)| l.as_str()).collect();
+        let labels: Vec<String> = o
+            .circles_mm
+            .iter()
+            .enumerate()
+            .map(|(k, (_, l))| format!("{} {l}", CIRCLE_MARKS[k.min(CIRCLE_MARKS.len() - 1)]))
+            .collect();
         let legend = format!("+ centroid;  circles: {}", labels.join(", "));
         boxed(&root, &legend, (xs.start + 8, ys.start + 6), 14)?;
         let c = at(cx, cy);
@@ -375,6 +412,9 @@ fn draw_overlay(
             root.draw(&PathElement::new(vec![(c.0 - 6, c.1), (c.0 + 6, c.1)], red))?;
             root.draw(&PathElement::new(vec![(c.0, c.1 - 6), (c.0, c.1 + 6)], red))?;
         }
+    }
+    if let Some(c) = &o.corner {
+        boxed(&root, c, (xs.start + 8, ys.end - 26), 14)?;
     }
     if let Some(m) = &o.message {
         // Centred on the image.

@@ -38,11 +38,8 @@ pub fn sensor_figure<'a>(
         .provenance
         .photons
         .map_or(String::new(), |n| format!(" · {n} photons traced"));
-    let scene_name = scene
-        .path
-        .file_name()
-        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
-    let unit = unit(scene, finished.absolute);
+    let scene_name = scene.name_for_people();
+    let unit = unit(scene, spec, finished.absolute);
     let mut fig = ImageFigure {
         title: format!("{scene_name}: {}", sensor_label(&spec.name)),
         subtitle: format!(
@@ -67,7 +64,17 @@ pub fn sensor_figure<'a>(
         ),
         overlay: Overlay::default(),
         note: stopped_note(scene, spec, run.statistics),
+        top: None,
     };
+    if scale == Scale::Linear {
+        if let Some((top, above)) = linear_top(&finished.summed) {
+            fig.top = Some(top);
+            fig.overlay.corner = Some(format!(
+                "colour scale up to the {TOP_PERCENTILE}th percentile of lit pixels: {above} brighter, up to {:.3e}, in yellow",
+                crate::colormap::max_value(&finished.summed)
+            ));
+        }
+    }
     match &finished.quality {
         None => fig.overlay.message = Some("no photons reached this sensor".into()),
         Some((q, _)) => {
@@ -151,10 +158,36 @@ fn sensor_label(name: &str) -> String {
     }
 }
 
-/// What a pixel's value is, for the colour bar.
-fn unit(scene: &Scene, absolute: bool) -> String {
+/// The percentile of the lit pixels a linear scale tops at when a few
+/// pixels are far brighter than the rest.
+const TOP_PERCENTILE: f64 = 99.5;
+
+/// The top of a linear scale when a few hot pixels would set it: the
+/// [`TOP_PERCENTILE`]th percentile of the lit pixels, if the brightest pixel
+/// is over twice that, with how many pixels lie above it.
+fn linear_top(values: &[f64]) -> Option<(f64, usize)> {
+    let mut lit: Vec<f64> = values.iter().copied().filter(|v| *v > 0.0).collect();
+    if lit.len() < 1000 {
+        return None;
+    }
+    let k = (lit.len() as f64 * TOP_PERCENTILE / 100.0) as usize;
+    let (_, top, _) = lit.select_nth_unstable_by(k, f64::total_cmp);
+    let top = *top;
+    let max = crate::colormap::max_value(values);
+    (max > 2.0 * top).then(|| (top, values.iter().filter(|v| **v > top).count()))
+}
+
+/// What a pixel's value is, for the colour bar: with a Sun, that the
+/// conversion in the magnet is not in it.
+fn unit(scene: &Scene, spec: &SensorSpec, absolute: bool) -> String {
     if absolute {
-        return "axions s⁻¹ per pixel".into();
+        return match spec.gas {
+            Some(_) => {
+                "axions s⁻¹ per pixel converting in the gas (P(a→γ) in the magnet not applied)"
+            }
+            None => "axions s⁻¹ per pixel (P(a→γ) in the magnet not applied)",
+        }
+        .into();
     }
     match scene.sources.first() {
         Some(Source::Parallel(_)) => "photons per pixel (each traced photon weighs 1)".into(),

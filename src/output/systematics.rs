@@ -146,6 +146,7 @@ fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -
         },
         overlay: Default::default(),
         note: None,
+        top: None,
     }
 }
 

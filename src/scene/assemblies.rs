@@ -23,7 +23,7 @@ use toml::Spanned;
 /// ```toml
 /// [[assemblies]]
 /// type = "nested_telescope"      # shells as data (data/telescopes/NAME.toml)
-/// telescope = "xmm_newton"       # a shipped telescope: "llnl", "xmm_newton"
+/// telescope = "xmm_newton"       # a shipped telescope ("llnl", "xmm_newton"), or a FILE.toml
 /// data = "my_telescope.toml"     # or: a prescription file in the same form
 /// name = "xmm"                   # prefix of its objects' names (default: the telescope's key)
 /// azimuth_center = 0.0           # degrees: direction of segments' centre (LLNL's 30°)
@@ -55,7 +55,8 @@ pub enum AssemblyDesc {
 pub struct NestedTelescopeDesc {
     #[serde(default)]
     pub name: Option<String>,
-    /// A shipped telescope (`telescope::SHIPPED`).
+    /// A shipped telescope (`telescope::SHIPPED`), or a prescription file
+    /// (a name ending in `.toml`, relative to the scene) as `data`.
     #[serde(default)]
     pub telescope: Option<String>,
     /// A prescription file, relative to the scene.
@@ -186,7 +187,14 @@ fn telescope_data(
     inputs: &InputFiles,
 ) -> Result<(Telescope, String), SceneError> {
     let shipped = t.telescope.as_deref().or(site.default_telescope());
-    let (data, key) = match (&t.data, shipped) {
+    // `telescope = "FILE.toml"` names a prescription file as `data` does, so
+    // that one scene variable swaps a shipped optic for a user's own
+    // (`-D telescope=my_optic.toml`).
+    let (file, shipped) = match shipped {
+        Some(name) if name.ends_with(".toml") && t.data.is_none() => (Some(name.to_string()), None),
+        _ => (t.data.clone(), shipped),
+    };
+    let (data, key) = match (&file, shipped) {
         (Some(_), Some(_)) if t.telescope.is_some() => {
             return Err(
                 site.error("give `telescope` (a shipped one) or `data` (a file), not both".into())

@@ -101,11 +101,11 @@ pub(super) fn build(
     })?;
     let bvh_seconds = bvh_start.elapsed().as_secs_f64();
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
-    let mut warnings = expanded.warnings;
-    warnings.extend(builder.warnings);
+    let warnings = [expanded.warnings, builder.warnings].concat();
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
     Ok(Scene {
         path: path.to_path_buf(),
+        title: desc.title.clone(),
         text_sha256: sha256,
         inputs,
         overrides: overrides.clone(),

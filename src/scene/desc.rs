@@ -36,6 +36,10 @@ use toml::Spanned;
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneDesc {
+    /// What the scene is, for people: the title of its figures and plots
+    /// (default: the file's name).
+    #[serde(default)]
+    pub title: Option<String>,
     /// Scene variables (see `vars`); already substituted when this is parsed.
     #[serde(default)]
     pub vars: toml::Table,

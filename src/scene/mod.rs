@@ -53,6 +53,8 @@ use std::path::{Path, PathBuf};
 /// A built scene, ready to trace.
 pub struct Scene {
     pub path: PathBuf,
+    /// What the scene is, for people (its `title`), if it says.
+    pub title: Option<String>,
     /// SHA-256 of the scene file's bytes.
     pub text_sha256: String,
     /// The `-D name=value` overrides it was loaded with.
@@ -175,6 +177,15 @@ pub enum Representation {
 }
 
 impl Scene {
+    /// The scene's name for figure titles: its `title`, else its file's name.
+    pub fn name_for_people(&self) -> String {
+        self.title.clone().unwrap_or_else(|| {
+            self.path
+                .file_name()
+                .map_or(String::new(), |n| n.to_string_lossy().into_owned())
+        })
+    }
+
     /// Reads, substitutes, parses, validates and builds a scene file.
     pub fn load(device: &Device, path: &Path, overrides: &[String]) -> Result<Scene, SceneError> {
         Scene::load_as(device, path, overrides, Representation::AsWritten)

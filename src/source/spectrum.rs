@@ -58,6 +58,13 @@ impl SpectrumTable {
             cumulative.push(cumulative[k - 1] + area);
         }
         let total = *cumulative.last().expect("two rows");
+        if total.is_infinite() {
+            let largest = density.iter().copied().fold(0.0, f64::max);
+            return Err(format!(
+                "the densities (up to {}) integrate beyond the largest number a double holds: only their shape matters (a parallel beam's photons weigh 1), so divide the column by a common factor",
+                crate::text::number(largest)
+            ));
+        }
         if !(total.is_finite() && total > 0.0) {
             return Err("the spectrum holds no photons (all densities zero)".into());
         }

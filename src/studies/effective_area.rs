@@ -69,6 +69,8 @@ pub struct AngleResult {
 #[derive(Clone, Debug)]
 pub struct AreaResult {
     pub sensor: String,
+    /// The scene's name for people (its title), which names the optic in plots.
+    pub optic: String,
     /// What the area counts, in words: X-rays reaching the sensor, or, on a gas
     /// detector, X-rays converting in its gas (the trace's rate on that sensor).
     pub counts: String,
@@ -245,6 +247,7 @@ pub fn sweep(
     };
     Ok(AreaResult {
         sensor: spec.name.clone(),
+        optic: scene.name_for_people(),
         counts,
         aperture_cm2: base.tilted(0.0).cross_section() / 100.0,
         azimuth_deg: base.off_axis_azimuth,

@@ -551,7 +551,7 @@ fn broken_files_exit_2_with_the_tracers_message() {
     assert!(err.contains("2 of 3 files cannot be imported"), "{err}");
 
     // Not a mesh format; a nonsense expected size.
-    let (code, json, _) = inspect(&[&write(dir.path(), "part.stl", "solid x\n")], &[]);
+    let (code, json, _) = inspect(&[&write(dir.path(), "part.step", "ISO-10303-21;\n")], &[]);
     assert_eq!(code, 2);
     assert!(json["files"][0]["error"]
         .as_str()

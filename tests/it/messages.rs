@@ -326,3 +326,34 @@ fn a_study_over_a_define_of_its_own_variable_takes_the_study_value() {
             .arg(dir.path().join("f")),
     );
 }
+
+#[test]
+fn tables_of_huge_numbers_say_they_overflow_not_that_they_are_empty() {
+    // Before: densities of 1e308 were "the spectrum holds no photons (all
+    // densities zero)", and emission rates of 1e300 "emits nothing".
+    let dir = tempfile::tempdir().unwrap();
+    write(
+        dir.path(),
+        "e.csv",
+        "energy_keV,density\n1,1e308\n2,1e308\n3,1e308\n",
+    );
+    let err = trace_error_in(
+        dir.path(),
+        &scene("[70, 70]", "[0, 0, -1]", "{ table = \"e.csv\" }", "[]"),
+    );
+    assert!(
+        err.contains("e.csv") && err.contains("largest number a double holds"),
+        "{err}"
+    );
+    write(
+        dir.path(),
+        "em.csv",
+        "Radius,Energy [keV],emRates\n0.1,1.0,1e300\n0.1,2.0,1e300\n0.2,1.0,1e300\n0.2,2.0,1e300\n",
+    );
+    let sun = "[materials.chip]\ntype = \"sensor\"\nsize = [14.0, 14.0]\npixels = [70, 70]\n\n[[sources]]\ntype = \"sun\"\nemission = \"em.csv\"\ncoupling = \"g_agamma = 1e-10\"\ntarget = { center = [0, 0, 0], radius = 1.0 }\n\n[[objects]]\nname = \"chip\"\nmaterial = \"chip\"\nshape = { type = \"rectangle\", size = [14.0, 14.0] }\ntransform = [ { translate = [0, 0, -100] } ]\n";
+    let err = trace_error_in(dir.path(), sun);
+    assert!(
+        err.contains("largest number a double holds") && err.contains("emRates"),
+        "{err}"
+    );
+}

@@ -296,9 +296,14 @@ impl SunDesc {
             _ => SunEmission::by_coupling(&couplings, e_min, e_max),
         };
         let emission_draw = draw.ok_or_else(|| {
-            InvalidSource(format!(
-                "sun: the emission table emits nothing between {e_min} and {e_max} keV"
-            ))
+            let luminosity = table.luminosity(e_min, e_max);
+            InvalidSource(match luminosity.is_infinite() || luminosity.is_nan() {
+                // Rates of 1e300 summed over the Sun's volume: not "nothing".
+                true => "sun: the emission table's rates, summed over the Sun's volume, exceed the largest number a double holds: the table's `emRates` are per axion phase-space mode (keV), of order 1e-30 to 1e10 for real emissions: check their unit".to_string(),
+                false => format!(
+                    "sun: the emission table emits nothing between {e_min} and {e_max} keV"
+                ),
+            })
         })?;
         let toward_sun = toward_sun(axis, p.offset_arcmin);
         let distance_mm = p.distance_au * AU_CM * 10.0;
