@@ -288,11 +288,15 @@ fn part_choices<'a>(
     }
     let spider_distance = match (&data.spider, t.spider) {
         (None, Some(true)) => {
-            return Err(site.error("spider = true, but the telescope's data have no spider".into()))
-        }
-        (None, _) if t.spider_distance.is_some() => {
             return Err(site.error(
-                "spider_distance is given, but the telescope's data have no spider".into(),
+                "spider = true, but the telescope's data have no spider: set spider = false".into(),
+            ))
+        }
+        // spider = false says the distance is not used (a scene whose optic is
+        // a variable keeps its spider_distance).
+        (None, None) if t.spider_distance.is_some() => {
+            return Err(site.error(
+                "spider_distance is given, but the telescope's data have no spider: leave it out, or set spider = false".into(),
             ))
         }
         (None, _) | (Some(_), Some(false)) => None,

@@ -464,3 +464,43 @@ fn a_prescription_out_of_bounds_is_refused_by_its_key_not_by_a_part() {
     let e = load();
     assert!(e.contains("1001 shells: at most 1000"), "{e}");
 }
+
+#[test]
+fn babyiaxo_takes_a_users_optic_through_one_variable() {
+    // docs/telescopes.md's recipe: the optic's file in `telescope`, its focal
+    // length, the window in front of its focus; spider = false keeps the
+    // scene's spider_distance unused.
+    let dir = tempfile::tempdir().unwrap();
+    let data = "name = \"my optic\"\nprofile = \"wolter1\"\nfocal_length_mm = 1600.0\nmirror_length_mm = 150.0\nwall_thickness_mm = 0.3\ncoating = \"gold\"\nshells = [ { r3_mm = 60.0 }, { r3_mm = 63.0 }, { r3_mm = 66.0 } ]\n";
+    let file = crate::common::write(dir.path(), "my_optic.toml", data);
+    let defines: Vec<String> = [
+        format!("telescope={}", file.display()),
+        "focal_length=1600".into(),
+        "window_z=-1585".into(),
+        "spider=false".into(),
+        "central_stop=true".into(),
+    ]
+    .into();
+    let scene = traxer::scene::Scene::load(
+        &crate::common::device(),
+        &crate::common::repo().join("scenes/babyiaxo_axion_image.toml"),
+        &defines,
+    )
+    .unwrap();
+    let mirrors = scene
+        .objects
+        .iter()
+        .filter(|o| o.name.starts_with("xmm_front_"))
+        .count();
+    assert_eq!(
+        mirrors,
+        3 * 3,
+        "front_i, its back and its far edge (no gap), per shell"
+    );
+    assert_eq!(scene.sensors[0].focal_length, Some(1600.0));
+    assert!(
+        scene.inputs.keys().any(|f| f.ends_with("my_optic.toml")),
+        "the file is a run input: {:?}",
+        scene.inputs
+    );
+}
