@@ -80,11 +80,7 @@ pub fn run(
         (settings.photons, settings.seed),
         study.facts.threads,
     );
-    let name = shown
-        .path
-        .file_name()
-        .map_or(String::new(), |n| n.to_string_lossy().into_owned());
-    Systematics::new(py, study, provenance, name)
+    Systematics::new(py, study, provenance, shown.name_for_people())
 }
 
 /// The image's systematic uncertainty: the scene traced under each source of

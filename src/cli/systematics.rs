@@ -205,7 +205,7 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
         (a.photons, a.sampling.seed),
         s.facts.threads,
     );
-    study.finish(|dir| write_systematics(dir, &s, &file_name(&a.scene.scene), &provenance))?;
+    study.finish(|dir| write_systematics(dir, &s, &scene.name_for_people(), &provenance))?;
     if !quiet {
         print_table(&s);
         say!(
@@ -239,12 +239,6 @@ fn identity(a: &SystematicsArgs, scene: &Scene, plan: &systematics::Plan) -> ser
         ("variations".into(), serde_json::json!(plan.variations)),
     ]);
     id.into()
-}
-
-/// A path's file name, for titles.
-fn file_name(p: &std::path::Path) -> String {
-    p.file_name()
-        .map_or(String::new(), |n| n.to_string_lossy().into_owned())
 }
 
 /// What will be traced.

@@ -116,11 +116,25 @@ fn frame_on_the_flux(
     (centre, r90): ([f64; 2], f64),
     stem: &str,
 ) {
-    let g = &f.geometry;
+    if frame_figure(fig, &f.summed, &f.geometry, (centre, r90)) {
+        fig.orientation.push_str(&format!(
+            " Framed: ±{FRAME_PER_R90} × the 90 % radius ({stem}_pixels.png: all of it)."
+        ));
+    }
+}
+
+/// Crops `fig` to ±2 × `r90` around `centre` on the image `values` of
+/// geometry `g`, when that is much smaller than the image; whether it did.
+pub(super) fn frame_figure(
+    fig: &mut ImageFigure,
+    values: &[f64],
+    g: &crate::analysis::ImageGeometry,
+    (centre, r90): ([f64; 2], f64),
+) -> bool {
     let half = FRAME_PER_R90 * r90;
     let width = [g.nx as f64 * g.pitch[0], g.ny as f64 * g.pitch[1]];
     if half.is_nan() || half <= 0.0 || 2.0 * half > ZOOM_BELOW * width[0].min(width[1]) {
-        return;
+        return false;
     }
     let n = [g.nx, g.ny];
     let range: [[usize; 2]; 2] = std::array::from_fn(|k| {
@@ -131,11 +145,11 @@ fn frame_on_the_flux(
         [lo.min(n[k] - 1), hi.clamp(lo + 1, n[k])]
     });
     let [[x0, x1], [y0, y1]] = range;
-    let mut values = Vec::with_capacity((x1 - x0) * (y1 - y0));
+    let mut cropped = Vec::with_capacity((x1 - x0) * (y1 - y0));
     for iy in y0..y1 {
-        values.extend_from_slice(&f.summed[iy * g.nx + x0..iy * g.nx + x1]);
+        cropped.extend_from_slice(&values[iy * g.nx + x0..iy * g.nx + x1]);
     }
-    fig.values = Cow::Owned(values);
+    fig.values = Cow::Owned(cropped);
     fig.pixels = [x1 - x0, y1 - y0];
     fig.extent_mm = std::array::from_fn(|k| {
         let [a, b] = range[k];
@@ -144,9 +158,7 @@ fn frame_on_the_flux(
             g.origin_mm[k] + b as f64 * g.pitch[k],
         ]
     });
-    fig.orientation.push_str(&format!(
-        " Framed: ±{FRAME_PER_R90} × the 90 % radius ({stem}_pixels.png: all of it)."
-    ));
+    true
 }
 
 /// "the sensor" for a sensor named "sensor", else "sensor NAME".

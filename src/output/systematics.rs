@@ -89,13 +89,42 @@ pub fn write_systematics(
     write_npy_f64(&dir.join(f[6]), &shape, &data)?;
     let (shape, data) = stack(s.outcomes.iter().map(|o| &o.map).collect());
     write_npy_f64(&dir.join(f[7]), &shape, &data)?;
+    // Both framed as the sensor figures are, on the nominal image's flux: a
+    // 15 mm image is not lost on a 60 mm detector.
+    let g = map_geometry(s);
+    let quality = crate::analysis::analyse(&s.nominal_map, &g, None);
     for (file, values, what) in [
         (f[8], &s.mean_map, "mean image"),
         (f[9], &s.sigma_map, "systematic σ (all sources)"),
     ] {
-        write_image_figure(&dir.join(file), &figure(s, values, (scene_name, what)))?;
+        let mut fig = figure(s, values, (scene_name, what));
+        if let Some((q, _)) = &quality {
+            if super::sensor_figure::frame_figure(
+                &mut fig,
+                values,
+                &g,
+                (q.centroid_mm, 0.5 * q.d90_mm),
+            ) {
+                fig.orientation.push_str(&format!(
+                    "; framed: ±2 × the nominal image's 90 % radius ({}: all of it)",
+                    f[4]
+                ));
+            }
+        }
+        write_image_figure(&dir.join(file), &fig)?;
     }
     Ok(())
+}
+
+/// The maps' pixel geometry, for the analysis that frames their figures.
+fn map_geometry(s: &Systematics) -> crate::analysis::ImageGeometry {
+    let fr = &s.frame;
+    crate::analysis::ImageGeometry {
+        nx: fr.pixels[0],
+        ny: fr.pixels[1],
+        pitch: fr.step_mm,
+        origin_mm: std::array::from_fn(|k| fr.first_mm[k] - 0.5 * fr.step_mm[k]),
+    }
 }
 
 /// The PNG of one map.

@@ -290,7 +290,17 @@ fn variations_of(
         }
         "pointing_x" | "pointing_y" => {
             let var = variables(source)[0];
-            range(var, around(var, r.pointing_arcmin)?, "′")
+            // ±1′ is a placeholder, not a measured number: said where it is used.
+            range(var, around(var, r.pointing_arcmin)?, "′").map(|(w, k, vs)| {
+                (
+                    format!(
+                        "{w}; --pointing {}′: set it to your tracking's 1σ accuracy",
+                        r.pointing_arcmin
+                    ),
+                    k,
+                    vs,
+                )
+            })
         }
         "tilt_x" | "tilt_y" => {
             // The scene's tilt variables are in degrees.
@@ -298,7 +308,7 @@ fn variations_of(
             range(var, around(var, r.tilt_arcmin / 60.0)?, "°").map(|(_, k, vs)| {
                 (
                     format!(
-                        "{var} ± {}′ (± {:.5}°)",
+                        "{var} ± {}′ (± {:.5}°); --tilt: set it to your alignment's 1σ",
                         r.tilt_arcmin,
                         r.tilt_arcmin / 60.0
                     ),
