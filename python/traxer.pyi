@@ -166,6 +166,7 @@ class Scene:
         gas_temperature_k: Optional[tuple[float, float]] = None,
         vary: Optional[dict[str, tuple[float, float]]] = None,
         central_mm: float = 5.0,
+        central_radius_mm: Optional[float] = None,
         progress: bool = False,
     ) -> Systematics:
         """The image's systematic uncertainty, as ``traxer systematics``: the
@@ -177,7 +178,9 @@ class Scene:
         "solar_model", "pointing_x"/"pointing_y" (± ``pointing_arcmin``),
         "tilt_x"/"tilt_y" (± ``tilt_arcmin``), "gas_pressure"/"gas_temperature"
         (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); ``vary``: a
-        dict of other scene variables and their (low, high).
+        dict of other scene variables and their (low, high). The table's
+        "central" flux is in the ``central_mm`` square about the sensor's
+        centre, or with ``central_radius_mm`` in that circle (a signal region).
         """
 
 class SensorImage:

@@ -308,9 +308,11 @@ impl Scene {
     /// "solar_model", "pointing_x"/"pointing_y" (± `pointing_arcmin`),
     /// "tilt_x"/"tilt_y" (± `tilt_arcmin`), "gas_pressure"/"gas_temperature"
     /// (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); `vary`: a
-    /// dict of other scene variables and their (low, high). Returns a
+    /// dict of other scene variables and their (low, high). The table's
+    /// "central" flux is in the `central_mm` square about the sensor's centre,
+    /// or with `central_radius_mm` in that circle (a signal region). Returns a
     /// `traxer.Systematics`.
-    #[pyo3(signature = (photons = None, seed = 1, threads = 0, sensor = None, sources = None, figure_draws = 20, figure_preset = None, figure_hold = None, pointing_arcmin = 1.0, tilt_arcmin = 1.0, solar_model = "b16_gs98", gas_pressure_mbar = None, gas_temperature_k = None, vary = None, central_mm = 5.0, progress = false))]
+    #[pyo3(signature = (photons = None, seed = 1, threads = 0, sensor = None, sources = None, figure_draws = 20, figure_preset = None, figure_hold = None, pointing_arcmin = 1.0, tilt_arcmin = 1.0, solar_model = "b16_gs98", gas_pressure_mbar = None, gas_temperature_k = None, vary = None, central_mm = 5.0, central_radius_mm = None, progress = false))]
     #[allow(clippy::too_many_arguments)]
     fn systematics(
         &self,
@@ -330,6 +332,7 @@ impl Scene {
         gas_temperature_k: Option<(f64, f64)>,
         vary: Option<std::collections::BTreeMap<String, (f64, f64)>>,
         central_mm: f64,
+        central_radius_mm: Option<f64>,
         progress: bool,
     ) -> PyResult<crate::systematics::Systematics> {
         let pair = |p: (f64, f64)| [p.0, p.1];
@@ -380,7 +383,8 @@ impl Scene {
             seed,
             threads: self::threads(threads)?,
             sensor,
-            central_mm,
+            central_mm: central_radius_mm.unwrap_or(central_mm),
+            central_circle: central_radius_mm.is_some(),
         };
         crate::systematics::run(py, self.loaded.clone(), (req, settings), progress)
     }

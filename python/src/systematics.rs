@@ -56,7 +56,7 @@ pub fn run(
     let invocation = Invocation::new([
         "python".into(),
         format!(
-            "traxer.Scene({:?}, defines={:?}).systematics(photons={}, seed={}, sensor={:?}, sources={:?}, figure_draws={}, pointing_arcmin={}, tilt_arcmin={}, solar_model={:?}, gas_pressure_mbar={:?}, gas_temperature_k={:?}, vary={:?}, central_mm={})",
+            "traxer.Scene({:?}, defines={:?}).systematics(photons={}, seed={}, sensor={:?}, sources={:?}, figure_draws={}, pointing_arcmin={}, tilt_arcmin={}, solar_model={:?}, gas_pressure_mbar={:?}, gas_temperature_k={:?}, vary={:?}, central_mm={}, central_circle={})",
             shown.path.display().to_string(),
             shown.overrides,
             settings.photons,
@@ -70,7 +70,8 @@ pub fn run(
             req.gas_pressure_mbar,
             req.gas_temperature_k,
             req.vary,
-            settings.central_mm
+            settings.central_mm,
+            settings.central_circle
         ),
     ]);
     let provenance = Provenance::of_study(

@@ -79,6 +79,10 @@ pub struct SystematicsArgs {
     /// Side (mm) of the central square whose flux the table gives.
     #[arg(value_name = "MM", long, default_value_t = 5.0)]
     pub central: f64,
+    /// A circle of this radius (mm) about the sensor's centre instead of the
+    /// central square: a signal region.
+    #[arg(value_name = "MM", long, conflicts_with = "central")]
+    pub central_radius: Option<f64>,
     /// Continue the stopped study whose results folder is --out: run the same
     /// command with --resume; the variations it recorded
     /// (systematics_checkpoint.jsonl) are not traced again.
@@ -224,7 +228,8 @@ fn settings(a: &SystematicsArgs) -> Settings {
         seed: a.sampling.seed,
         threads: a.sampling.threads,
         sensor: a.sensor.clone(),
-        central_mm: a.central,
+        central_mm: a.central_radius.unwrap_or(a.central),
+        central_circle: a.central_radius.is_some(),
     }
 }
 
@@ -235,7 +240,11 @@ fn identity(a: &SystematicsArgs, scene: &Scene, plan: &systematics::Plan) -> ser
         ("photons".into(), a.photons.into()),
         ("seed".into(), a.sampling.seed.into()),
         ("sensor".into(), serde_json::json!(a.sensor)),
-        ("central_mm".into(), a.central.into()),
+        (
+            "central_mm".into(),
+            a.central_radius.unwrap_or(a.central).into(),
+        ),
+        ("central_circle".into(), a.central_radius.is_some().into()),
         ("variations".into(), serde_json::json!(plan.variations)),
     ]);
     id.into()
@@ -260,9 +269,9 @@ fn print_table(s: &Systematics) {
     let nominal = systematics::summary::metrics(&s.outcomes[0]);
     let pct = |m: usize, x: f64| 100.0 * x / nominal[m];
     say!(
-        "nominal: flux {:.4e}, central {} mm square {:.4e} ({:.2} %), HPD {:.1}″, 80 % {:.1}″, 90 % {:.1}″, centroid ({:.3}, {:.3}) mm",
+        "nominal: flux {:.4e}, central {} {:.4e} ({:.2} %), HPD {:.1}″, 80 % {:.1}″, 90 % {:.1}″, centroid ({:.3}, {:.3}) mm",
         nominal[0],
-        s.facts.central_mm,
+        traxer::studies::systematics::central_words(s.facts.central_mm, s.facts.central_circle),
         nominal[1],
         100.0 * nominal[1] / nominal[0],
         nominal[2],

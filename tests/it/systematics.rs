@@ -59,6 +59,7 @@ fn the_figure_draws_spread_the_hpd_as_the_fits_error_propagation_predicts() {
         threads: 0,
         sensor: None,
         central_mm: 5.0,
+        central_circle: false,
     };
     let load = |_: &[String]| unreachable!("figure draws reuse the loaded scene");
     let s = systematics::run(&mut scene, &load, &plan, &settings, &[], &(), |_| {}).unwrap();
@@ -315,5 +316,58 @@ fn a_range_end_the_scene_refuses_is_found_before_the_first_photon() {
     assert!(
         !out.join("systematics_checkpoint.jsonl").exists(),
         "no record to resume"
+    );
+}
+
+#[test]
+fn the_central_region_may_be_a_circle_a_signal_region() {
+    // --central-radius: the table's central flux is the flux within that
+    // circle about the sensor's centre; the nominal variation is a trace with
+    // the same photons, so `traxer eef --radius --center 0,0` of that trace
+    // gives the same number.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s");
+    let scene = repo().join("scenes/panter_al_ka.toml");
+    run_ok(
+        traxer()
+            .arg("systematics")
+            .arg(&scene)
+            .args(["-n", "30000", "--sources", "figure", "--figure-draws", "2"])
+            .args(["--central-radius", "1", "-q", "-o"])
+            .arg(&out),
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("systematics.json")).unwrap())
+            .unwrap();
+    assert!(
+        json["central_region"]
+            .as_str()
+            .unwrap()
+            .starts_with("circle"),
+        "{json}"
+    );
+    let central = json["nominal"]["central_flux"].as_f64().unwrap();
+    let plain = dir.path().join("t");
+    run_ok(
+        traxer()
+            .arg("trace")
+            .arg(&scene)
+            .args(["-n", "30000", "-q", "-o"])
+            .arg(&plain),
+    );
+    let r = run_ok(
+        traxer()
+            .current_dir(dir.path())
+            .arg("eef")
+            .arg(plain.join("sensor.npy"))
+            .args(["--radius", "1", "--center", "0,0", "--json"]),
+    );
+    let q: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    let flux = q["signal_regions"]["regions"][0]["flux"].as_f64().unwrap();
+    assert!((flux / central - 1.0).abs() < 1e-9, "{flux} vs {central}");
+    let total = json["nominal"]["flux"].as_f64().unwrap();
+    assert!(
+        central > 0.3 * total && central < total,
+        "{central} of {total}"
     );
 }

@@ -42,8 +42,26 @@ pub struct Settings {
     /// The sensor (default: the scene's only one).
     pub sensor: Option<String>,
     /// The side (mm) of the central square whose flux the table gives,
-    /// centred on the sensor's centre.
+    /// centred on the sensor's centre; with `central_circle`, the radius of a
+    /// circle there instead (a signal region).
     pub central_mm: f64,
+    pub central_circle: bool,
+}
+
+impl Settings {
+    /// The central region in words, for tables and plots.
+    pub fn central_words(&self) -> String {
+        central_words(self.central_mm, self.central_circle)
+    }
+}
+
+/// The central region (`size` mm: a square's side or a circle's radius) in
+/// words.
+pub fn central_words(size: f64, circle: bool) -> String {
+    match circle {
+        true => format!("circle of radius {size} mm"),
+        false => format!("{size} × {size} mm square"),
+    }
 }
 
 /// One traced variation, measured.
@@ -124,8 +142,11 @@ impl MapFrame {
 
 /// The flux of `f` in the square of side `side` (mm) around the sensor's
 /// centre: each pixel counted by the share of its area inside.
-fn central_flux(f: &FinishedImage, side: f64) -> f64 {
+fn central_flux(f: &FinishedImage, side: f64, circle: bool) -> f64 {
     let g = &f.geometry;
+    if circle {
+        return crate::analysis::flux_within(&f.summed, g, [0.0, 0.0], &[side])[0];
+    }
     let overlap = |k: usize, i: usize| {
         let a = g.origin_mm[k] + i as f64 * g.pitch[k];
         let b = a + g.pitch[k];
@@ -152,7 +173,7 @@ pub fn check(s: &Settings) -> Result<(), StudyError> {
     }
     if !(s.central_mm.is_finite() && s.central_mm > 0.0) {
         return Err(StudyError::Input(format!(
-            "central = {} mm: the central square's side must be a positive length",
+            "central = {} mm: the central region's size must be a positive length",
             s.central_mm
         )));
     }
@@ -222,6 +243,7 @@ pub fn run(
         summary::RunFacts {
             sensor: spec.name.clone(),
             central_mm: s.central_mm,
+            central_circle: s.central_circle,
             absolute: nominal.rate_per_unit_weight(s.photons).is_some(),
             seconds: start.elapsed().as_secs_f64(),
             threads,
@@ -306,7 +328,7 @@ fn measure(
             source: String::new(),
             label: String::new(),
             flux: f.total_flux(),
-            central_flux: central_flux(&f, s.central_mm),
+            central_flux: central_flux(&f, s.central_mm, s.central_circle),
             photons_recorded: image.total_counts(),
             diameters: q.and_then(Diameters::of),
             centroid_mm: q.map(|q| q.centroid_mm),

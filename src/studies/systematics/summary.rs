@@ -63,7 +63,10 @@ pub struct SourceEffect {
 #[derive(Clone, Debug, Serialize)]
 pub struct RunFacts {
     pub sensor: String,
+    /// The central region: a square's side, or with `central_circle` a
+    /// circle's radius (mm), about the sensor's centre.
     pub central_mm: f64,
+    pub central_circle: bool,
     /// Whether fluxes are in axions s⁻¹ (a Sun) or summed weights.
     pub absolute: bool,
     pub seconds: f64,
