@@ -255,8 +255,15 @@ impl TraceResult {
         let emitted = tally.stats.photons_emitted;
         let absolute = scene.rate_per_unit_weight(emitted);
         let sensors = PyDict::new(py);
+        let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
         for (spec, image) in scene.sensors.iter().zip(&tally.images) {
             sensors.set_item(&spec.name, SensorImage::new(py, spec, image, absolute)?)?;
+            // The CLI's warnings on setups that are hardly what was meant.
+            let finished = traxer::analysis::FinishedImage::of(spec, image, absolute);
+            for d in traxer::analysis::doubts(spec, image, &finished, scene.has_mirrors()) {
+                let message = std::ffi::CString::new(d).unwrap_or_default();
+                PyErr::warn(py, &category, &message, 1)?;
+            }
             if image.total_counts() == 0 {
                 // As loud as the CLI's warning: an all-zero image is rarely meant.
                 let message = std::ffi::CString::new(format!(
@@ -264,7 +271,6 @@ impl TraceResult {
                     spec.name
                 ))
                 .unwrap_or_default();
-                let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
                 PyErr::warn(py, &category, &message, 1)?;
             }
         }

@@ -9,10 +9,7 @@ use traxer::trace::RunResult;
 /// the doubts of `analysis::doubts` (a sensor that sees the source directly,
 /// circles beyond the sensor's edge).
 pub fn warn_about_sensors(scene: &traxer::scene::Scene, result: &RunResult) {
-    let mirrors = scene
-        .objects
-        .iter()
-        .any(|o| matches!(o.material, traxer::material::Material::Mirror { .. }));
+    let mirrors = scene.has_mirrors();
     let rate = scene.rate_per_unit_weight(result.stats.photons_emitted);
     for (spec, img) in scene.sensors.iter().zip(&result.images) {
         let finished = FinishedImage::of(spec, img, rate);

@@ -177,6 +177,13 @@ pub enum Representation {
 }
 
 impl Scene {
+    /// Whether any object reflects (a mirror material).
+    pub fn has_mirrors(&self) -> bool {
+        self.objects
+            .iter()
+            .any(|o| matches!(o.material, crate::material::Material::Mirror { .. }))
+    }
+
     /// The scene's name for figure titles: its `title`, else its file's name.
     pub fn name_for_people(&self) -> String {
         self.title.clone().unwrap_or_else(|| {

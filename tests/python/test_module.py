@@ -837,3 +837,39 @@ def test_the_cli_and_python_share_one_reflectivity_cache(tmp_path, monkeypatch, 
     traxer.Scene(scene).trace(2000)
     assert "building the reflectivity table" not in capsys.readouterr().err
     assert sorted((tmp_path / "cache" / "reflectivity").iterdir()) == tables
+
+
+DIRECT_SCENE = """
+[materials.chip]
+type = "sensor"
+size = [14.0, 14.0]
+pixels = [70, 70]
+
+[[sources]]
+type = "parallel"
+direction = [0, 0, -1]
+aperture = { center = [5, 0, 10], radius = 3.0 }
+energy = { line = 3.0 }
+
+[[objects]]
+name = "chip"
+material = "chip"
+shape = { type = "rectangle", size = [14.0, 14.0] }
+
+[[objects]]
+name = "flat"
+material = "mirror"
+shape = { type = "rectangle", size = [10.0, 10.0] }
+transform = [ { translate = [50, 0, 0] } ]
+"""
+
+
+def test_a_trace_warns_of_a_sensor_that_sees_the_source_directly(tmp_path):
+    """As the CLI does: a scene with mirrors whose sensor records no reflected
+    photon, and circles beyond the sensor's edge, each give a UserWarning."""
+    scene = tmp_path / "direct.toml"
+    scene.write_text(DIRECT_SCENE)
+    with pytest.warns(UserWarning) as caught:
+        traxer.Scene(scene).trace(20_000, seed=1)
+    said = " ".join(str(w.message) for w in caught)
+    assert "was reflected by a mirror" in said and "beyond the sensor" in said
