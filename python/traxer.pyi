@@ -409,6 +409,12 @@ class Systematics:
     """The total systematic σ per map pixel (the sources in quadrature)."""
     sigma_by_source: dict[str, npt.NDArray[np.float64]]
     """Each source's σ map, by source name."""
+    sigma_relative: npt.NDArray[np.float64]
+    """The total σ over the mean map, per pixel (NaN where the mean is not
+    positive)."""
+    sigma_noise: npt.NDArray[np.float64]
+    """The Monte Carlo noise of ``sigma``, per pixel, from the two halves of the
+    photons."""
     variations: npt.NDArray[np.float64]
     """Every traced variation's map, [variation, iy, ix], in the order of ``table``."""
     seconds: float

@@ -108,6 +108,14 @@ pub struct Systematics {
     /// Each source's σ map, by source name.
     #[pyo3(get)]
     pub sigma_by_source: Py<PyAny>,
+    /// The total σ over the mean map, per pixel (NaN where the mean is not
+    /// positive).
+    #[pyo3(get)]
+    pub sigma_relative: Py<PyAny>,
+    /// The Monte Carlo noise of `sigma`, per pixel, from the two halves of the
+    /// photons.
+    #[pyo3(get)]
+    pub sigma_noise: Py<PyAny>,
     /// Every traced variation's map, [variation, iy, ix], in the order of `table`.
     #[pyo3(get)]
     pub variations: Py<PyAny>,
@@ -141,6 +149,15 @@ impl Systematics {
             mean: array(py, &[ny, nx], s.mean_map.clone())?.unbind(),
             sigma: array(py, &[ny, nx], s.sigma_map.clone())?.unbind(),
             sigma_by_source: by.into_any().unbind(),
+            sigma_relative: array(py, &[ny, nx], s.relative_sigma_map.clone())?.unbind(),
+            sigma_noise: array(
+                py,
+                &[ny, nx],
+                s.noise_map
+                    .clone()
+                    .unwrap_or_else(|| vec![f64::NAN; nx * ny]),
+            )?
+            .unbind(),
             variations: array(py, &[s.outcomes.len(), ny, nx], all)?.unbind(),
             seconds: s.facts.seconds,
             study: s,

@@ -297,5 +297,11 @@ fn print_table(s: &Systematics) {
         row(&src.name, &|m| src.effects[m].sigma);
     }
     row("total", &|m| s.total_sigma[m]);
+    if let Some(r) = s.noise_to_sigma {
+        say!(
+            "Monte Carlo noise of the σ map (from two halves of the photons): {:.1} % of its σ, √(Σnoise²/Σσ²); map_sigma_noise.npy per pixel",
+            100.0 * r
+        );
+    }
     debug_assert_eq!(METRICS.len(), 7);
 }

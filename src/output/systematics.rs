@@ -15,7 +15,7 @@ use serde_json::json;
 use std::path::Path;
 
 /// The files a systematics study writes.
-pub const SYSTEMATICS_FILES: [&str; 10] = [
+pub const SYSTEMATICS_FILES: [&str; 12] = [
     "systematics.csv",
     "systematics.json",
     "systematics.fits",
@@ -26,6 +26,8 @@ pub const SYSTEMATICS_FILES: [&str; 10] = [
     "map_variations.npy",
     "map_mean.png",
     "map_sigma.png",
+    "map_sigma_relative.npy",
+    "map_sigma_noise.npy",
 ];
 
 /// Writes the study's files into `dir`; `scene_name` titles the pictures.
@@ -81,6 +83,13 @@ pub fn write_systematics(
     write_npy_f64(&dir.join(f[3]), &dims, &s.nominal_map)?;
     write_npy_f64(&dir.join(f[4]), &dims, &s.mean_map)?;
     write_npy_f64(&dir.join(f[5]), &dims, &s.sigma_map)?;
+    write_npy_f64(&dir.join(f[10]), &dims, &s.relative_sigma_map)?;
+    let unknown = vec![f64::NAN; s.sigma_map.len()];
+    write_npy_f64(
+        &dir.join(f[11]),
+        &dims,
+        s.noise_map.as_ref().unwrap_or(&unknown),
+    )?;
     let stack = |v: Vec<&Vec<f64>>| -> (Vec<u64>, Vec<f64>) {
         let shape = vec![v.len() as u64, ny as u64, nx as u64];
         (shape, v.into_iter().flatten().copied().collect())
@@ -234,6 +243,12 @@ pub fn description(s: &Systematics, provenance: &Provenance) -> serde_json::Valu
         },
         "sensor": s.facts.sensor,
         "central_mm": s.facts.central_mm,
+        "maps": {
+            "map_sigma_relative.npy": "the total sigma over the mean image, per pixel (NaN where the mean is not positive)",
+            "map_sigma_noise.npy": "the Monte Carlo noise of map_sigma.npy, per pixel: half the difference of the total sigma computed from each half of the photons (two independent estimates; NaN when not kept)",
+            "noise_to_sigma": s.noise_to_sigma,
+            "noise_to_sigma_means": "sqrt(sum of noise^2 / sum of sigma^2) over the map: well below 1 when the sigma map shows the sources, not the photons' noise; near 1 or above, trace more photons",
+        },
         "central_region": if s.facts.central_circle { "circle (central_mm its radius)" } else { "square (central_mm its side)" },
         "nominal": METRICS.iter().zip(nominal).map(|(m, x)| (m.to_string(), json!(x))).collect::<serde_json::Map<_, _>>(),
         "sources": effects,

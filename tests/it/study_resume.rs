@@ -294,6 +294,7 @@ fn a_systematics_study_killed_and_resumed_is_the_uninterrupted_study() {
             "map_variations.npy",
             "map_sigma.npy",
             "map_mean.npy",
+            "map_sigma_noise.npy",
         ],
     );
 }

@@ -178,6 +178,41 @@ fn the_files_agree_and_a_defocus_range_gives_its_rms_difference() {
     ] {
         assert!(out.join(f).is_file(), "{f}");
     }
+    // σ relative to the mean image, pixel by pixel.
+    let mean = npy("map_mean.npy").1;
+    let relative = npy("map_sigma_relative.npy").1;
+    for p in 0..n_pix {
+        match mean[p] > 0.0 {
+            true => assert!(
+                (relative[p] - total[p] / mean[p]).abs() <= 1e-12 * relative[p].abs().max(1e-300)
+            ),
+            false => assert!(relative[p].is_nan()),
+        }
+    }
+    // The Monte Carlo noise of the σ map, from the two halves of the photons:
+    // present, and far below the σ of a ±40 mm defocus (common random
+    // numbers), but not zero (the halves are independent).
+    let noise = npy("map_sigma_noise.npy").1;
+    let ratio = json["maps"]["noise_to_sigma"].as_f64().unwrap();
+    assert!(ratio > 0.0 && ratio < 0.5, "{ratio}");
+    assert!(noise.iter().all(|v| v.is_finite() && *v >= 0.0));
+    // Traced as two halves added exactly, the nominal image is a plain trace's
+    // to the bit.
+    let plain = out.parent().unwrap().join("plain");
+    run_ok(
+        traxer()
+            .arg("trace")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args(["-n", "30000", "-q", "-o"])
+            .arg(&plain),
+    );
+    let sensor: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(plain.join("sensor.json")).unwrap()).unwrap();
+    let traced = sensor["sensor"]["total_flux"].as_f64().unwrap();
+    assert_eq!(
+        traced.to_bits(),
+        json["nominal"]["flux"].as_f64().unwrap().to_bits()
+    );
 }
 
 #[test]

@@ -80,6 +80,12 @@ pub struct Outcome {
     pub centroid_mm: Option<[f64; 2]>,
     /// The image on the study's map (see [`MapFrame`]), [iy][ix].
     pub map: Vec<f64>,
+    /// The same from each half of the photons (the first and the second
+    /// half of the streams), each scaled as a whole run's estimate: two
+    /// independent estimates of `map`, whose σ maps differ by the Monte Carlo
+    /// noise alone. Empty in records written before they were kept.
+    #[serde(default)]
+    pub halves: Vec<Vec<f64>>,
 }
 
 /// The frame of the maps: the sensor's detector pixel grid if it has one (the
@@ -166,9 +172,9 @@ fn central_flux(f: &FinishedImage, side: f64, circle: bool) -> f64 {
 
 /// Checks the settings (front ends call it before loading the scene).
 pub fn check(s: &Settings) -> Result<(), StudyError> {
-    if s.photons == 0 {
+    if s.photons < 2 {
         return Err(StudyError::Input(
-            "photons: at least 1 per variation".into(),
+            "photons: at least 2 per variation (each is traced as two halves, for the Monte Carlo noise)".into(),
         ));
     }
     if !(s.central_mm.is_finite() && s.central_mm > 0.0) {
@@ -318,9 +324,40 @@ fn measure(
     cfg: &RunConfig,
     progress: &dyn Progress,
 ) -> Result<(Outcome, usize), StudyError> {
-    let result = trace::run_with_progress(scene, cfg, progress)?;
+    // Two halves of the photons, traced apart and added exactly: the whole
+    // image is the one run's to the bit, and each half is an independent
+    // estimate for the Monte Carlo noise of the σ maps.
+    let first = cfg.photons / 2;
+    let parts = [
+        (cfg.first_photon, first),
+        (cfg.first_photon + first, cfg.photons - first),
+    ];
+    let mut halves = Vec::with_capacity(2);
+    let mut images = Vec::with_capacity(2);
+    let mut threads = 0;
+    for (start, photons) in parts {
+        let part = RunConfig {
+            photons,
+            first_photon: start,
+            ..cfg.clone()
+        };
+        let result = trace::run_with_progress(scene, &part, progress)?;
+        threads = result.threads;
+        images.push(result.images.into_iter().nth(sensor).expect("the sensor"));
+    }
     let spec = &scene.sensors[sensor];
-    let image = &result.images[sensor];
+    for (image, (_, photons)) in images.iter().zip(parts) {
+        // Scaled as an estimate of the whole run's image: axions per second
+        // with a Sun, else the weights times (all photons / these photons).
+        let rate = scene
+            .rate_per_unit_weight(photons)
+            .or(Some(cfg.photons as f64 / photons as f64));
+        let f = FinishedImage::of(spec, image, rate);
+        halves.push(frame.map(spec, &f));
+    }
+    let mut whole = images.swap_remove(0);
+    whole.add(&images[0]);
+    let image = &whole;
     let f = FinishedImage::of(spec, image, scene.rate_per_unit_weight(cfg.photons));
     let q = f.image_quality();
     Ok((
@@ -333,7 +370,8 @@ fn measure(
             diameters: q.and_then(Diameters::of),
             centroid_mm: q.map(|q| q.centroid_mm),
             map: frame.map(spec, &f),
+            halves,
         },
-        result.threads,
+        threads,
     ))
 }

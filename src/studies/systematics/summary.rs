@@ -89,7 +89,57 @@ pub struct Systematics {
     pub mean_map: Vec<f64>,
     pub sigma_map: Vec<f64>,
     pub sigma_maps: Vec<Vec<f64>>,
+    /// The total σ over the mean image, per pixel (NaN where the mean is not
+    /// positive): what a limit takes as a relative uncertainty.
+    pub relative_sigma_map: Vec<f64>,
+    /// The Monte Carlo noise of `sigma_map`, per pixel: half the difference
+    /// of the total σ computed from each half of the photons (two
+    /// independent estimates); `None` for records without the halves.
+    pub noise_map: Option<Vec<f64>>,
+    /// √(Σ noise² / Σ σ²) over the map: well below 1 when the σ map shows
+    /// the sources, not the photons' noise.
+    pub noise_to_sigma: Option<f64>,
     pub facts: RunFacts,
+}
+
+/// The total σ per pixel of the maps `map_of` gives for each outcome.
+fn total_sigma_map<'a>(
+    plan: &Plan,
+    outcomes: &'a [Outcome],
+    map_of: impl Fn(&'a Outcome) -> &'a [f64],
+) -> Vec<f64> {
+    let nominal = map_of(&outcomes[0]);
+    let mut sq = vec![0.0; nominal.len()];
+    for sp in &plan.sources {
+        let idx: Vec<usize> = (0..outcomes.len())
+            .filter(|&k| outcomes[k].source == sp.name)
+            .collect();
+        let mut x = vec![0.0; idx.len()];
+        for (p, s) in sq.iter_mut().enumerate() {
+            for (j, &k) in idx.iter().enumerate() {
+                x[j] = map_of(&outcomes[k])[p];
+            }
+            *s += effect(sp.kind, nominal[p], &x).sigma.powi(2);
+        }
+    }
+    sq.into_iter().map(f64::sqrt).collect()
+}
+
+/// The σ maps' Monte Carlo noise from the two halves of the photons, and its
+/// size against the σ map's, if every outcome kept its halves.
+fn noise(plan: &Plan, outcomes: &[Outcome], sigma: &[f64]) -> (Option<Vec<f64>>, Option<f64>) {
+    if outcomes.iter().any(|o| o.halves.len() != 2) {
+        return (None, None);
+    }
+    let a = total_sigma_map(plan, outcomes, |o| &o.halves[0]);
+    let b = total_sigma_map(plan, outcomes, |o| &o.halves[1]);
+    let noise: Vec<f64> = a.iter().zip(&b).map(|(a, b)| 0.5 * (a - b).abs()).collect();
+    let (n2, s2) = noise
+        .iter()
+        .zip(sigma)
+        .fold((0.0, 0.0), |(n, s), (a, b)| (n + a * a, s + b * b));
+    let ratio = (s2 > 0.0).then(|| (n2 / s2).sqrt());
+    (Some(noise), ratio)
 }
 
 /// A source's σ and shift of the values `x` (its variations') against the
@@ -175,6 +225,13 @@ pub fn summarise(
                 .sqrt()
         })
         .collect();
+    let sigma_map: Vec<f64> = sigma_sq.into_iter().map(f64::sqrt).collect();
+    let relative_sigma_map = sigma_map
+        .iter()
+        .zip(&mean_map)
+        .map(|(s, m)| if *m > 0.0 { s / m } else { f64::NAN })
+        .collect();
+    let (noise_map, noise_to_sigma) = noise(plan, &outcomes, &sigma_map);
     Systematics {
         plan: plan.clone(),
         outcomes,
@@ -183,8 +240,11 @@ pub fn summarise(
         total_sigma,
         nominal_map,
         mean_map,
-        sigma_map: sigma_sq.into_iter().map(f64::sqrt).collect(),
+        sigma_map,
         sigma_maps,
+        relative_sigma_map,
+        noise_map,
+        noise_to_sigma,
         facts,
     }
 }
