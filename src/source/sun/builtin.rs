@@ -395,6 +395,32 @@ pub fn builtin_emission_of(
     )
 }
 
+/// How far beyond its first and last rows (fractions of R_sun) a model is
+/// taken as it is: the centre below B16's first row (r = 0.0045), the
+/// surface at its last.
+const MODEL_EDGE: f64 = 0.01;
+
+/// The emission is computed only where the model has rows: a model of a few
+/// rows would otherwise stand for the whole Sun (a plausible flux, wrong by
+/// any factor).
+fn check_coverage(model: &SolarModel, name: &str, radii: &[f64]) -> Result<(), SolarDataError> {
+    let (first, last) = (
+        model.shells[0].radius,
+        model.shells[model.shells.len() - 1].radius,
+    );
+    let (lo, hi) = radii
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), r| {
+            (a.min(*r), b.max(*r))
+        });
+    if lo < first - MODEL_EDGE || hi > last + MODEL_EDGE {
+        return Err(SolarDataError(format!(
+            "{name}: the model's rows reach r = {first} … {last} R_sun, but the emission is asked for r = {lo} … {hi}: traxer does not extrapolate a solar model; give the whole model, or radii within its rows"
+        )));
+    }
+    Ok(())
+}
+
 /// The emission computed from a standard solar model (`name` for descriptions)
 /// on `radii` × `energies`; ABC needs the Opacity Project tables `op`.
 pub fn model_emission(
@@ -407,6 +433,7 @@ pub fn model_emission(
     g_ae: Option<f64>,
 ) -> Result<AxionEmission, SolarDataError> {
     EmissionTable::check_grid(radii, energies)?;
+    check_coverage(model, name, radii)?;
     let primakoff = match g_agamma {
         Some(_) => Some(super::primakoff::emission_table(model, radii, energies)?),
         None => None,
@@ -444,4 +471,59 @@ pub fn model_emission(
                 )
             }),
     )
+}
+
+#[cfg(test)]
+mod coverage_tests {
+    use super::*;
+    use std::path::Path;
+
+    #[test]
+    fn a_model_of_a_few_rows_does_not_stand_for_the_whole_sun() {
+        // Before: two rows at r = 0.1 and 0.3 gave a Primakoff flux for the
+        // whole Sun, the outer rows repeated out to the surface.
+        let row = |r: f64| {
+            let mut v = vec![
+                "0.1".to_string(),
+                r.to_string(),
+                "1.5e7".into(),
+                "150".into(),
+            ];
+            v.extend(["1e17".into(), "0.1".into(), "0.72".into()]);
+            v.extend(std::iter::repeat_n("0.01".to_string(), 28));
+            v.join(" ")
+        };
+        let model =
+            SolarModel::parse(&format!("{}\n{}\n", row(0.1), row(0.3)), Path::new("m")).unwrap();
+        let energies = [1.0, 2.0];
+        let e = model_emission(
+            &model,
+            "m",
+            None,
+            &[0.15, 0.25, 0.9],
+            &energies,
+            Some(1e-10),
+            None,
+        )
+        .err()
+        .expect("refused");
+        assert!(
+            e.0.contains("does not extrapolate") && e.0.contains("0.1 … 0.3"),
+            "{e:?}"
+        );
+        assert!(model_emission(
+            &model,
+            "m",
+            None,
+            &[0.15, 0.25],
+            &energies,
+            Some(1e-10),
+            None
+        )
+        .is_ok());
+        let one = SolarModel::parse(&format!("{}\n", row(0.1)), Path::new("one.dat"))
+            .err()
+            .expect("refused");
+        assert!(one.0.contains("1 model row(s)"), "{one:?}");
+    }
 }

@@ -159,8 +159,9 @@ impl SolarModel {
         }
         if shells.len() < 2 {
             return Err(SolarDataError(format!(
-                "{}: no model rows (expected lines of {columns} numbers)",
-                path.display()
+                "{}: {} model row(s): a solar model lists the Sun's shells from the centre outwards (lines of {columns} numbers; the B16 files have 2000), and at least 2 are needed",
+                path.display(),
+                shells.len()
             )));
         }
         Ok(SolarModel { shells })
