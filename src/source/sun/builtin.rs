@@ -496,17 +496,10 @@ mod coverage_tests {
         let model =
             SolarModel::parse(&format!("{}\n{}\n", row(0.1), row(0.3)), Path::new("m")).unwrap();
         let energies = [1.0, 2.0];
-        let e = model_emission(
-            &model,
-            "m",
-            None,
-            &[0.15, 0.25, 0.9],
-            &energies,
-            Some(1e-10),
-            None,
-        )
-        .err()
-        .expect("refused");
+        let asked = [0.15, 0.25, 0.9];
+        let Err(e) = model_emission(&model, "m", None, &asked, &energies, Some(1e-10), None) else {
+            panic!("refused")
+        };
         assert!(
             e.0.contains("does not extrapolate") && e.0.contains("0.1 … 0.3"),
             "{e:?}"
@@ -521,9 +514,9 @@ mod coverage_tests {
             None
         )
         .is_ok());
-        let one = SolarModel::parse(&format!("{}\n", row(0.1)), Path::new("one.dat"))
-            .err()
-            .expect("refused");
+        let Err(one) = SolarModel::parse(&format!("{}\n", row(0.1)), Path::new("one.dat")) else {
+            panic!("refused")
+        };
         assert!(one.0.contains("1 model row(s)"), "{one:?}");
     }
 }
