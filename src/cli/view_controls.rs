@@ -232,21 +232,36 @@ pub fn overlay_at(pixels: &mut [u32], w: usize, h: usize, lines: &[&str], bottom
     text_box(pixels, (w, h), lines, (0, top), scale, 8);
 }
 
-/// A part's name on a small dark box beside a white dot at `(x, y)`.
-pub fn label(pixels: &mut [u32], w: usize, h: usize, text: &str, (x, y): (usize, usize)) {
-    for (dx, dy) in (0..3).flat_map(|a| (0..3).map(move |b| (a, b))) {
-        let (px, py) = ((x + dx).saturating_sub(1), (y + dy).saturating_sub(1));
-        if px < w && py < h {
-            pixels[py * w + px] = 0xffffff;
+/// The parts' names, each on a small dark box beside a white dot, the boxes
+/// placed apart.
+pub fn labels(pixels: &mut [u32], w: usize, h: usize, labels: &[(&str, (usize, usize))]) {
+    // The boxes' sizes (8 × 8 font, 4 pixels of padding) and where they go:
+    // apart from each other, as a render's labels (`output::place_labels`).
+    let sizes: Vec<(i32, i32)> = labels
+        .iter()
+        .map(|(t, _)| ((t.len() * 8 + 8) as i32, 16))
+        .collect();
+    let dots: Vec<(i32, i32)> = labels
+        .iter()
+        .map(|(_, (x, y))| (*x as i32, *y as i32))
+        .collect();
+    let places = traxer::output::place_labels(&sizes, &dots, (w as i32, h as i32), 4);
+    for (&(text, (x, y)), (left, top)) in labels.iter().zip(places) {
+        for (dx, dy) in (0..3).flat_map(|a| (0..3).map(move |b| (a, b))) {
+            let (px, py) = ((x + dx).saturating_sub(1), (y + dy).saturating_sub(1));
+            if px < w && py < h {
+                pixels[py * w + px] = 0xffffff;
+            }
         }
+        text_box(
+            pixels,
+            (w, h),
+            &[text],
+            (left.max(0) as usize, top.max(0) as usize),
+            1,
+            4,
+        );
     }
-    let width = text.len() * 8 + 8;
-    let left = if x + 4 + width < w {
-        x + 4
-    } else {
-        x.saturating_sub(4 + width)
-    };
-    text_box(pixels, (w, h), &[text], (left, y.saturating_sub(7)), 1, 4);
 }
 
 /// White text on a darkened box with its top-left corner at `(left, top)`, the

@@ -7,7 +7,7 @@
 
 use super::args::SceneArgs;
 use super::view::ViewArgs;
-use super::view_controls::{label, overlay, overlay_at, Controls, HELP};
+use super::view_controls::{labels, overlay, overlay_at, Controls, HELP};
 use super::{load_scene, InputError};
 use anyhow::Context;
 use glam::DVec3;
@@ -223,9 +223,13 @@ impl View<'_> {
             let found = self.pool.install(|| part_labels(self.scene, camera, w, h));
             self.labels = Some((*camera, found));
         }
-        for l in self.labels.iter().flat_map(|(_, l)| l) {
-            label(shown, w, h, &l.text, l.pixel);
-        }
+        let found: Vec<(&str, (usize, usize))> = self
+            .labels
+            .iter()
+            .flat_map(|(_, l)| l)
+            .map(|l| (l.text.as_str(), l.pixel))
+            .collect();
+        labels(shown, w, h, &found);
     }
 }
 

@@ -55,7 +55,7 @@ pub use history::{
     history_json, photon_list_npy, write_class_images, write_photon_list, PHOTON_LIST_FILES,
 };
 pub use image_plot::{write_image_figure, ImageFigure, Overlay};
-pub use labels::draw_labels;
+pub use labels::{draw_labels, place_labels};
 pub use montage::{write_montage, Tile};
 pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyImage};
 pub use plot::{line_plot, Series};
