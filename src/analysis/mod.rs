@@ -123,18 +123,7 @@ pub fn analyse(
         }
     }
     let (cx, cy) = (sx / total, sy / total);
-    // Each pixel's flux spread over its area (see `eef`): no lattice bias.
-    let encircled = EncircledFlux::new(
-        image
-            .iter()
-            .enumerate()
-            .filter(|(_, &v)| v > 0.0)
-            .map(|(k, &v)| {
-                let (x, y) = g.center(k % g.nx, k / g.nx);
-                (x - 0.5 * g.pitch[0] - cx, y - 0.5 * g.pitch[1] - cy, v)
-            }),
-        g.pitch,
-    );
+    let encircled = encircled_about(image, g, [cx, cy]);
     // The curve for plots: steps of half a pixel, at most 4000 points.
     let outer = encircled.outer_radius();
     let step = (0.5 * g.pitch[0].min(g.pitch[1])).max(outer / 4000.0);
@@ -175,22 +164,23 @@ pub fn flux_within(
     centre_mm: [f64; 2],
     radii_mm: &[f64],
 ) -> Vec<f64> {
-    let encircled = EncircledFlux::new(
-        image
-            .iter()
-            .enumerate()
-            .filter(|(_, &v)| v > 0.0)
-            .map(|(k, &v)| {
-                let (x, y) = g.center(k % g.nx, k / g.nx);
-                (
-                    x - 0.5 * g.pitch[0] - centre_mm[0],
-                    y - 0.5 * g.pitch[1] - centre_mm[1],
-                    v,
-                )
-            }),
-        g.pitch,
-    );
+    let encircled = encircled_about(image, g, centre_mm);
     radii_mm.iter().map(|&r| encircled.flux_within(r)).collect()
+}
+
+/// The encircled flux of `image` about `centre_mm`: each lit pixel's flux
+/// spread over its area (see `eef`), so that circles have no lattice bias.
+fn encircled_about(image: &[f64], g: &ImageGeometry, centre_mm: [f64; 2]) -> EncircledFlux {
+    EncircledFlux::new(
+        centre::image_points(image, g).into_iter().map(|(x, y, v)| {
+            (
+                x - 0.5 * g.pitch[0] - centre_mm[0],
+                y - 0.5 * g.pitch[1] - centre_mm[1],
+                v,
+            )
+        }),
+        g.pitch,
+    )
 }
 
 /// Sums of the image along y (a function of x) and along x (a function of y).

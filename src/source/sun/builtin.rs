@@ -482,17 +482,7 @@ mod coverage_tests {
     fn a_model_of_a_few_rows_does_not_stand_for_the_whole_sun() {
         // Before: two rows at r = 0.1 and 0.3 gave a Primakoff flux for the
         // whole Sun, the outer rows repeated out to the surface.
-        let row = |r: f64| {
-            let mut v = vec![
-                "0.1".to_string(),
-                r.to_string(),
-                "1.5e7".into(),
-                "150".into(),
-            ];
-            v.extend(["1e17".into(), "0.1".into(), "0.72".into()]);
-            v.extend(std::iter::repeat_n("0.01".to_string(), 28));
-            v.join(" ")
-        };
+        let row = super::super::model::test_row;
         let model =
             SolarModel::parse(&format!("{}\n{}\n", row(0.1), row(0.3)), Path::new("m")).unwrap();
         let energies = [1.0, 2.0];

@@ -196,6 +196,21 @@ impl SolarModel {
     }
 }
 
+/// A plausible B16 row at radius `r`, for tests.
+#[cfg(test)]
+pub(crate) fn test_row(r: f64) -> String {
+    let mut v = vec![
+        "0.1".to_string(),
+        r.to_string(),
+        "1.5e7".into(),
+        "150".into(),
+    ];
+    // Mass fractions adding up to 1.
+    v.extend(["1e17".into(), "0.1".into(), "0.72".into()]);
+    v.extend(std::iter::repeat_n("0.01".to_string(), 28));
+    v.join(" ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -214,18 +229,7 @@ mod tests {
 
     #[test]
     fn rows_out_of_order_are_refused_with_their_line() {
-        let row = |r: f64| {
-            let mut v = vec![
-                "0.1".to_string(),
-                r.to_string(),
-                "1.5e7".into(),
-                "150".into(),
-            ];
-            // Mass fractions adding up to 1.
-            v.extend(["1e17".into(), "0.1".into(), "0.72".into()]);
-            v.extend(std::iter::repeat_n("0.01".to_string(), 28));
-            v.join(" ")
-        };
+        let row = test_row;
         let text = format!("# header\n{}\n{}\n", row(0.2), row(0.1));
         let e = SolarModel::parse(&text, Path::new("m.dat")).unwrap_err();
         assert!(
