@@ -175,7 +175,8 @@ class Scene:
         one the scene's variables support): "figure" (``figure_draws``
         parameter sets from the preset's covariance; ``figure_hold`` the
         parameters held, default those the fit found unconstrained),
-        "solar_model", "pointing_x"/"pointing_y" (± ``pointing_arcmin``),
+        "optical_constants" (the coatings' f1, f2 from Chantler's table
+        instead of Henke's), "solar_model", "pointing_x"/"pointing_y" (± ``pointing_arcmin``),
         "tilt_x"/"tilt_y" (± ``tilt_arcmin``), "gas_pressure"/"gas_temperature"
         (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); ``vary``: a
         dict of other scene variables and their (low, high). The table's
@@ -521,13 +522,15 @@ def reflectivity(
     energies_keV: _Numbers,
     angles_deg: _Numbers,
     polarisation: Literal["unpolarised", "unpolarized", "s", "p"] = "unpolarised",
+    optical_constants: Literal["henke", "chantler"] = "henke",
 ) -> npt.NDArray[np.float64]:
     """Reflectivity R(E, θ) of a mirror coating.
 
     ``coating``: a shipped one such as "llnl_recipe_3" or "gold", or "FILE" /
     "FILE:NAME"; energies (keV) and grazing angles (degrees, 0–90) broadcast
     like numpy arguments (``E[:, None], theta[None, :]`` gives the grid); either
-    may be an astropy Quantity."""
+    may be an astropy Quantity. ``optical_constants``: the layers' table of
+    scattering factors, "henke" or "chantler" (a second opinion)."""
 
 def eef(
     image: npt.ArrayLike,

@@ -33,6 +33,18 @@ pub const BOHR_RADIUS_CM: f64 = 5.291_772_109_03e-9;
 pub const AVOGADRO: f64 = 6.022_140_76e23;
 /// The molar gas constant (J mol⁻¹ K⁻¹), exact since the 2019 SI.
 pub const GAS_CONSTANT: f64 = 8.314_462_618;
+/// ħc in eV·m (CODATA 2018): with ħ = c = 1, 1 m = 1/(ħc) eV⁻¹.
+pub const HBAR_C_EV_M: f64 = 1.973_269_804e-7;
+/// 1 m in eV⁻¹ (ħ = c = 1): 1/(ħc) = 5.0677e6 eV⁻¹.
+pub const INV_EV_PER_METRE: f64 = 5.067_730_717_679_395e6;
+/// The vacuum magnetic permeability μ0 in N/A² (CODATA 2018).
+pub const MU_0: f64 = 1.256_637_062_12e-6;
+/// The elementary charge in C (exact in the 2019 SI).
+pub const ELEMENTARY_CHARGE_C: f64 = 1.602_176_634e-19;
+/// 1 T in eV² in natural Heaviside–Lorentz units (ħ = c = 1, α = e²/4π, the
+/// units of the axion–photon coupling): B²/2 is the field's energy density,
+/// so 1 T = √((ħc)³ / (μ0 e)) = 195.35 eV² (ħc in eV·m, e in C).
+pub const TESLA_EV2: f64 = 195.352_771_140_595_6;
 /// The solar radius in cm (SPEC §3: 6.96342e8 m, Emilio et al. 2012 from SOHO).
 pub const R_SUN_CM: f64 = 6.963_42e10;
 /// The astronomical unit in cm (IAU 2012, exact).

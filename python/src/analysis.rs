@@ -12,18 +12,19 @@ use traxer::xray::coating_from_spec;
 
 /// Reflectivity R(E, θ) of a mirror coating.
 ///
-/// reflectivity(coating, energies_keV, angles_deg, polarisation="unpolarised")
+/// reflectivity(coating, energies_keV, angles_deg, polarisation="unpolarised", optical_constants="henke")
 ///
 /// `coating`: a coating of data/coatings.toml (e.g. "llnl_recipe_3", "gold"), or
 /// "FILE" / "FILE:NAME" for a TOML file with [materials] and [coatings].
 /// `energies_keV` and `angles_deg` (grazing angles) broadcast against each other
 /// like numpy arguments: two arrays of one length give R at each pair,
 /// `E[:, None]` and `theta[None, :]` give the grid. `polarisation`:
-/// "unpolarised", "s" or "p". Returns a float64 array of the broadcast shape.
+/// "unpolarised", "s" or "p"; `optical_constants`: the layers' table of
+/// scattering factors, "henke" or "chantler" (a second opinion). Returns a float64 array of the broadcast shape.
 /// Plain numbers are keV and degrees (0–90); astropy Quantities convert (an
 /// angle in arcmin, an energy in eV, a wavelength in Å).
 #[pyfunction]
-#[pyo3(signature = (coating, energies_keV, angles_deg, polarisation = "unpolarised"))]
+#[pyo3(signature = (coating, energies_keV, angles_deg, polarisation = "unpolarised", optical_constants = "henke"))]
 #[allow(non_snake_case)]
 pub fn reflectivity<'py>(
     py: Python<'py>,
@@ -31,7 +32,10 @@ pub fn reflectivity<'py>(
     energies_keV: &Bound<'py, PyAny>,
     angles_deg: &Bound<'py, PyAny>,
     polarisation: &str,
+    optical_constants: &str,
 ) -> PyResult<Bound<'py, PyAny>> {
+    let constants = traxer::xray::elements::OpticalConstants::parse(optical_constants)
+        .map_err(|e| input(format!("optical_constants={optical_constants:?}: {e}")))?;
     let pick: fn(&traxer::xray::parratt::Reflectance) -> f64 = match polarisation {
         "unpolarised" | "unpolarized" => |r| r.unpolarised(),
         "s" => |r| r.s,
@@ -42,7 +46,7 @@ pub fn reflectivity<'py>(
             )))
         }
     };
-    let coating = coating_from_spec(coating).map_err(lib)?;
+    let coating = coating_from_spec(coating, constants).map_err(lib)?;
     let energies_keV = plain("energies_keV", energies_keV, Unit::KeV)?;
     let angles_deg = plain("angles_deg", angles_deg, Unit::Degree)?;
     let numpy = py.import("numpy")?;

@@ -305,7 +305,8 @@ impl Scene {
     /// traced under each source of uncertainty with the same photons. Sources
     /// (default: every one the scene's variables support): "figure" (
     /// `figure_draws` parameter sets from the preset's covariance),
-    /// "solar_model", "pointing_x"/"pointing_y" (± `pointing_arcmin`),
+    /// "optical_constants" (the coatings' f1, f2 from Chantler's table instead
+    /// of Henke's), "solar_model", "pointing_x"/"pointing_y" (± `pointing_arcmin`),
     /// "tilt_x"/"tilt_y" (± `tilt_arcmin`), "gas_pressure"/"gas_temperature"
     /// (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); `vary`: a
     /// dict of other scene variables and their (low, high). The table's

@@ -10,6 +10,11 @@ use traxer::files::atomic_write;
 use traxer::files::check_output_file;
 use traxer::output::{csv_text, line_plot, sidecar_path, write_sidecar, Provenance, Series};
 use traxer::xray::coating_from_spec;
+use traxer::xray::elements::OpticalConstants;
+
+fn parse_constants(s: &str) -> Result<OpticalConstants, String> {
+    OpticalConstants::parse(s)
+}
 
 /// Print the reflectivity of a mirror coating as CSV and plot it.
 ///
@@ -38,6 +43,10 @@ pub struct ReflectivityArgs {
     /// edges show over several decades); the CSV is unchanged.
     #[arg(long)]
     pub log: bool,
+    /// The table of atomic scattering factors the layers take: henke, or
+    /// chantler (NIST FFAST, a second opinion; data/README.md).
+    #[arg(value_name = "TABLE", long, default_value = "henke", value_parser = parse_constants)]
+    pub optical_constants: OpticalConstants,
     /// Also write the CSV to this file (atomically) instead of only printing it.
     #[arg(value_name = "FILE", long)]
     pub csv: Option<PathBuf>,
@@ -51,7 +60,8 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
     if let Some(csv) = &a.csv {
         check_output_file(csv)?;
     }
-    let coating = coating_from_spec(&a.coating).map_err(|e| InputError(e.to_string()))?;
+    let coating = coating_from_spec(&a.coating, a.optical_constants)
+        .map_err(|e| InputError(e.to_string()))?;
     let energies = parse_values("energy", &a.energy)?;
     let angles = grazing_angles(&a.angle)?;
     let versus_angle = energies.len() <= 8 && (angles.len() > 8 || angles.len() >= energies.len());
@@ -81,7 +91,12 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         atomic_write(path, csv.as_bytes())
             .with_context(|| format!("cannot write {}", path.display()))?;
     }
-    let (title, x_label, y_label) = labels(&coating.name, versus_angle, a.log);
+    // The default table is not named in the title: the plots stay as they were.
+    let name = match a.optical_constants {
+        OpticalConstants::Henke => coating.name.clone(),
+        other => format!("{} ({} optical constants)", coating.name, other.name()),
+    };
+    let (title, x_label, y_label) = labels(&name, versus_angle, a.log);
     line_plot(&a.plot, &title, x_label, y_label, &series, (900, 600))
         .with_context(|| format!("cannot write {}", a.plot.display()))?;
     let details = json!({
@@ -91,6 +106,7 @@ pub fn run(a: ReflectivityArgs) -> anyhow::Result<()> {
         "angle_deg": a.angle,
         "csv": a.csv.as_ref().map(|p| p.display().to_string()),
         "log": a.log,
+        "optical_constants": a.optical_constants.name(),
     });
     write_sidecar(
         &a.plot,

@@ -18,8 +18,9 @@ use traxer::studies::StudyError;
 /// Sources (by default every one the scene's variables support; --sources
 /// picks): figure (--figure-draws parameter sets drawn from the covariance
 /// that fit-figure-error saved with the mirrors' preset; parameters the fit
-/// left unconstrained are held, the others drawn given them), solar_model
-/// (B16-GS98 against the scene's B16-AGSS09met), pointing_x/pointing_y (the
+/// left unconstrained are held, the others drawn given them),
+/// optical_constants (the coatings' f1, f2 from Chantler's table instead of
+/// Henke's, variable mirror_optical_constants), solar_model (B16-GS98 against the scene's B16-AGSS09met), pointing_x/pointing_y (the
 /// Sun's centre moved by ±--pointing, variables offset_x/offset_y),
 /// tilt_x/tilt_y (the telescope's axis turned by ±--tilt about its centre
 /// plane, variables telescope_tilt_x/y), gas_pressure/gas_temperature (the
@@ -40,8 +41,8 @@ pub struct SystematicsArgs {
     #[arg(short = 'n', long, value_name = "N", default_value = "1000000", value_parser = super::args::parse_count)]
     pub photons: u64,
     /// Sources of uncertainty, comma-separated (default: every one the scene
-    /// supports): figure, solar_model, pointing_x, pointing_y, tilt_x, tilt_y,
-    /// gas_pressure, gas_temperature.
+    /// supports): figure, optical_constants, solar_model, pointing_x,
+    /// pointing_y, tilt_x, tilt_y, gas_pressure, gas_temperature.
     #[arg(long, value_name = "LIST")]
     pub sources: Option<String>,
     /// Parameter sets drawn from the figure-error covariance.

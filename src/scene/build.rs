@@ -56,10 +56,7 @@ pub(super) fn build(
     let figure_errors = FigureErrorLibrary::shipped().merged(&desc.figure_errors);
     let mut materials = Materials::new(
         std::mem::take(&mut desc.materials),
-        CoatingLibrary::shipped().merged(&CoatingLibrary {
-            materials: desc.optical_materials.clone(),
-            coatings: desc.coatings.clone(),
-        }),
+        scene_coatings(&desc),
         figure_errors.clone(),
     );
     let dir = path.parent().unwrap_or(Path::new("."));
@@ -243,6 +240,16 @@ fn check_gas(
         }
     }
     Ok(())
+}
+
+/// The shipped coatings with the scene's own, on the scene's table of optical
+/// constants.
+fn scene_coatings(desc: &super::desc::SceneDesc) -> CoatingLibrary {
+    CoatingLibrary::shipped().merged(&CoatingLibrary {
+        materials: desc.optical_materials.clone(),
+        coatings: desc.coatings.clone(),
+        mirror_constants: desc.mirror_optical_constants,
+    })
 }
 
 /// One reflectivity table per coating, over the energies the sources emit.

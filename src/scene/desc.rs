@@ -64,6 +64,10 @@ pub struct SceneDesc {
     /// Coatings, added to those of data/coatings.toml (same form).
     #[serde(default)]
     pub coatings: BTreeMap<String, crate::xray::coating::CoatingEntry>,
+    /// The table of atomic scattering factors the mirrors' coatings take:
+    /// `henke` (default) or `chantler` (the reflectivity-model systematic).
+    #[serde(default)]
+    pub mirror_optical_constants: crate::xray::elements::OpticalConstants,
     /// Figure-error presets, added to those of data/figure_errors.toml.
     #[serde(default)]
     pub figure_errors: BTreeMap<String, crate::xray::figure_error::FigureErrorEntry>,

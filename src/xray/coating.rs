@@ -7,6 +7,7 @@
 //! built [`Coating`] (through its table) for R at each reflection.
 
 use super::compound::{Composition, FormulaError};
+use super::elements::OpticalConstants;
 use super::optical::{EnergyOutOfRange, OpticalMaterial};
 use super::parratt::{reflectance, Layer, Reflectance};
 use num_complex::Complex64;
@@ -124,6 +125,10 @@ pub struct CoatingLibrary {
     pub materials: BTreeMap<String, MaterialEntry>,
     #[serde(default)]
     pub coatings: BTreeMap<String, CoatingEntry>,
+    /// The table of optical constants the coatings' layers take (a scene's
+    /// `mirror_optical_constants`); plain materials (foils) keep Henke's.
+    #[serde(skip)]
+    pub mirror_constants: OpticalConstants,
 }
 
 impl CoatingLibrary {
@@ -132,14 +137,26 @@ impl CoatingLibrary {
         toml::from_str(SHIPPED).expect("data/coatings.toml is valid (tested)")
     }
 
-    /// `self` with `other`'s entries added (`other` wins on equal names).
+    /// `self` with `other`'s entries added (`other` wins on equal names), and
+    /// `other`'s choice of the mirrors' optical constants.
     pub fn merged(mut self, other: &CoatingLibrary) -> CoatingLibrary {
+        self.mirror_constants = other.mirror_constants;
         self.materials.extend(other.materials.clone());
         self.coatings.extend(other.coatings.clone());
         self
     }
 
+    /// The named optical material, on Henke's table.
     pub fn material(&self, name: &str) -> Result<OpticalMaterial, CoatingError> {
+        self.material_with(name, OpticalConstants::Henke)
+    }
+
+    /// The named material on the table `constants`.
+    fn material_with(
+        &self,
+        name: &str,
+        constants: OpticalConstants,
+    ) -> Result<OpticalMaterial, CoatingError> {
         let m = self.materials.get(name).ok_or_else(|| {
             format!(
                 "unknown material `{name}` (known: {:?})",
@@ -168,6 +185,7 @@ impl CoatingLibrary {
             name: name.to_string(),
             composition,
             density: m.density,
+            constants,
         })
     }
 
@@ -186,6 +204,7 @@ impl CoatingLibrary {
             )
         })?;
         let err = |m: CoatingError| CoatingError(format!("coating `{name}`: {m}"));
+        let k = self.mirror_constants;
         let stack = match entry {
             CoatingEntry::Perfect(_) => {
                 return Err(err(CoatingError::from(
@@ -200,8 +219,8 @@ impl CoatingLibrary {
                         "gamma must lie in (0, 1) and roughness_nm be ≥ 0",
                     )));
                 }
-                let top = Arc::new(self.material(&d.top).map_err(err)?);
-                let bottom = Arc::new(self.material(&d.bottom).map_err(err)?);
+                let top = Arc::new(self.material_with(&d.top, k).map_err(err)?);
+                let bottom = Arc::new(self.material_with(&d.bottom, k).map_err(err)?);
                 let mut layers = Vec::new();
                 for di in thicknesses {
                     layers.push(StackLayer {
@@ -217,7 +236,7 @@ impl CoatingLibrary {
                 }
                 Stack {
                     layers,
-                    substrate: self.material(&d.substrate).map_err(err)?,
+                    substrate: self.material_with(&d.substrate, k).map_err(err)?,
                     substrate_roughness_nm: d.roughness_nm,
                 }
             }
@@ -234,20 +253,20 @@ impl CoatingLibrary {
                         ))));
                     }
                     layers.push(StackLayer {
-                        material: Arc::new(self.material(&e.material).map_err(err)?),
+                        material: Arc::new(self.material_with(&e.material, k).map_err(err)?),
                         thickness_nm: e.thickness_nm,
                         roughness_nm: e.roughness_nm,
                     });
                 }
                 Stack {
                     layers,
-                    substrate: self.material(&l.substrate).map_err(err)?,
+                    substrate: self.material_with(&l.substrate, k).map_err(err)?,
                     substrate_roughness_nm: l.substrate_roughness_nm,
                 }
             }
             CoatingEntry::Substrate(s) => Stack {
                 layers: Vec::new(),
-                substrate: self.material(&s.substrate).map_err(err)?,
+                substrate: self.material_with(&s.substrate, k).map_err(err)?,
                 substrate_roughness_nm: s.roughness_nm,
             },
         };

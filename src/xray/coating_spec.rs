@@ -6,6 +6,7 @@
 //! R(E, θ) the caller evaluates; scene files resolve their coatings themselves
 //! (`scene::build`).
 
+use super::elements::OpticalConstants;
 use super::{Coating, CoatingLibrary};
 use std::path::Path;
 
@@ -16,9 +17,14 @@ message_error!(
 );
 
 /// The coating `spec` names: a shipped coating (e.g. `llnl_recipe_3`, `gold`),
-/// or `FILE` (a coatings file defining one coating) or `FILE:NAME`.
-pub fn coating_from_spec(spec: &str) -> Result<Coating, CoatingSpecError> {
-    let shipped = CoatingLibrary::shipped();
+/// or `FILE` (a coatings file defining one coating) or `FILE:NAME`, its layers
+/// on the table of optical constants `constants`.
+pub fn coating_from_spec(
+    spec: &str,
+    constants: OpticalConstants,
+) -> Result<Coating, CoatingSpecError> {
+    let mut shipped = CoatingLibrary::shipped();
+    shipped.mirror_constants = constants;
     if shipped.is_perfect(spec) {
         return Err(format!("coating {spec}: R = 1 everywhere, nothing to compute").into());
     }
@@ -44,7 +50,7 @@ pub fn coating_from_spec(spec: &str) -> Result<Coating, CoatingSpecError> {
         .into());
     }
     let text = std::fs::read_to_string(file).map_err(|e| format!("{file}: {e}"))?;
-    let lib: CoatingLibrary = toml::from_str(&text).map_err(|e| {
+    let mut lib: CoatingLibrary = toml::from_str(&text).map_err(|e| {
         let line = e
             .span()
             .map(|s| text[..s.start].lines().count().max(1))
@@ -62,6 +68,7 @@ pub fn coating_from_spec(spec: &str) -> Result<Coating, CoatingSpecError> {
             .into())
         }
     };
+    lib.mirror_constants = constants;
     shipped
         .merged(&lib)
         .coating(&name)

@@ -1,5 +1,7 @@
-//! Elements: standard atomic weights and the Henke / CXRO scattering-factor tables
-//! (f1, f2 versus energy), both compiled in from `data/` (see data/README.md).
+//! Elements: standard atomic weights and two tables of atomic scattering factors
+//! (f1, f2 versus energy): Henke / CXRO, the default, and Chantler / NIST FFAST,
+//! the second opinion a mirror's reflectivity model can be checked against; all
+//! compiled in from `data/` (see data/README.md).
 //!
 //! Data flow: `compound` resolves the symbols of a chemical formula here;
 //! `optical` interpolates f1 and f2 at a photon energy.
@@ -117,6 +119,113 @@ const HENKE_FILES: [&str; 92] = [
     henke!("u"),
 ];
 
+macro_rules! chantler {
+    ($s:literal) => {
+        include_str!(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/data/chantler/",
+            $s,
+            ".nff"
+        ))
+    };
+}
+
+/// Chantler's tables in the same layout (scripts/make_chantler_tables.py).
+const CHANTLER_FILES: [&str; 92] = [
+    chantler!("h"),
+    chantler!("he"),
+    chantler!("li"),
+    chantler!("be"),
+    chantler!("b"),
+    chantler!("c"),
+    chantler!("n"),
+    chantler!("o"),
+    chantler!("f"),
+    chantler!("ne"),
+    chantler!("na"),
+    chantler!("mg"),
+    chantler!("al"),
+    chantler!("si"),
+    chantler!("p"),
+    chantler!("s"),
+    chantler!("cl"),
+    chantler!("ar"),
+    chantler!("k"),
+    chantler!("ca"),
+    chantler!("sc"),
+    chantler!("ti"),
+    chantler!("v"),
+    chantler!("cr"),
+    chantler!("mn"),
+    chantler!("fe"),
+    chantler!("co"),
+    chantler!("ni"),
+    chantler!("cu"),
+    chantler!("zn"),
+    chantler!("ga"),
+    chantler!("ge"),
+    chantler!("as"),
+    chantler!("se"),
+    chantler!("br"),
+    chantler!("kr"),
+    chantler!("rb"),
+    chantler!("sr"),
+    chantler!("y"),
+    chantler!("zr"),
+    chantler!("nb"),
+    chantler!("mo"),
+    chantler!("tc"),
+    chantler!("ru"),
+    chantler!("rh"),
+    chantler!("pd"),
+    chantler!("ag"),
+    chantler!("cd"),
+    chantler!("in"),
+    chantler!("sn"),
+    chantler!("sb"),
+    chantler!("te"),
+    chantler!("i"),
+    chantler!("xe"),
+    chantler!("cs"),
+    chantler!("ba"),
+    chantler!("la"),
+    chantler!("ce"),
+    chantler!("pr"),
+    chantler!("nd"),
+    chantler!("pm"),
+    chantler!("sm"),
+    chantler!("eu"),
+    chantler!("gd"),
+    chantler!("tb"),
+    chantler!("dy"),
+    chantler!("ho"),
+    chantler!("er"),
+    chantler!("tm"),
+    chantler!("yb"),
+    chantler!("lu"),
+    chantler!("hf"),
+    chantler!("ta"),
+    chantler!("w"),
+    chantler!("re"),
+    chantler!("os"),
+    chantler!("ir"),
+    chantler!("pt"),
+    chantler!("au"),
+    chantler!("hg"),
+    chantler!("tl"),
+    chantler!("pb"),
+    chantler!("bi"),
+    chantler!("po"),
+    chantler!("at"),
+    chantler!("rn"),
+    chantler!("fr"),
+    chantler!("ra"),
+    chantler!("ac"),
+    chantler!("th"),
+    chantler!("pa"),
+    chantler!("u"),
+];
+
 const ELEMENTS_CSV: &str = include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/data/elements.csv"));
 
 /// One element: atomic number, symbol, molar mass (g/mol).
@@ -127,8 +236,41 @@ pub struct Element {
     pub mass: f64,
 }
 
-/// f1 and f2 of one element on the Henke energy grid (keV, ascending), restricted
-/// to where f1 is defined.
+/// Which table of scattering factors a material's optical constants come from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum OpticalConstants {
+    /// Henke, Gullikson & Davis (1993) as maintained by CXRO (data/henke/).
+    #[default]
+    Henke,
+    /// Chantler (1995, 2000), NIST FFAST, with its relativistic and
+    /// nuclear-Thomson corrections added to f1 (data/chantler/).
+    Chantler,
+}
+
+impl OpticalConstants {
+    /// The name scene files and options use.
+    pub fn name(self) -> &'static str {
+        match self {
+            OpticalConstants::Henke => "henke",
+            OpticalConstants::Chantler => "chantler",
+        }
+    }
+
+    /// The table named `name`, or an error listing the names.
+    pub fn parse(name: &str) -> Result<OpticalConstants, String> {
+        match name {
+            "henke" => Ok(OpticalConstants::Henke),
+            "chantler" => Ok(OpticalConstants::Chantler),
+            _ => Err(format!(
+                "unknown table of optical constants `{name}` (known: henke, chantler)"
+            )),
+        }
+    }
+}
+
+/// f1 and f2 of one element on its table's energy grid (keV, ascending),
+/// restricted to where f1 is defined.
 #[derive(Clone, Debug)]
 pub struct ScatteringTable {
     pub energy_kev: Vec<f64>,
@@ -142,7 +284,7 @@ pub struct ScatteringTable {
 }
 
 impl ScatteringTable {
-    fn parse(symbol: &str, text: &str) -> ScatteringTable {
+    fn parse(folder: &str, symbol: &str, text: &str) -> ScatteringTable {
         let mut t = ScatteringTable {
             energy_kev: Vec::new(),
             f1: Vec::new(),
@@ -150,7 +292,7 @@ impl ScatteringTable {
             ln_f2: Vec::new(),
             ln_step: Vec::new(),
         };
-        for line in text.lines() {
+        for line in text.lines().filter(|l| !l.starts_with('#')) {
             let cols: Vec<f64> = line
                 .split_whitespace()
                 .filter_map(|c| c.parse().ok())
@@ -168,7 +310,7 @@ impl ScatteringTable {
         }
         assert!(
             t.energy_kev.len() > 100,
-            "data/henke/{}.nff: too few rows",
+            "data/{folder}/{}.nff: too few rows",
             symbol.to_lowercase()
         );
         t.ln_f2 =
@@ -226,13 +368,26 @@ pub fn element(symbol: &str) -> Option<&'static Element> {
     elements().iter().find(|e| e.symbol == symbol)
 }
 
-/// The scattering-factor table of element `z` (parsed on first use).
-pub fn scattering_table(z: u32) -> &'static ScatteringTable {
-    static TABLES: OnceLock<Vec<OnceLock<ScatteringTable>>> = OnceLock::new();
-    let tables = TABLES.get_or_init(|| (0..92).map(|_| OnceLock::new()).collect());
+/// The text of every table file (for the reflectivity cache's key: a table
+/// regenerated with other numbers must not find tables built from the old).
+pub fn table_files() -> impl Iterator<Item = &'static str> {
+    HENKE_FILES.iter().chain(CHANTLER_FILES.iter()).copied()
+}
+
+/// Element `z`'s scattering-factor table from `constants` (parsed on first
+/// use).
+pub fn scattering_table(constants: OpticalConstants, z: u32) -> &'static ScatteringTable {
+    type Tables = OnceLock<Vec<OnceLock<ScatteringTable>>>;
+    static HENKE: Tables = OnceLock::new();
+    static CHANTLER: Tables = OnceLock::new();
+    let (tables, files, folder) = match constants {
+        OpticalConstants::Henke => (&HENKE, &HENKE_FILES, "henke"),
+        OpticalConstants::Chantler => (&CHANTLER, &CHANTLER_FILES, "chantler"),
+    };
+    let tables = tables.get_or_init(|| (0..92).map(|_| OnceLock::new()).collect());
     let i = (z as usize)
         .checked_sub(1)
         .filter(|&i| i < 92)
         .expect("Z in 1..=92");
-    tables[i].get_or_init(|| ScatteringTable::parse(&elements()[i].symbol, HENKE_FILES[i]))
+    tables[i].get_or_init(|| ScatteringTable::parse(folder, &elements()[i].symbol, files[i]))
 }

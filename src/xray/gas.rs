@@ -23,7 +23,7 @@
 //! readout.
 
 use super::compound::{parse_formula, Composition};
-use super::elements::{element, HENKE_MAX_KEV, HENKE_MIN_KEV};
+use super::elements::{element, OpticalConstants, HENKE_MAX_KEV, HENKE_MIN_KEV};
 use super::optical::{EnergyOutOfRange, OpticalMaterial};
 use crate::constants::GAS_CONSTANT;
 use crate::constants::HC_KEV_CM;
@@ -161,10 +161,13 @@ impl DetectorGas {
             .map(|(f, x)| format!("{f} {:.4}", x))
             .collect::<Vec<_>>()
             .join(" + ");
+        // The gas's absorption stays on Henke's table: the mirrors' optical
+        // constants are a reflectivity systematic, the gas has its own.
         let material = OpticalMaterial {
             name,
             composition,
             density,
+            constants: OpticalConstants::Henke,
         };
         let ln_mu = (0..MU_TABLE_POINTS)
             .map(|i| {

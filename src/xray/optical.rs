@@ -1,10 +1,11 @@
 //! Optical constants: the refractive index n = 1 − δ + iβ of a material at an X-ray
-//! energy, from its composition, its density and the Henke scattering factors:
+//! energy, from its composition, its density and the atomic scattering factors
+//! (Henke's, or Chantler's for a second opinion):
 //! δ = r_e λ² / (2π) · N_A ρ Σ_k c_k f1_k(E), β likewise with f2, where c_k are the
 //! moles of element k per gram (SPEC §4).
 
 use super::compound::Composition;
-use super::elements::{scattering_table, HENKE_MAX_KEV, HENKE_MIN_KEV};
+use super::elements::{scattering_table, OpticalConstants, HENKE_MAX_KEV, HENKE_MIN_KEV};
 use crate::constants::{AVOGADRO, ELECTRON_RADIUS_CM, HC_KEV_CM};
 
 /// A material that X-rays see: composition and density.
@@ -14,6 +15,8 @@ pub struct OpticalMaterial {
     pub composition: Composition,
     /// g/cm³.
     pub density: f64,
+    /// The table of f1, f2.
+    pub constants: OpticalConstants,
 }
 
 /// An energy outside the tables.
@@ -35,7 +38,7 @@ impl OpticalMaterial {
             * self.density;
         let (mut s1, mut s2) = (0.0, 0.0);
         for &(z, c) in &self.composition.moles_per_gram {
-            let (f1, f2) = scattering_table(z).at(energy_kev);
+            let (f1, f2) = scattering_table(self.constants, z).at(energy_kev);
             s1 += c * f1;
             s2 += c * f2;
         }

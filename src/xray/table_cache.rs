@@ -7,10 +7,11 @@
 //! out, else the table is built and written for next time.
 //!
 //! The key is the SHA-256 of everything the table depends on: the coating as
-//! built (its layers, roughnesses and every optical constant of its materials,
-//! through `Debug`, which prints each f64 exactly), the energy range and angle
-//! limit (their bits), traxer's version and the source text of the modules that
-//! compute tables. A change to any of them is a different file, never a stale
+//! built (its layers, roughnesses, its materials' compositions and densities
+//! and which table of optical constants they take, through `Debug`, which
+//! prints each f64 exactly), the energy range and angle limit (their bits),
+//! traxer's version, the source text of the modules that compute tables and the
+//! text of the scattering-factor tables themselves. A change to any of them is a different file, never a stale
 //! table. Each file ends with the SHA-256 of its contents; a damaged file is
 //! rebuilt. Files are written atomically (a temporary file renamed), so runs
 //! sharing the cache concurrently see a whole table or none, and two writers of
@@ -61,7 +62,10 @@ fn key(coating: &Coating, e_min: f64, e_max: f64, theta_max: f64) -> String {
     let mut h = Sha256::new();
     h.update(MAGIC);
     h.update(env!("CARGO_PKG_VERSION").as_bytes());
-    for source in TABLE_SOURCES {
+    for source in TABLE_SOURCES
+        .into_iter()
+        .chain(super::elements::table_files())
+    {
         h.update(Sha256::digest(source.as_bytes()));
     }
     h.update(format!("{coating:?}").as_bytes());

@@ -406,3 +406,45 @@ fn the_central_region_may_be_a_circle_a_signal_region() {
         "{central} of {total}"
     );
 }
+
+#[test]
+fn the_optical_constants_source_is_the_other_tables_difference() {
+    // A flat gold mirror at 0.5° under an 8 keV beam: every photon's weight is
+    // R, so the source's σ of the flux is |R_Chantler / R_Henke − 1| (that the
+    // traced flux is R on each table: xray.rs). Here it is computed from two
+    // plain traces of the scene on each table, not by the study (1e-9: the
+    // same photons, weights only).
+    let dir = tempfile::tempdir().unwrap();
+    let text = format!(
+        "mirror_optical_constants = \"$mirror_optical_constants\"\n[vars]\nmirror_optical_constants = \"henke\"\n{}",
+        crate::xray::coated_flat_mirror_scene("bare_gold", 0.5, "{ line = 8.0 }", "")
+    );
+    let scene = crate::common::write(dir.path(), "gold.toml", &text);
+    let out = dir.path().join("s");
+    run_ok(
+        traxer()
+            .arg("systematics")
+            .arg(&scene)
+            .args(["-n", "2000", "--sources", "optical_constants", "-q", "-o"])
+            .arg(&out),
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("systematics.json")).unwrap())
+            .unwrap();
+    let r = |table: &str| {
+        let defines = [format!("mirror_optical_constants={table}")];
+        let s = traxer::scene::Scene::load(&crate::common::device(), &scene, &defines).unwrap();
+        let r = traxer::trace::run(&s, &traxer::trace::RunConfig::new(2000, 1)).unwrap();
+        r.images[0].total_flux()
+    };
+    let want = (r("chantler") / r("henke") - 1.0).abs();
+    let text = json.to_string();
+    let sigma = json["sources"]
+        .as_array()
+        .and_then(|s| s.iter().find(|s| s["name"] == "optical_constants"))
+        .map(|s| s["effects"]["flux"]["sigma"].as_f64().unwrap())
+        .unwrap_or_else(|| panic!("no optical_constants source: {text}"))
+        / json["nominal"]["flux"].as_f64().unwrap();
+    assert!(want > 1e-3, "the tables must differ here: {want}");
+    assert!((sigma - want).abs() < 1e-9, "σ {sigma} vs |ΔR/R| {want}");
+}

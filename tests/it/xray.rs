@@ -231,7 +231,7 @@ fn reflectivity_tables_interpolate_within_1e_3() {
     }
 }
 
-fn coated_flat_mirror_scene(coating: &str, graze_deg: f64, energy: &str, bins: &str) -> String {
+pub fn coated_flat_mirror_scene(coating: &str, graze_deg: f64, energy: &str, bins: &str) -> String {
     let mirror = format!("type = \"mirror\"\ncoating = \"{coating}\"");
     crate::common::flat_mirror_bench(graze_deg, &mirror, energy, 60, bins, "")
 }
@@ -454,5 +454,108 @@ substrate_roughness_nm = 0.4
     assert!(
         (per_photon - direct).abs() < 1e-3 && direct > 0.3 && direct < 0.99,
         "{per_photon} vs {direct}"
+    );
+}
+
+/// A material of the shipped library on the table `constants`, through a
+/// one-layer coating of it (the library's only way to pick the table).
+fn on_table(formula: &str, density: f64, constants: &str) -> traxer::xray::OpticalMaterial {
+    let text = format!(
+        "[materials.m]\nformula = \"{formula}\"\ndensity = {density}\n[coatings.c]\ntype = \"substrate\"\nsubstrate = \"m\"\n"
+    );
+    let mut lib: CoatingLibrary = toml::from_str(&text).unwrap();
+    lib.mirror_constants = traxer::xray::elements::OpticalConstants::parse(constants).unwrap();
+    lib.coating("c").unwrap().stack.substrate
+}
+
+#[test]
+fn chantlers_table_agrees_with_henkes_where_both_are_sound() {
+    // Two independent compilations (Henke/CXRO 1993, Chantler/NIST FFAST 2000)
+    // of the same physics: away from absorption edges, where their models
+    // differ most, δ of the mirror materials agrees within 3 % and β within
+    // 15 % (their photoabsorption differs by up to ~10 %, gold at 6 keV).
+    // A wrong convention (f1 without Z, f2 in other units, a shifted grid)
+    // would miss by far more. Between 2 and 10 keV, clear of the edges of
+    // these elements (Pt, Au M edges 2.1–3.4 keV, L edges 11.5–14.4 keV;
+    // Ni K 8.33 keV).
+    for (formula, density, energies) in [
+        ("Au", 19.32, &[4.0, 6.0, 8.0, 10.0][..]),
+        ("Pt", 21.41, &[4.0, 6.0, 8.0, 10.0][..]),
+        ("Ni", 8.908, &[2.0, 4.0, 6.0, 7.5][..]),
+        ("C", 2.26, &[2.0, 4.0, 8.0][..]),
+        ("SiO2", 2.65, &[2.5, 4.0, 8.0][..]),
+    ] {
+        let (h, c) = (
+            on_table(formula, density, "henke"),
+            on_table(formula, density, "chantler"),
+        );
+        for &e in energies {
+            let ((dh, bh), (dc, bc)) = (h.delta_beta(e).unwrap(), c.delta_beta(e).unwrap());
+            assert!(
+                (dc / dh - 1.0).abs() < 0.03 && (bc / bh - 1.0).abs() < 0.15,
+                "{formula} {e} keV: δ {dh:e} (Henke) vs {dc:e} (Chantler), β {bh:e} vs {bc:e}"
+            );
+        }
+    }
+    // Both tables put gold's L3 edge at 11.92 keV (β more than doubles there).
+    for table in ["henke", "chantler"] {
+        let au = on_table("Au", 19.32, table);
+        let (below, above) = (
+            au.delta_beta(11.85).unwrap().1,
+            au.delta_beta(11.99).unwrap().1,
+        );
+        assert!(above > 2.0 * below, "{table}: β {below:e} → {above:e}");
+    }
+}
+
+#[test]
+fn a_scene_picks_the_mirrors_table_and_a_wrong_name_is_refused() {
+    // A flat gold mirror at 0.5°, 8 keV: each photon's weight is R, so the
+    // flux per photon on each table is that table's R from the direct Parratt
+    // sum (independent of the trace), and the two differ.
+    use traxer::trace::{self, RunConfig};
+    let scene = |table: &str| {
+        format!(
+            "mirror_optical_constants = \"{table}\"\n{}",
+            coated_flat_mirror_scene("bare_gold", 0.5, "{ line = 8.0 }", "")
+        )
+    };
+    let mut flux = Vec::new();
+    for table in ["henke", "chantler"] {
+        let s = crate::common::scene(&scene(table));
+        let r = trace::run(&s, &RunConfig::new(1000, 1)).unwrap();
+        let per_photon = r.images[0].total_flux() / 1000.0;
+        let mut lib = CoatingLibrary::shipped();
+        lib.mirror_constants = traxer::xray::elements::OpticalConstants::parse(table).unwrap();
+        let direct = lib
+            .coating("bare_gold")
+            .unwrap()
+            .reflectivity(8.0, 0.5f64.to_radians())
+            .unwrap();
+        assert!(
+            (per_photon - direct).abs() < 1e-3,
+            "{table}: {per_photon} vs R = {direct}"
+        );
+        flux.push(per_photon);
+    }
+    assert!(
+        (flux[1] / flux[0] - 1.0).abs() > 1e-3,
+        "the tables must give different R: {flux:?}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let path = crate::common::write(dir.path(), "bad.toml", &scene("cromer"));
+    let err = crate::common::run_fails(
+        crate::common::traxer()
+            .arg("trace")
+            .arg(&path)
+            .args(["-n", "10", "-o"])
+            .arg(dir.path().join("o")),
+        2,
+    );
+    assert!(
+        err.contains("mirror_optical_constants")
+            && err.contains("chantler")
+            && err.contains("bad.toml"),
+        "{err}"
     );
 }

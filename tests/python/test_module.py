@@ -294,6 +294,15 @@ def test_reflectivity_equals_the_cli(tmp_path):
     assert traxer.reflectivity("gold", 8.05, [0.3])[0] == pairs[1]
     # Total external reflection: far below the critical angle R is near 1.
     assert 0.9 < traxer.reflectivity("gold", 1.49, 0.05)
+    # Chantler's table: the same curve within a few per cent, not the same
+    # numbers (two compilations), and the CLI's option gives what Python gives.
+    henke = traxer.reflectivity("gold", [1.0, 8.0], 0.5)
+    chantler = traxer.reflectivity("gold", [1.0, 8.0], 0.5, optical_constants="chantler")
+    assert np.all(abs(chantler / henke - 1) < 0.05) and np.all(chantler != henke)
+    out = cli("reflectivity", "--coating", "gold", "--energy", "1.0,8.0", "--angle", "0.5",
+              "--optical-constants", "chantler", "--plot", tmp_path / "c.png")
+    printed = [float(line.split(",")[2]) for line in out.stdout.splitlines()[1:]]
+    assert np.allclose(printed, chantler, rtol=1e-12, atol=0)
 
 
 def test_eef_of_a_uniform_disk():
@@ -446,6 +455,7 @@ def test_bad_input_raises_never_crashes(tmp_path):
         lambda: traxer.reflectivity("unobtainium", 1.0, 0.5),
         lambda: traxer.reflectivity("gold", 100.0, 0.5),
         lambda: traxer.reflectivity("gold", 1.0, 0.5, polarisation="q"),
+        lambda: traxer.reflectivity("gold", 1.0, 0.5, optical_constants="cromer"),
         lambda: traxer.eef(np.ones(5), 0.1),
         lambda: traxer.eef(-np.ones((3, 3)), 0.1),
         lambda: traxer.eef(np.zeros((3, 3)), 0.1),

@@ -5,6 +5,7 @@
 
 use super::super::StudyError;
 use crate::scene::Scene;
+use crate::xray::elements::OpticalConstants;
 use crate::xray::figure_covariance::PARAMETERS as FIGURE_PARAMETERS;
 use crate::xray::FigureError;
 use serde::Serialize;
@@ -87,8 +88,9 @@ pub struct Request {
 }
 
 /// The sources a study can vary, in the order of its table.
-pub const SOURCES: [&str; 8] = [
+pub const SOURCES: [&str; 9] = [
     "figure",
+    "optical_constants",
     "solar_model",
     "pointing_x",
     "pointing_y",
@@ -119,6 +121,7 @@ fn option_of(source: &str) -> Option<&'static str> {
 fn variables(source: &str) -> &'static [&'static str] {
     match source {
         "figure" => &[],
+        "optical_constants" => &["mirror_optical_constants"],
         "solar_model" => &["solar_model"],
         "pointing_x" => &["offset_x"],
         "pointing_y" => &["offset_y"],
@@ -270,24 +273,7 @@ fn variations_of(
     };
     match source {
         "figure" => super::figure::draws(scene, r, notes),
-        "solar_model" => {
-            let nominal = scene.vars["solar_model"].as_str().unwrap_or_default();
-            if nominal == r.solar_model {
-                return Err(format!(
-                    "the scene already uses solar model `{nominal}`: nothing to compare"
-                ));
-            }
-            Ok((
-                format!("solar model {} instead of {nominal}", r.solar_model),
-                Kind::Alternative,
-                vec![Variation {
-                    source: source.into(),
-                    label: r.solar_model.clone(),
-                    defines: vec![format!("solar_model={}", r.solar_model)],
-                    figure: None,
-                }],
-            ))
-        }
+        "solar_model" | "optical_constants" => alternative(scene, r, source),
         "pointing_x" | "pointing_y" => {
             let var = variables(source)[0];
             // ±1′ is a placeholder, not a measured number: said where it is used.
@@ -334,6 +320,50 @@ fn variations_of(
             range(var, lh, " K")
         }
     }
+}
+
+/// A source with one alternative: the solar model (`--solar-model`) or the
+/// mirrors' optical constants (the other of the two tables).
+fn alternative(
+    scene: &Scene,
+    r: &Request,
+    source: &str,
+) -> Result<(String, Kind, Vec<Variation>), String> {
+    let var = variables(source)[0];
+    let nominal = scene.vars[var].as_str().unwrap_or_default();
+    let (other, what) = if source == "solar_model" {
+        if nominal == r.solar_model {
+            return Err(format!(
+                "the scene already uses solar model `{nominal}`: nothing to compare"
+            ));
+        }
+        let what = format!("solar model {} instead of {nominal}", r.solar_model);
+        (r.solar_model.clone(), what)
+    } else {
+        // Two tables exist; the other one is the alternative. Henke against
+        // Chantler moves the XMM module's area by −2 to +4 % over 1–10 keV
+        // (docs/cast.md).
+        let other = match OpticalConstants::parse(nominal) {
+            Ok(OpticalConstants::Henke) => OpticalConstants::Chantler,
+            Ok(OpticalConstants::Chantler) => OpticalConstants::Henke,
+            Err(e) => return Err(format!("variable `{var}`: {e}")),
+        };
+        let what = format!(
+            "the mirrors' optical constants (f1, f2) from {} instead of {nominal}",
+            other.name()
+        );
+        (other.name().to_string(), what)
+    };
+    Ok((
+        what,
+        Kind::Alternative,
+        vec![Variation {
+            source: source.into(),
+            label: other.clone(),
+            defines: vec![format!("{var}={other}")],
+            figure: None,
+        }],
+    ))
 }
 
 /// A scene variable's value as a number.
