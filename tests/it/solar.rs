@@ -495,7 +495,7 @@ fn malformed_emission_tables_are_refused_with_file_and_line() {
     let dir = tempfile::tempdir().unwrap();
     let header = "Radius,Energy [keV],emRates\n";
     let good_rows = "0.1,1.0,1e-30\n0.1,2.0,1e-30\n0.2,1.0,1e-30\n0.2,2.0,1e-30\n";
-    let cases: [(&str, String, &str); 9] = [
+    let cases: [(&str, String, &str); 10] = [
         (
             "missing column",
             "Radius,Energy [keV]\n0.1,1.0\n".into(),
@@ -540,6 +540,12 @@ fn malformed_emission_tables_are_refused_with_file_and_line() {
             "ragged grid",
             format!("{header}{good_rows}0.3,1.0,1e-30\n"),
             "radius 0.3",
+        ),
+        (
+            // One radius at 1 was a ring at the limb with 3× the Sun's volume.
+            "one radius",
+            format!("{header}1.0,1.0,1e-30\n1.0,2.0,1e-30\n"),
+            "one radius (1): a radial profile needs at least 2 radii",
         ),
     ];
     for (what, text, expected) in cases {

@@ -99,13 +99,23 @@ impl EmissionTable {
         })
     }
 
-    /// Checks a grid: at least one radius and energy, radii in (0, 1] and energies
+    /// Checks a grid: at least two radii and one energy, radii in (0, 1] and energies
     /// in the Henke range, both strictly increasing, at most
     /// [`EmissionTable::MAX_POINTS`] points.
     pub fn check_grid(radii: &[f64], energies: &[f64]) -> Result<(), SolarDataError> {
         let increasing = |v: &[f64]| v.windows(2).all(|w| w[0] < w[1]);
         if radii.is_empty() || energies.is_empty() {
             return Err("an emission table needs at least one radius and one energy".into());
+        }
+        // One radius would be one radial cell from the centre to the surface,
+        // all its axions emitted at that radius: a shell (at r = 1, a ring at
+        // the limb) standing for the whole Sun, with 3× a sphere's volume.
+        if radii.len() < 2 {
+            return Err(format!(
+                "the table has one radius ({}): a radial profile needs at least 2 radii (fractions of R_sun from near the centre outwards; the built-in tables have hundreds), or the one radius would stand for the whole Sun",
+                radii[0]
+            )
+            .into());
         }
         let points = radii.len() as u64 * energies.len() as u64;
         if points > Self::MAX_POINTS {
