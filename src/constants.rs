@@ -21,8 +21,12 @@ pub const HBAR_KEV_S: f64 = 6.582_119_569e-19;
 pub const ALPHA: f64 = 1.0 / 137.035_999_084;
 /// Boltzmann constant, keV/K (CODATA 2018).
 pub const K_B_KEV_PER_K: f64 = 8.617_333_262e-8;
+/// Boltzmann constant, J/K (exact in the 2019 SI).
+pub const K_B_J_PER_K: f64 = 1.380_649e-23;
 /// Atomic mass unit, g (CODATA 2018).
 pub const ATOMIC_MASS_UNIT_G: f64 = 1.660_539_066_60e-24;
+/// Electron mass, eV (CODATA 2018).
+pub const ELECTRON_MASS_EV: f64 = 510_998.950;
 /// Electron mass, keV (CODATA 2018).
 pub const ELECTRON_MASS_KEV: f64 = 510.998_950;
 /// Classical electron radius (cm), CODATA 2018.

@@ -42,6 +42,7 @@ pub mod embree;
 pub mod files;
 pub mod geometry;
 pub mod history;
+pub mod magnet;
 pub mod material;
 pub mod mesh;
 pub mod output;

@@ -237,6 +237,18 @@ pub fn parse_values(what: &str, s: &str) -> Result<Vec<f64>, super::InputError> 
     Ok(values)
 }
 
+/// Two numbers `X,Y`.
+pub fn parse_pair(s: &str) -> Result<[f64; 2], String> {
+    let v: Vec<Option<f64>> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect();
+    match v.as_slice() {
+        [Some(x), Some(y)] => Ok([*x, *y]),
+        _ => Err(format!("`{s}`: expected two numbers X,Y")),
+    }
+}
+
 #[cfg(test)]
 mod range_tests {
     #[test]

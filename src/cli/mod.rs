@@ -23,6 +23,7 @@ macro_rules! tell {
 pub mod args;
 pub mod bench;
 pub mod compare;
+pub mod conversion;
 pub mod eef;
 pub mod effective_area;
 pub mod fit_figure_error;

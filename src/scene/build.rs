@@ -66,7 +66,8 @@ pub(super) fn build(
         materials.add_generated(&m.name, m.desc, m.span);
     }
 
-    let sources = build_sources(at, &desc, dir, &inputs)?;
+    let mut sources = build_sources(at, &desc, dir, &inputs)?;
+    let bore = super::magnet::find_bore(at, &desc)?;
     materials.processes = sources
         .first()
         .map(|s| s.process_names())
@@ -85,6 +86,7 @@ pub(super) fn build(
             })?;
         objects.push(object);
     }
+    let magnet = super::magnet::attach(at, &desc, bore, &objects, &mut sources, dir, &inputs)?;
     if let Some((name, span)) = materials.unused() {
         return Err(at.error(span, format!("material `{name}` is not used by any object")));
     }
@@ -113,6 +115,7 @@ pub(super) fn build(
         foils: materials.foils,
         roughness: materials.roughness,
         sources,
+        magnet,
         max_interactions,
         reflectivity,
         embree,

@@ -64,6 +64,10 @@ pub struct SceneDesc {
     /// Coatings, added to those of data/coatings.toml (same form).
     #[serde(default)]
     pub coatings: BTreeMap<String, crate::xray::coating::CoatingEntry>,
+    /// The helioscope's magnet: the field in a bore that converts the Sun's
+    /// axions (see `scene::magnet`).
+    #[serde(default)]
+    pub magnet: Option<Spanned<super::magnet::MagnetDesc>>,
     /// The table of atomic scattering factors the mirrors' coatings take:
     /// `henke` (default) or `chantler` (the reflectivity-model systematic).
     #[serde(default)]

@@ -18,6 +18,7 @@ mod embree_binding;
 mod error;
 pub mod inputs;
 pub mod load;
+pub mod magnet;
 mod materials;
 mod objects;
 mod placement;
@@ -75,6 +76,8 @@ pub struct Scene {
     /// Mirror microroughness models, indexed by `Material::Mirror::roughness`.
     pub roughness: Vec<crate::xray::roughness::Roughness>,
     pub sources: Vec<Source>,
+    /// The helioscope's magnet (`[magnet]`), which the Sun source applies.
+    pub magnet: Option<std::sync::Arc<crate::magnet::Magnet>>,
     pub max_interactions: u32,
     /// Reflectivity tables of the coated mirrors' coatings (indexed by
     /// `Material::Mirror::reflectivity`), over the sources' energy range.

@@ -38,6 +38,21 @@ pub enum ShapeDesc {
 }
 
 impl ShapeDesc {
+    /// The shape's `type`, for messages.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            ShapeDesc::Cone(_) => "cone",
+            ShapeDesc::Cylinder(_) => "cylinder",
+            ShapeDesc::Paraboloid(_) => "paraboloid",
+            ShapeDesc::Hyperboloid(_) => "hyperboloid",
+            ShapeDesc::Disk(_) => "disk",
+            ShapeDesc::Rectangle(_) => "rectangle",
+            ShapeDesc::Box(_) => "box",
+            ShapeDesc::Sphere(_) => "sphere",
+            ShapeDesc::Mesh(_) => "mesh",
+        }
+    }
+
     /// The analytic shape, or what is wrong with its parameters ("shape: ...");
     /// `None` for a mesh, which `objects` loads from its file.
     pub fn analytic(&self) -> Option<Result<Shape, InvalidShape>> {

@@ -21,6 +21,7 @@ pub mod gas;
 pub mod optical;
 pub mod parratt;
 pub mod roughness;
+pub mod scattering;
 pub mod table;
 pub mod table_cache;
 

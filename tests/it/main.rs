@@ -20,6 +20,7 @@ mod inspect;
 mod layout;
 mod limits;
 mod llnl;
+mod magnet;
 mod mesh_io;
 mod meshed_telescope;
 mod messages;

@@ -159,6 +159,9 @@ pub struct SunSource {
     pub couplings_not_used: Vec<String>,
     /// D_min² in mm² (see the module documentation).
     nearest_mm2: f64,
+    /// The helioscope's magnet, when the scene has one: each photon's weight
+    /// is then multiplied by its axion's conversion probability.
+    pub magnet: Option<Arc<crate::magnet::Magnet>>,
 }
 
 impl SunDesc {
@@ -326,6 +329,7 @@ impl SunDesc {
             coupling,
             couplings_not_used: p.couplings_not_used(),
             nearest_mm2: nearest * nearest,
+            magnet: None,
         })
     }
 }
@@ -364,11 +368,15 @@ impl SunSource {
         let v = (on_target - self.target.center) - emission;
         let d2 = v.length_squared();
         let dir = v / d2.sqrt();
+        let converted = self
+            .magnet
+            .as_ref()
+            .map_or(1.0, |m| m.probability(on_target, dir, energy));
         Photon {
             origin: on_target,
             dir,
             energy,
-            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2 * weight,
+            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2 * weight * converted,
             process,
             cell,
         }

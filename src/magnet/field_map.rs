@@ -1,0 +1,213 @@
+//! A magnet's field map: B (tesla) on a regular grid of nodes (mm), read from
+//! a text file of six columns x y z Bx By Bz (the format of the BabyIAXO map,
+//! `data/magnets/`, and of REST-for-Physics' TRestAxionMagneticField), and
+//! interpolated trilinearly. Outside the grid the map has no value: the
+//! scene's check refuses a bore the map does not cover.
+//!
+//! Data flow: `scene::magnet` reads the map named by a scene (a shipped one or
+//! a file) and places it on the bore; `magnet` samples it along each photon's
+//! path.
+
+use std::collections::BTreeMap;
+
+message_error!(
+    /// A field map that cannot be read, with the file, the line and what is
+    /// wrong.
+    FieldMapError
+);
+
+/// The field on a regular grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FieldMap {
+    /// The first node (smallest x, y, z), mm.
+    pub origin: [f64; 3],
+    /// The node spacing along x, y, z, mm.
+    pub spacing: [f64; 3],
+    /// Nodes along x, y, z.
+    pub nodes: [usize; 3],
+    /// B at each node (T), x fastest, then y, then z.
+    field: Vec<[f64; 3]>,
+}
+
+/// The largest map read: 1e8 nodes (2.4 GB as f64 triples).
+const MAX_NODES: usize = 100_000_000;
+
+impl FieldMap {
+    /// Reads a map from `text` (`name` for messages): rows of six numbers,
+    /// `#` comments and blank lines skipped, the rows in any order; every node
+    /// of the grid exactly once.
+    pub fn parse(name: &str, text: &str) -> Result<FieldMap, FieldMapError> {
+        let mut rows: Vec<([f64; 3], [f64; 3], usize)> = Vec::new();
+        for (i, line) in text.lines().enumerate() {
+            let line_no = i + 1;
+            let t = line.trim();
+            if t.is_empty() || t.starts_with('#') {
+                continue;
+            }
+            let cols: Vec<&str> = t.split_whitespace().collect();
+            if cols.len() != 6 {
+                return Err(format!(
+                    "{name}:{line_no}: {} columns; a field map's rows are x y z (mm) Bx By Bz (T)",
+                    cols.len()
+                )
+                .into());
+            }
+            let mut v = [0.0; 6];
+            for (k, c) in cols.iter().enumerate() {
+                v[k] = c
+                    .parse::<f64>()
+                    .ok()
+                    .filter(|x| x.is_finite())
+                    .ok_or_else(|| {
+                        format!(
+                            "{name}:{line_no}: column {} is `{c}`, not a finite number",
+                            k + 1
+                        )
+                    })?;
+            }
+            rows.push(([v[0], v[1], v[2]], [v[3], v[4], v[5]], line_no));
+            if rows.len() > MAX_NODES {
+                return Err(format!("{name}: more than {MAX_NODES} rows").into());
+            }
+        }
+        if rows.is_empty() {
+            return Err(format!("{name}: no rows (x y z Bx By Bz)").into());
+        }
+        let mut origin = [0.0; 3];
+        let mut spacing = [0.0; 3];
+        let mut nodes = [0usize; 3];
+        for axis in 0..3 {
+            let (o, s, n) = axis_grid(name, &rows, axis)?;
+            (origin[axis], spacing[axis], nodes[axis]) = (o, s, n);
+        }
+        let total = nodes[0].saturating_mul(nodes[1]).saturating_mul(nodes[2]);
+        if total > 2 * rows.len() {
+            return Err(format!(
+                "{name}: the rows' coordinates span a grid of {} × {} × {} nodes, but the file has {} rows: most nodes are missing",
+                nodes[0], nodes[1], nodes[2], rows.len()
+            )
+            .into());
+        }
+        let mut field = vec![[f64::NAN; 3]; total];
+        let mut seen = vec![0usize; total];
+        for (p, b, line_no) in &rows {
+            let mut index = [0usize; 3];
+            for axis in 0..3 {
+                index[axis] = ((p[axis] - origin[axis]) / spacing[axis]).round() as usize;
+            }
+            let k = index[0] + nodes[0] * (index[1] + nodes[1] * index[2]);
+            if seen[k] != 0 {
+                return Err(format!(
+                    "{name}:{line_no}: the node ({}, {}, {}) mm is also on line {}",
+                    p[0], p[1], p[2], seen[k]
+                )
+                .into());
+            }
+            seen[k] = *line_no;
+            field[k] = *b;
+        }
+        if let Some(k) = seen.iter().position(|&l| l == 0) {
+            let missing = seen.iter().filter(|&&l| l == 0).count();
+            let (ix, iy, iz) = (
+                k % nodes[0],
+                (k / nodes[0]) % nodes[1],
+                k / (nodes[0] * nodes[1]),
+            );
+            let at = |axis: usize, i: usize| origin[axis] + i as f64 * spacing[axis];
+            return Err(format!(
+                "{name}: {missing} of the grid's {total} nodes ({} × {} × {}) are missing, the first at ({}, {}, {}) mm",
+                nodes[0], nodes[1], nodes[2], at(0, ix), at(1, iy), at(2, iz)
+            )
+            .into());
+        }
+        Ok(FieldMap {
+            origin,
+            spacing,
+            nodes,
+            field,
+        })
+    }
+
+    /// The grid's far corner (largest x, y, z), mm.
+    pub fn end(&self) -> [f64; 3] {
+        std::array::from_fn(|a| self.origin[a] + (self.nodes[a] - 1) as f64 * self.spacing[a])
+    }
+
+    /// B (T) at `p` (mm, the map's frame), trilinear between the nodes; `None`
+    /// outside the grid.
+    #[inline]
+    pub fn at(&self, p: [f64; 3]) -> Option<[f64; 3]> {
+        let mut cell = [0usize; 3];
+        let mut f = [0.0; 3];
+        for a in 0..3 {
+            let u = (p[a] - self.origin[a]) / self.spacing[a];
+            let last = (self.nodes[a] - 1) as f64;
+            if !(0.0..=last).contains(&u) {
+                return None;
+            }
+            let i = (u as usize).min(self.nodes[a] - 2);
+            cell[a] = i;
+            f[a] = u - i as f64;
+        }
+        let (nx, nxy) = (self.nodes[0], self.nodes[0] * self.nodes[1]);
+        let k = cell[0] + nx * cell[1] + nxy * cell[2];
+        let v = &self.field;
+        let mut b = [0.0; 3];
+        for (c, out) in b.iter_mut().enumerate() {
+            let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
+            let x00 = lerp(v[k][c], v[k + 1][c], f[0]);
+            let x10 = lerp(v[k + nx][c], v[k + nx + 1][c], f[0]);
+            let x01 = lerp(v[k + nxy][c], v[k + nxy + 1][c], f[0]);
+            let x11 = lerp(v[k + nxy + nx][c], v[k + nxy + nx + 1][c], f[0]);
+            *out = lerp(lerp(x00, x10, f[1]), lerp(x01, x11, f[1]), f[2]);
+        }
+        Some(b)
+    }
+}
+
+/// One axis of the grid: its first node, spacing and node count, from the
+/// rows' coordinates; refuses coordinates off a regular grid (naming a row).
+fn axis_grid(
+    name: &str,
+    rows: &[([f64; 3], [f64; 3], usize)],
+    axis: usize,
+) -> Result<(f64, f64, usize), FieldMapError> {
+    const XYZ: [&str; 3] = ["x", "y", "z"];
+    // Distinct values (to 1e-9 mm) with the first line each appears on.
+    let mut values: BTreeMap<i64, (f64, usize)> = BTreeMap::new();
+    for (p, _, line_no) in rows {
+        values
+            .entry((p[axis] * 1e9).round() as i64)
+            .or_insert((p[axis], *line_no));
+    }
+    let v: Vec<(f64, usize)> = values.into_values().collect();
+    if v.len() == 1 {
+        return Err(format!(
+            "{name}: every row has {} = {} mm: a field map is a 3-D grid with at least 2 nodes along x, y and z",
+            XYZ[axis], v[0].0
+        )
+        .into());
+    }
+    // The spacing is the commonest gap between neighbouring values (the
+    // smallest of the commonest): one stray value then stands out as off it.
+    let mut gaps: BTreeMap<i64, (usize, f64)> = BTreeMap::new();
+    for w in v.windows(2) {
+        let gap = w[1].0 - w[0].0;
+        gaps.entry((gap * 1e6).round() as i64).or_insert((0, gap)).0 += 1;
+    }
+    let most = gaps.values().map(|g| g.0).max().unwrap_or(0);
+    let spacing = gaps.values().find(|g| g.0 == most).map_or(1.0, |g| g.1);
+    let origin = v[0].0;
+    for &(x, line_no) in &v {
+        let k = (x - origin) / spacing;
+        if (k - k.round()).abs() > 1e-6 {
+            return Err(format!(
+                "{name}:{line_no}: {} = {x} mm is off the regular grid of the file's other {} values (from {origin} mm every {spacing} mm): a field map must be a regular grid",
+                XYZ[axis], XYZ[axis]
+            )
+            .into());
+        }
+    }
+    let nodes = ((v[v.len() - 1].0 - origin) / spacing).round() as usize + 1;
+    Ok((origin, spacing, nodes))
+}

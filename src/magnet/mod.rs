@@ -1,0 +1,191 @@
+//! The helioscope's magnet: where solar axions become X-rays. Each photon a
+//! Sun emits is an axion that crossed the magnet's bore along the photon's
+//! straight path; its weight is multiplied by the probability P that it
+//! converted there, for the scene's axion mass, coupling and buffer gas.
+//!
+//! The field is uniform (`field_t` over the bore's length, the closed form)
+//! or a field map (trilinear between its nodes, the amplitude integrated along
+//! the path: `conversion`); a buffer gas gives the photon a mass and absorbs
+//! it on the way out (`buffer_gas`).
+//!
+//! Data flow: `scene::magnet` builds a [`Magnet`] from the scene's `[magnet]`
+//! table and the bore object; the photon loop calls [`Magnet::probability`]
+//! for each emitted photon, before the optics.
+
+pub mod buffer_gas;
+pub mod conversion;
+pub mod field_map;
+pub mod probe;
+
+use crate::constants::{INV_EV_PER_METRE, TESLA_EV2};
+use crate::geometry::Transform;
+use buffer_gas::BufferGas;
+use conversion::{momentum_transfer, uniform_probability, PathField};
+use field_map::FieldMap;
+use glam::DVec3;
+use std::sync::Arc;
+
+/// The magnet's field.
+#[derive(Clone, Debug)]
+pub enum Field {
+    /// A uniform field of `tesla` along `direction` (a unit vector in the
+    /// bore's frame) over the bore's length.
+    Uniform { tesla: f64, direction: DVec3 },
+    /// A field map; `to_map` carries the bore's frame (origin at its centre)
+    /// into the map's.
+    Map {
+        map: Arc<FieldMap>,
+        to_map: Box<Transform>,
+        /// What the map is (its shipped name or file), for summaries.
+        name: String,
+    },
+}
+
+/// A magnet filling a cylindrical bore.
+#[derive(Clone, Debug)]
+pub struct Magnet {
+    /// The bore object's name.
+    pub bore: String,
+    /// The bore's frame (its axis along z, its centre at the origin) → world.
+    pub frame: Transform,
+    /// The bore's half length along its axis, and its radius (mm).
+    pub half_length_mm: f64,
+    pub radius_mm: f64,
+    pub field: Field,
+    /// The sampling step along the path through a map (mm).
+    pub step_mm: f64,
+    pub gas: Option<BufferGas>,
+    pub axion_mass_ev: f64,
+    /// g_aγ in GeV⁻¹.
+    pub g_agamma_gev: f64,
+}
+
+impl Magnet {
+    /// The path of the line through `origin` along the unit vector `dir`
+    /// (world) between the bore's end planes: the distances along `dir` from
+    /// `origin` where it enters and leaves; `None` for a line parallel to
+    /// them.
+    pub fn path(&self, origin: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+        let o = self.frame.to_local.transform_point3(origin);
+        let d = self.frame.to_local.transform_vector3(dir);
+        if d.z == 0.0 {
+            return None;
+        }
+        let a = (-self.half_length_mm - o.z) / d.z;
+        let b = (self.half_length_mm - o.z) / d.z;
+        Some((a.min(b), a.max(b)))
+    }
+
+    /// The transverse field along the photon's path, sampled for the
+    /// amplitude integral (eV² on two axes ⊥ the path, step in eV⁻¹). Outside
+    /// the map (a path leaving the bore, whose photon the bore's wall stops)
+    /// the field counts as zero.
+    pub fn path_field(&self, origin: DVec3, dir: DVec3) -> PathField {
+        let Some((s0, s1)) = self.path(origin, dir) else {
+            return PathField::default();
+        };
+        let length = s1 - s0;
+        let steps = (length / self.step_mm).ceil().max(1.0) as usize;
+        let h = length / steps as f64;
+        let d_local = self.frame.to_local.transform_vector3(dir).normalize();
+        let (e1, e2) = d_local.any_orthonormal_pair();
+        let samples = (0..=steps)
+            .map(|k| {
+                let p = self
+                    .frame
+                    .to_local
+                    .transform_point3(origin + dir * (s0 + k as f64 * h));
+                let b = self.field_at(p);
+                let transverse = b - d_local * b.dot(d_local);
+                [
+                    transverse.dot(e1) * TESLA_EV2,
+                    transverse.dot(e2) * TESLA_EV2,
+                ]
+            })
+            .collect();
+        PathField {
+            step: h * 1e-3 * INV_EV_PER_METRE,
+            samples,
+        }
+    }
+
+    /// B (T) at `p` in the bore's frame.
+    fn field_at(&self, p: DVec3) -> DVec3 {
+        match &self.field {
+            Field::Uniform { tesla, direction } => *direction * *tesla,
+            Field::Map { map, to_map, .. } => {
+                let q = to_map.point(p);
+                match map.at(q.to_array()) {
+                    // The map's field, turned back into the bore's frame.
+                    Some(b) => to_map.to_local.transform_vector3(DVec3::from(b)),
+                    None => DVec3::ZERO,
+                }
+            }
+        }
+    }
+
+    /// The photon mass squared (eV²) and the attenuation Γ (eV) at `energy_kev`.
+    fn medium(&self, energy_kev: f64) -> (f64, f64) {
+        match &self.gas {
+            None => (0.0, 0.0),
+            Some(g) => (
+                g.photon_mass2_ev2,
+                g.attenuation_ev(energy_kev).unwrap_or(f64::INFINITY),
+            ),
+        }
+    }
+
+    /// The field along the line through `origin` along the unit vector
+    /// `dir`: what P needs of the path, computed once for any energy and mass.
+    pub fn path_of(&self, origin: DVec3, dir: DVec3) -> ConversionPath {
+        match &self.field {
+            Field::Uniform { tesla, direction } => {
+                let Some((s0, s1)) = self.path(origin, dir) else {
+                    return ConversionPath::Uniform {
+                        b_ev2: 0.0,
+                        length: 0.0,
+                    };
+                };
+                let d = self.frame.to_local.transform_vector3(dir).normalize();
+                let transverse = (*direction - d * direction.dot(d)).length() * tesla;
+                ConversionPath::Uniform {
+                    b_ev2: transverse * TESLA_EV2,
+                    length: (s1 - s0) * 1e-3 * INV_EV_PER_METRE,
+                }
+            }
+            Field::Map { .. } => ConversionPath::Sampled(self.path_field(origin, dir)),
+        }
+    }
+
+    /// P(a → γ) for an axion of `energy_kev` on the line through `origin`
+    /// along the unit vector `dir`, at the magnet's mass and coupling.
+    pub fn probability(&self, origin: DVec3, dir: DVec3, energy_kev: f64) -> f64 {
+        self.path_of(origin, dir)
+            .probability(self, energy_kev, self.axion_mass_ev)
+    }
+}
+
+/// The field along one axion's path (see [`Magnet::path_of`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ConversionPath {
+    /// B⊥ (eV²) over a length (eV⁻¹): the closed form.
+    Uniform { b_ev2: f64, length: f64 },
+    /// A map's field sampled along the path: the integral.
+    Sampled(PathField),
+}
+
+impl ConversionPath {
+    /// P at `energy_kev` and axion mass `mass_ev` in `magnet` (its coupling
+    /// and gas).
+    pub fn probability(&self, magnet: &Magnet, energy_kev: f64, mass_ev: f64) -> f64 {
+        let g = magnet.g_agamma_gev * 1e-9;
+        let (m_gamma2, gamma) = magnet.medium(energy_kev);
+        let q = momentum_transfer(mass_ev, m_gamma2, energy_kev * 1e3);
+        match self {
+            ConversionPath::Uniform { b_ev2, length } => {
+                uniform_probability(g, *b_ev2, *length, q, gamma)
+            }
+            ConversionPath::Sampled(field) => field.probability(g, q, gamma),
+        }
+    }
+}

@@ -1,0 +1,376 @@
+//! The scene's `[magnet]` table: a field (uniform, or a map shipped with
+//! traxer or read from a file) filling a cylindrical bore object, an optional
+//! buffer gas, the axion mass and the coupling. Built into a
+//! [`crate::magnet::Magnet`] that the scene's Sun applies to every photon.
+//!
+//! Data flow: `scene::build` finds the bore among the objects, calls
+//! [`build`] and hands the magnet to the Sun source.
+
+use super::placement::{transform, TransformStep};
+use crate::magnet::buffer_gas::{BufferGas, BufferGasDesc};
+use crate::magnet::field_map::FieldMap;
+use crate::magnet::{Field, Magnet};
+use glam::{DAffine3, DVec3};
+use serde::Deserialize;
+use std::path::Path;
+use std::sync::{Arc, OnceLock};
+use toml::Spanned;
+
+/// `[magnet]` in a scene file.
+///
+/// ```toml
+/// [magnet]
+/// bore = "bore"                    # the cylinder object the field fills
+/// field_t = 9.0                    # a uniform transverse field (T) over the bore, or
+/// field_map = "bykovskiy_201906"   # a field map: shipped (data/magnets/) or FILE
+/// field_map_transform = []         # optional: the map in the bore's frame (default:
+///                                  # the map's origin at the bore's centre, z along its axis)
+/// step_mm = 10.0                   # the path integral's step through a map
+/// axion_mass_ev = 0.0
+/// g_agamma = 1e-10                 # GeV⁻¹: the conversion's coupling (the Sun's g_aγ)
+/// gas = { mixture = { He = 1.0 }, pressure_mbar = 10.0, temperature_k = 1.8 }
+/// ```
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MagnetDesc {
+    pub bore: String,
+    #[serde(default)]
+    pub field_t: Option<f64>,
+    /// The uniform field's direction in the bore's frame (default +y).
+    #[serde(default)]
+    pub field_direction: Option<[f64; 3]>,
+    #[serde(default)]
+    pub field_map: Option<String>,
+    #[serde(default)]
+    pub field_map_transform: Vec<Spanned<TransformStep>>,
+    #[serde(default = "default_step")]
+    pub step_mm: f64,
+    #[serde(default)]
+    pub axion_mass_ev: f64,
+    pub g_agamma: f64,
+    #[serde(default)]
+    pub gas: Option<BufferGasDesc>,
+}
+
+fn default_step() -> f64 {
+    DEFAULT_STEP_MM
+}
+
+/// The default step through a field map: halving it changes BabyIAXO's P by
+/// less than 1e-6 (tests/it/magnet.rs), well inside the 1e-4 asked of it.
+pub const DEFAULT_STEP_MM: f64 = 10.0;
+
+/// The shipped field maps, by name.
+pub const SHIPPED_MAPS: [(&str, &str); 1] = [(
+    "bykovskiy_201906",
+    include_str!(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/data/magnets/Bykovskiy_201906.dat"
+    )),
+)];
+
+/// A shipped map, parsed once per process.
+fn shipped_map(name: &str) -> Option<Result<Arc<FieldMap>, String>> {
+    type Parsed = OnceLock<Result<Arc<FieldMap>, String>>;
+    static PARSED: [Parsed; SHIPPED_MAPS.len()] = [const { OnceLock::new() }; SHIPPED_MAPS.len()];
+    let k = SHIPPED_MAPS.iter().position(|(n, _)| *n == name)?;
+    let text = SHIPPED_MAPS[k].1;
+    Some(
+        PARSED[k]
+            .get_or_init(|| {
+                FieldMap::parse(&format!("data/magnets/{name}"), text)
+                    .map(Arc::new)
+                    .map_err(|e| e.0)
+            })
+            .clone(),
+    )
+}
+
+/// The bore: a cylinder's radius and ends (its local frame) and its placement.
+pub struct Bore<'a> {
+    pub name: &'a str,
+    pub radius: f64,
+    pub z_start: f64,
+    pub z_end: f64,
+    pub to_world: crate::geometry::Transform,
+}
+
+/// Builds the magnet; `dir` is the scene file's folder (for a map file, which
+/// `note` records as an input).
+pub fn build(
+    d: &MagnetDesc,
+    bore: &Bore,
+    dir: &Path,
+    note: &dyn Fn(&Path),
+) -> Result<Magnet, String> {
+    let centre = 0.5 * (bore.z_start + bore.z_end);
+    let frame = crate::geometry::Transform::from_affine(DAffine3::from_translation(DVec3::new(
+        0.0, 0.0, centre,
+    )))
+    .then(&bore.to_world);
+    let half_length_mm = 0.5 * (bore.z_end - bore.z_start).abs();
+    if !(d.step_mm.is_finite() && d.step_mm > 0.0) {
+        return Err(format!(
+            "step_mm = {}: the path integral's step is a length > 0 (mm)",
+            d.step_mm
+        ));
+    }
+    if !(d.axion_mass_ev.is_finite() && d.axion_mass_ev >= 0.0) {
+        return Err(format!(
+            "axion_mass_ev = {}: a mass is ≥ 0 (eV)",
+            d.axion_mass_ev
+        ));
+    }
+    if !(d.g_agamma.is_finite() && d.g_agamma > 0.0) {
+        return Err(format!(
+            "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
+            d.g_agamma
+        ));
+    }
+    let field = match (d.field_t, &d.field_map) {
+        (Some(b), None) => uniform(b, d.field_direction)?,
+        (None, Some(name)) => {
+            if d.field_direction.is_some() {
+                return Err("field_direction is for a uniform field (field_t); a map gives its own".into());
+            }
+            let map = match shipped_map(name) {
+                Some(m) => m?,
+                None => {
+                    let path = dir.join(name);
+                    if !path.is_file() {
+                        let shipped: Vec<&str> = SHIPPED_MAPS.iter().map(|m| m.0).collect();
+                        return Err(format!(
+                            "field_map = \"{name}\": not a shipped map ({}) and no file {}",
+                            shipped.join(", "),
+                            path.display()
+                        ));
+                    }
+                    note(&path);
+                    let text = std::fs::read_to_string(&path)
+                        .map_err(|e| format!("{}: {e}", path.display()))?;
+                    Arc::new(FieldMap::parse(&path.display().to_string(), &text).map_err(|e| e.0)?)
+                }
+            };
+            let to_map = transform(&d.field_map_transform)
+                .map_err(|(_, m)| format!("field_map_transform: {m}"))?;
+            // The steps place the map in the bore's frame; points go the other way.
+            let to_map = crate::geometry::Transform::from_affine(to_map.to_local);
+            check_coverage(&map, &to_map, bore.radius, half_length_mm, name)?;
+            Field::Map {
+                map,
+                to_map: Box::new(to_map),
+                name: name.clone(),
+            }
+        }
+        _ => return Err("give the field as field_t = TESLA (uniform over the bore) or field_map = NAME|FILE, one of them".into()),
+    };
+    let gas = d
+        .gas
+        .as_ref()
+        .map(|g| BufferGas::new(g).map_err(|e| format!("gas: {}", e.0)))
+        .transpose()?;
+    let magnet = Magnet {
+        bore: bore.name.to_string(),
+        frame,
+        half_length_mm,
+        radius_mm: bore.radius,
+        field,
+        step_mm: d.step_mm,
+        gas,
+        axion_mass_ev: d.axion_mass_ev,
+        g_agamma_gev: d.g_agamma,
+    };
+    check_representable(&magnet)?;
+    Ok(magnet)
+}
+
+/// Refuses a coupling or mass whose P is below the smallest normal double on
+/// the bore's axis at 1, 4 and 10 keV: images of zeros, not a result.
+fn check_representable(m: &Magnet) -> Result<(), String> {
+    let (o, d) = crate::magnet::probe::lines(m, crate::magnet::probe::Where::Line([0.0, 0.0]))[0];
+    let path = m.path_of(o, d);
+    if [1.0, 4.0, 10.0]
+        .iter()
+        .all(|&e| path.probability(m, e, m.axion_mass_ev) < f64::MIN_POSITIVE)
+    {
+        return Err(format!(
+            "P(a→γ) underflows (below 2.2e-308 on the bore's axis at 1–10 keV) for g_aγ = {:e} GeV⁻¹ and m_a = {} eV: the images would be zeros; P scales as g_aγ², so trace at a coupling near 1e-10 and scale the counts by (g_aγ / 1e-10)⁴ (production and conversion)",
+            m.g_agamma_gev, m.axion_mass_ev
+        ));
+    }
+    Ok(())
+}
+
+/// A uniform field of `b` tesla along `direction` (default +y).
+fn uniform(b: f64, direction: Option<[f64; 3]>) -> Result<Field, String> {
+    if !(b.is_finite() && b > 0.0) {
+        return Err(format!("field_t = {b}: a field is > 0 (T)"));
+    }
+    let d = DVec3::from(direction.unwrap_or([0.0, 1.0, 0.0]));
+    let Some(direction) = d.try_normalize() else {
+        return Err("field_direction must not be zero".into());
+    };
+    if direction.z.abs() > 1.0 - 1e-12 {
+        return Err("field_direction is along the bore's axis: an axial field converts no axions (give a transverse direction)".into());
+    }
+    Ok(Field::Uniform {
+        tesla: b,
+        direction,
+    })
+}
+
+/// Refuses a map that does not hold the whole bore (a cylinder of `radius`
+/// and `half_length` about the origin of the bore's frame), saying how far
+/// the bore reaches beyond it.
+fn check_coverage(
+    map: &FieldMap,
+    to_map: &crate::geometry::Transform,
+    radius: f64,
+    half_length: f64,
+    name: &str,
+) -> Result<(), String> {
+    let (lo, hi) = (map.origin, map.end());
+    let mut beyond = [0.0f64; 3];
+    for k in 0..720 {
+        let phi = k as f64 * std::f64::consts::TAU / 720.0;
+        for z in [-half_length, half_length] {
+            let p = to_map.point(DVec3::new(radius * phi.cos(), radius * phi.sin(), z));
+            for a in 0..3 {
+                beyond[a] = beyond[a].max(lo[a] - p[a]).max(p[a] - hi[a]);
+            }
+        }
+    }
+    // 1 µm: the map's nodes are read from text, the bore from the scene.
+    if let Some(a) = (0..3).find(|&a| beyond[a] > 1e-3) {
+        let axis = ["x", "y", "z"][a];
+        return Err(format!(
+            "field_map \"{name}\" does not cover the bore: the bore reaches {:.1} mm beyond the map in {axis} (the map spans {axis} = {} to {} mm; bore radius {radius} mm, length {} mm, in the map's frame); move the map with field_map_transform, or use a map that holds the bore",
+            beyond[a], lo[a], hi[a], 2.0 * half_length
+        ));
+    }
+    Ok(())
+}
+
+/// The bore's index among the scene's objects and its cylinder, when the
+/// scene has a magnet (found before the objects are built).
+pub(super) fn find_bore(
+    at: super::error::SceneText,
+    desc: &super::desc::SceneDesc,
+) -> Result<Option<(usize, super::shapes::CylinderDesc)>, super::SceneError> {
+    let Some(m) = &desc.magnet else {
+        return Ok(None);
+    };
+    let name = &m.get_ref().bore;
+    let named = |o: &&Spanned<super::desc::ObjectDesc>| o.get_ref().name.as_deref() == Some(name);
+    let Some((k, object)) = desc.objects.iter().enumerate().find(|(_, o)| named(o)) else {
+        let names: Vec<&str> = desc
+            .objects
+            .iter()
+            .filter_map(|o| o.get_ref().name.as_deref())
+            .take(12)
+            .collect();
+        return Err(at.error(
+            m.span(),
+            format!(
+                "magnet: bore = \"{name}\" names no object (objects: {})",
+                names.join(", ")
+            ),
+        ));
+    };
+    match object.get_ref().shape.get_ref() {
+        super::shapes::ShapeDesc::Cylinder(c) if c.azimuth.is_none() => Ok(Some((k, c.clone()))),
+        other => Err(at.error(
+            m.span(),
+            format!(
+                "magnet: bore = \"{name}\" is a {}, not a bore: the field fills a whole cylinder (shape = {{ type = \"cylinder\", radius, z_start, z_end }}, no azimuth)",
+                other.kind()
+            ),
+        )),
+    }
+}
+
+/// Builds the magnet on the built bore and hands it to the scene's Sun.
+pub(super) fn attach(
+    at: super::error::SceneText,
+    desc: &super::desc::SceneDesc,
+    bore: Option<(usize, super::shapes::CylinderDesc)>,
+    objects: &[super::Object],
+    sources: &mut [crate::source::Source],
+    dir: &Path,
+    inputs: &super::inputs::InputFiles,
+) -> Result<Option<Arc<Magnet>>, super::SceneError> {
+    let (Some(m), Some((k, c))) = (&desc.magnet, bore) else {
+        return Ok(None);
+    };
+    let fail = |msg: String| at.error(m.span(), format!("magnet: {msg}"));
+    let bore = Bore {
+        name: &m.get_ref().bore,
+        radius: c.radius,
+        z_start: c.z_start,
+        z_end: c.z_end,
+        to_world: objects[k].transform,
+    };
+    let magnet = Arc::new(build(m.get_ref(), &bore, dir, &|p| inputs.note(p)).map_err(fail)?);
+    match sources {
+        [crate::source::Source::Sun(sun)] => sun.magnet = Some(magnet.clone()),
+        _ => {
+            return Err(fail(
+                "a magnet converts axions: the scene's source must be a `sun`".into(),
+            ))
+        }
+    }
+    Ok(Some(magnet))
+}
+
+/// A magnet without a scene (`traxer conversion`): a uniform field over
+/// `length_mm` in a bore of 1 m radius, or a field map filling the largest
+/// cylinder its grid holds (its axis the grid's z axis, through the grid's
+/// centre).
+pub fn standalone(d: &MagnetDesc, length_mm: Option<f64>) -> Result<Magnet, String> {
+    let identity = crate::geometry::Transform::default();
+    match (&d.field_map, length_mm) {
+        (Some(_), Some(_)) => {
+            Err("a field map sets its own length (its z extent): leave out the length".into())
+        }
+        (None, None) => Err("a uniform field needs the magnet's length".into()),
+        (None, Some(l)) if !(l.is_finite() && l > 0.0) => {
+            Err(format!("length {l} mm: a length is > 0"))
+        }
+        (None, Some(l)) => {
+            let bore = Bore {
+                name: "bore",
+                radius: 1000.0,
+                z_start: -0.5 * l,
+                z_end: 0.5 * l,
+                to_world: identity,
+            };
+            build(d, &bore, Path::new("."), &|_| {})
+        }
+        (Some(name), None) => {
+            let map = match shipped_map(name) {
+                Some(m) => m?,
+                None => {
+                    let text = std::fs::read_to_string(name).map_err(|e| format!("{name}: {e}"))?;
+                    Arc::new(FieldMap::parse(name, &text).map_err(|e| e.0)?)
+                }
+            };
+            let (lo, hi) = (map.origin, map.end());
+            let centre: [f64; 3] = std::array::from_fn(|a| 0.5 * (lo[a] + hi[a]));
+            let bore = Bore {
+                name: "bore",
+                radius: 0.5 * (hi[0] - lo[0]).min(hi[1] - lo[1]),
+                z_start: lo[2] - centre[2],
+                z_end: hi[2] - centre[2],
+                to_world: identity,
+            };
+            let placed = MagnetDesc {
+                field_map_transform: vec![Spanned::new(
+                    0..0,
+                    TransformStep::Translate(centre.map(|c| -c)),
+                )],
+                ..d.clone()
+            };
+            build(&placed, &bore, Path::new("."), &|_| {})
+        }
+    }
+}
