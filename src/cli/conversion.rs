@@ -125,9 +125,11 @@ fn magnet(a: &ConversionArgs) -> anyhow::Result<Magnet> {
             let device = traxer::embree::Device::new()?;
             let s = traxer::scene::Scene::load(&device, scene, &a.vars.define)?;
             let Some(m) = s.magnet.as_deref() else {
-                return Err(
-                    InputError(format!("{}: the scene has no [magnet]", scene.display())).into(),
-                );
+                return Err(InputError(format!(
+                    "{}: the scene has no [magnet] (or it is not enabled: a scene variable such as -D magnet=true may switch it on)",
+                    scene.display()
+                ))
+                .into());
             };
             m.clone()
         }
@@ -138,6 +140,7 @@ fn magnet(a: &ConversionArgs) -> anyhow::Result<Magnet> {
                 temperature_k: a.temperature_k.unwrap_or_default(),
             });
             let desc = MagnetDesc {
+                enabled: true,
                 bore: "bore".into(),
                 field_t: a.field_t,
                 field_direction: None,

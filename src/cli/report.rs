@@ -45,10 +45,20 @@ pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
     for (spec, img) in scene.sensors.iter().zip(&result.images) {
         match scene.rate_per_unit_weight(s.photons_emitted) {
             Some(k) => say!(
-                "  sensor {}: {} photons, {:.4e} axions/s",
+                "  sensor {}: {} photons, {:.4e} {}/s{}",
                 spec.name,
                 img.total_counts(),
-                img.total_flux() * k
+                img.total_flux() * k,
+                scene.counted().particles(),
+                match scene.counted() {
+                    traxer::scene::Counted::XRays => {
+                        format!(
+                            " ({:.4e} per hour of tracking)",
+                            img.total_flux() * k * 3600.0
+                        )
+                    }
+                    _ => String::new(),
+                }
             ),
             None => say!(
                 "  sensor {}: {} photons, flux {:.6e} ph (sum of photon weights)",

@@ -76,6 +76,44 @@ impl Magnet {
         Some((a.min(b), a.max(b)))
     }
 
+    /// The magnet for a run's summary: its bore, field, gas, mass and
+    /// coupling, and P on the bore's axis at 1, 4 and 8 keV.
+    pub fn describe(&self) -> serde_json::Value {
+        let field = match &self.field {
+            Field::Uniform { tesla, direction } => serde_json::json!({
+                "uniform_t": tesla,
+                "direction_in_bore_frame": direction.to_array(),
+            }),
+            Field::Map { name, .. } => serde_json::json!({
+                "map": name,
+                "step_mm": self.step_mm,
+            }),
+        };
+        let (o, d) = probe::lines(self, probe::Where::Line([0.0, 0.0]))[0];
+        let path = self.path_of(o, d);
+        let on_axis: Vec<serde_json::Value> = [1.0, 4.0, 8.0]
+            .iter()
+            .map(|&e| serde_json::json!({"energy_keV": e, "probability": path.probability(self, e, self.axion_mass_ev)}))
+            .collect();
+        serde_json::json!({
+            "bore": self.bore,
+            "length_mm": 2.0 * self.half_length_mm,
+            "radius_mm": self.radius_mm,
+            "field": field,
+            "axion_mass_ev": self.axion_mass_ev,
+            "g_agamma_per_gev": self.g_agamma_gev,
+            "gas": self.gas.as_ref().map(|g| serde_json::json!({
+                "mixture": g.desc.mixture,
+                "pressure_mbar": g.desc.pressure_mbar,
+                "temperature_k": g.desc.temperature_k,
+                "photon_mass_ev": g.photon_mass_ev(),
+                "attenuation": "total: Henke photoabsorption + NIST FFAST coherent and incoherent scattering",
+            })),
+            "probability_on_axis": on_axis,
+            "what": "each photon's weight is times P(a→γ) of its axion along its straight path between the bore's end planes: images are X-rays per second",
+        })
+    }
+
     /// The transverse field along the photon's path, sampled for the
     /// amplitude integral (eV² on two axes ⊥ the path, step in eV⁻¹). Outside
     /// the map (a path leaving the bore, whose photon the bore's wall stops)

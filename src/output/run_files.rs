@@ -20,6 +20,7 @@ use super::{
 use super::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
 use crate::analysis::{projections, FinishedImage, ImageGeometry};
 use crate::files::atomic_write;
+use crate::scene::Counted;
 use crate::scene::Scene;
 use crate::sensor::{fits_file_name, grid_fits_file_name, GridFiles, SensorFiles, SUMMARY_FILE};
 use crate::source::Source;
@@ -151,7 +152,7 @@ fn write_sensor(
         let fits = SensorFits {
             spec,
             flux,
-            unit: flux_unit(absolute.is_some()),
+            unit: flux_unit(scene.counted()),
             energy_kev: image_energy_range(scene, spec),
             provenance: run.provenance,
             json_name: &files.json,
@@ -191,7 +192,7 @@ fn write_sensor(
         "energy_band_edges_keV": spec.band_edges(),
         "units": {
             "lengths": "mm",
-            "flux": flux_units(absolute.is_some(), spec.gas.is_some()),
+            "flux": flux_units(scene.counted(), spec.gas.is_some()),
             "counts": "number of photons per pixel",
         },
         "total_flux": finished.total_flux(),
@@ -269,12 +270,14 @@ fn sky_wcs_json(c: &SkyCalibration) -> Value {
 }
 
 /// What a sensor's pixel values are, in words, for `NAME.json`.
-fn flux_units(absolute: bool, gas: bool) -> &'static str {
-    match (absolute, gas) {
-        (true, false) => "axions per second per pixel reaching the sensor (before the conversion probability in the magnet), for the coupling in sources[].coupling",
-        (true, true) => "axions per second per pixel whose X-ray converts in the detector gas over that pixel (before the conversion probability in the magnet), for the coupling in sources[].coupling",
-        (false, false) => "sum of photon weights per pixel (see sources[].weight)",
-        (false, true) => "sum of photon weights per pixel, each times its probability of converting in the detector gas (see sources[].weight)",
+fn flux_units(counted: Counted, gas: bool) -> &'static str {
+    match (counted, gas) {
+        (Counted::Axions, false) => "axions per second per pixel reaching the sensor (before the conversion probability in the magnet: the scene has none), for the coupling in sources[].coupling",
+        (Counted::Axions, true) => "axions per second per pixel whose X-ray converts in the detector gas over that pixel (before the conversion probability in the magnet: the scene has none), for the coupling in sources[].coupling",
+        (Counted::XRays, false) => "X-ray photons per second per pixel reaching the sensor: axions converted in the magnet (see magnet), for the couplings in sources[].coupling and magnet.g_agamma_per_gev",
+        (Counted::XRays, true) => "X-ray photons per second per pixel converting in the detector gas over that pixel: axions converted in the magnet (see magnet), for the couplings in sources[].coupling and magnet.g_agamma_per_gev",
+        (Counted::Weights, false) => "sum of photon weights per pixel (see sources[].weight)",
+        (Counted::Weights, true) => "sum of photon weights per pixel, each times its probability of converting in the detector gas (see sources[].weight)",
     }
 }
 
@@ -357,19 +360,22 @@ fn write_conversion_files(
 }
 
 /// What a sensor's pixel values are (as FITS BUNIT): photons per pixel, weighted
-/// as each source says (`sources[].weight` in the sensor's JSON), or axions per
-/// second with a Sun.
-pub fn flux_unit(absolute: bool) -> FluxUnit {
-    if absolute {
-        FluxUnit {
+/// as each source says (`sources[].weight` in the sensor's JSON), or axions (or,
+/// with a magnet, converted X-rays) per second with a Sun.
+pub fn flux_unit(counted: Counted) -> FluxUnit {
+    match counted {
+        Counted::Axions => FluxUnit {
             bunit: "s-1",
             comment: "axions per second per pixel reaching the sensor",
-        }
-    } else {
-        FluxUnit {
+        },
+        Counted::XRays => FluxUnit {
+            bunit: "s-1",
+            comment: "X-rays per second per pixel (axions converted in the magnet)",
+        },
+        Counted::Weights => FluxUnit {
             bunit: "ph",
             comment: "weighted photons per pixel (see sources[].weight)",
-        }
+        },
     }
 }
 
@@ -523,6 +529,7 @@ pub fn sources_json(scene: &Scene, photons: u64) -> Value {
                     "rate_through_target_per_s": sun.rate_through_target(),
                     "rate_per_unit_weight_per_s": sun.rate_per_unit_weight(photons),
                     "weight": s.describe_weight(),
+                    "magnet": sun.magnet.as_deref().map(crate::magnet::Magnet::describe),
                 }),
             })
             .collect(),

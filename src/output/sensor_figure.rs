@@ -193,11 +193,17 @@ fn linear_top(values: &[f64]) -> Option<(f64, usize)> {
 /// conversion in the magnet is not in it.
 fn unit(scene: &Scene, spec: &SensorSpec, absolute: bool) -> String {
     if absolute {
-        return match spec.gas {
-            Some(_) => {
+        return match (scene.counted(), spec.gas.is_some()) {
+            (crate::scene::Counted::XRays, true) => {
+                "X-rays s⁻¹ per pixel converting in the gas (axions converted in the magnet)"
+            }
+            (crate::scene::Counted::XRays, false) => {
+                "X-rays s⁻¹ per pixel (axions converted in the magnet)"
+            }
+            (_, true) => {
                 "axions s⁻¹ per pixel converting in the gas (P(a→γ) in the magnet not applied)"
             }
-            None => "axions s⁻¹ per pixel (P(a→γ) in the magnet not applied)",
+            (_, false) => "axions s⁻¹ per pixel (P(a→γ) in the magnet not applied)",
         }
         .into();
     }

@@ -41,7 +41,7 @@ pub fn write_systematics(
     write_table(&dir.join(f[0]), s)?;
     write_json(&dir.join(f[1]), &description(s, provenance))?;
     let [nx, ny] = s.frame.pixels;
-    let unit = flux_unit(s.facts.absolute);
+    let unit = flux_unit(s.facts.counted);
     let mut maps = vec![
         Map {
             name: String::new(),
@@ -160,10 +160,9 @@ fn figure<'a>(s: &Systematics, values: &'a [f64], (scene, what): (&str, &str)) -
             .then(|| SecondaryAxes::pixel_index(fr.step_mm[0], [extent[0][0], extent[1][0]])),
         unit: format!(
             "{} per {}",
-            if s.facts.absolute {
-                "axions s⁻¹"
-            } else {
-                "weight"
+            match s.facts.counted.particles() {
+                "" => "weight".to_string(),
+                p => format!("{p} s⁻¹"),
             },
             if on_grid {
                 "detector pixel"
@@ -236,7 +235,7 @@ pub fn description(s: &Systematics, provenance: &Provenance) -> serde_json::Valu
         "provenance": provenance,
         "what": "the image's systematic uncertainty: the scene traced under each source of uncertainty with the same photons (common random numbers); each source's standard deviation sigma (draws: their sample standard deviation; a low and a high value taken as ±1σ: the root mean square of their differences to the nominal; an alternative model: its difference to the nominal) and mean shift (draws: their mean minus the nominal; a range: the mean of low and high minus the nominal; an alternative: it minus the nominal), the sources combined in quadrature",
         "units": {
-            "flux": if s.facts.absolute { "axions per second on the sensor" } else { "summed photon weights on the sensor" },
+            "flux": if s.facts.absolute { format!("{} per second on the sensor", s.facts.counted.particles()) } else { "summed photon weights on the sensor".into() },
             "central_flux": format!("the same in the central {} around the sensor's centre", crate::studies::systematics::central_words(s.facts.central_mm, s.facts.central_circle)),
             "diameters": "arcsec (HPD, 80 %, 90 % encircled flux)",
             "centroid": "mm on the sensor",

@@ -20,6 +20,7 @@ use toml::Spanned;
 ///
 /// ```toml
 /// [magnet]
+/// enabled = true                   # optional: false leaves the axions unconverted
 /// bore = "bore"                    # the cylinder object the field fills
 /// field_t = 9.0                    # a uniform transverse field (T) over the bore, or
 /// field_map = "bykovskiy_201906"   # a field map: shipped (data/magnets/) or FILE
@@ -33,6 +34,10 @@ use toml::Spanned;
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MagnetDesc {
+    /// `false`: the scene as without the table (images of axions before
+    /// conversion), for a scene variable that switches the magnet.
+    #[serde(default = "yes")]
+    pub enabled: bool,
     pub bore: String,
     #[serde(default)]
     pub field_t: Option<f64>,
@@ -50,6 +55,10 @@ pub struct MagnetDesc {
     pub g_agamma: f64,
     #[serde(default)]
     pub gas: Option<BufferGasDesc>,
+}
+
+fn yes() -> bool {
+    true
 }
 
 fn default_step() -> f64 {
@@ -164,9 +173,11 @@ pub fn build(
         }
         _ => return Err("give the field as field_t = TESLA (uniform over the bore) or field_map = NAME|FILE, one of them".into()),
     };
+    // No pressure is vacuum (a scene variable may set the gas phase's 0).
     let gas = d
         .gas
         .as_ref()
+        .filter(|g| g.pressure_mbar != 0.0)
         .map(|g| BufferGas::new(g).map_err(|e| format!("gas: {}", e.0)))
         .transpose()?;
     let magnet = Magnet {
@@ -257,7 +268,7 @@ pub(super) fn find_bore(
     at: super::error::SceneText,
     desc: &super::desc::SceneDesc,
 ) -> Result<Option<(usize, super::shapes::CylinderDesc)>, super::SceneError> {
-    let Some(m) = &desc.magnet else {
+    let Some(m) = desc.magnet.as_ref().filter(|m| m.get_ref().enabled) else {
         return Ok(None);
     };
     let name = &m.get_ref().bore;

@@ -94,6 +94,35 @@ pub struct Scene {
     pub triangle_count: usize,
 }
 
+/// What a unit of a scene's images counts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Counted {
+    /// Summed photon weights (beams and point sources: see their weights).
+    Weights,
+    /// A Sun without a magnet: axions per second, before conversion.
+    Axions,
+    /// A Sun with a magnet: X-ray photons per second, each axion weighted by
+    /// its conversion probability.
+    XRays,
+}
+
+impl Counted {
+    /// Whether images are rates per second (a Sun).
+    pub fn absolute(self) -> bool {
+        self != Counted::Weights
+    }
+
+    /// What one per-second unit is: "axions" or "X-rays" ("" for weights).
+    pub fn particles(self) -> &'static str {
+        match self {
+            Counted::Weights => "",
+            Counted::Axions => "axions",
+            Counted::XRays => "X-rays",
+        }
+    }
+}
+
 /// One object of a built scene; its index is its Embree geometry id.
 pub struct Object {
     pub name: String,
@@ -210,6 +239,15 @@ impl Scene {
         representation: Representation,
     ) -> Result<Scene, SceneError> {
         build::build(device, path, load::read(path, overrides)?, representation)
+    }
+
+    /// What a unit of the scene's images counts.
+    pub fn counted(&self) -> Counted {
+        match (self.rate_per_unit_weight(1), &self.magnet) {
+            (None, _) => Counted::Weights,
+            (Some(_), None) => Counted::Axions,
+            (Some(_), Some(_)) => Counted::XRays,
+        }
     }
 
     /// With a `sun` source (then the only source), the axions per second that one

@@ -163,8 +163,11 @@ impl Source {
             Source::Point(_) => {
                 "weight = fraction of the full sphere; the image is the expected photons per pixel if the source emitted `photons` photons isotropically"
             }
+            Source::Sun(s) if s.magnet.is_some() => {
+                "weight = cos θ · D_min² / |target − emission point|² (≈ 1), times, when two emissions are drawn half the photons each (primakoff+abc), twice the drawn emission's share of the luminosity, times the axion's conversion probability P(a→γ) along its path through the magnet; images are the summed weights × rate_per_unit_weight: X-ray photons per second per pixel"
+            }
             Source::Sun(_) => {
-                "weight = cos θ · D_min² / |target − emission point|² (≈ 1), times, when two emissions are drawn half the photons each (primakoff+abc), twice the drawn emission's share of the luminosity; images are the summed weights × rate_per_unit_weight: axions per second per pixel, before the conversion probability in the magnet"
+                "weight = cos θ · D_min² / |target − emission point|² (≈ 1), times, when two emissions are drawn half the photons each (primakoff+abc), twice the drawn emission's share of the luminosity; images are the summed weights × rate_per_unit_weight: axions per second per pixel, before the conversion probability in the magnet (the scene has none)"
             }
         }
     }

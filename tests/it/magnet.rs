@@ -348,6 +348,7 @@ g_agamma = 1e-10
     }
     // A standalone uniform field refuses a map's length, and a map's length.
     let desc = |map: Option<&str>| MagnetDesc {
+        enabled: true,
         bore: "bore".into(),
         field_t: map.is_none().then_some(2.0),
         field_direction: None,
@@ -360,4 +361,96 @@ g_agamma = 1e-10
     };
     assert!(standalone(&desc(None), None).is_err());
     assert!(standalone(&desc(Some("bykovskiy_201906")), Some(1000.0)).is_err());
+}
+
+fn traced_flux(scene: &str, defines: &[&str], photons: u64) -> f64 {
+    let defines: Vec<String> = defines.iter().map(|d| d.to_string()).collect();
+    let path = crate::common::repo().join("scenes").join(scene);
+    let s = traxer::scene::Scene::load(&crate::common::device(), &path, &defines).unwrap();
+    let r = traxer::trace::run(&s, &traxer::trace::RunConfig::new(photons, 3)).unwrap();
+    r.images[0].total_flux() * s.rate_per_unit_weight(photons).unwrap()
+}
+
+#[test]
+fn a_uniform_magnet_multiplies_the_cast_image_by_the_closed_form() {
+    // The same photons with and without the magnet: every axion's path is
+    // the bore's 9.26 m to within 1e-5 (the Sun is 0.27° across), so the
+    // image's ratio is (g B L / 2)² at g_aγ = 1e-10 GeV⁻¹, 9 T. At
+    // m_a = 0.05 eV (qL/2 ≈ 1.2 at 4 keV) coherence is lost: the image
+    // must fall well below it.
+    let scene = "cast_axion_image.toml";
+    let without = traced_flux(scene, &[], 4000);
+    let with = traced_flux(scene, &["magnet=true"], 4000);
+    let p = uniform_probability(1e-19, 9.0 * TESLA, 9.26 * METRE, 0.0, 0.0);
+    assert!(
+        rel(with / without, p) < 1e-3,
+        "{:e} vs P {p:e}",
+        with / without
+    );
+    let heavy = traced_flux(scene, &["magnet=true", "axion_mass_ev=0.05"], 4000);
+    assert!(
+        heavy < 0.5 * with,
+        "m_a = 0.05 eV loses coherence: {heavy:e} vs {with:e}"
+    );
+}
+
+#[test]
+fn the_babyiaxo_map_weights_the_image_within_the_bores_range_of_p() {
+    // With the field map, each axion's P depends on where it crosses the
+    // bore: the image's ratio to the unconverted one is a weighted mean of
+    // P over the paths, so it lies between the least and the largest P of
+    // the bore's axial lines (at the scene's g_aγ = 1e-12 GeV⁻¹), and below
+    // the axis's (the field is strongest on the axis).
+    let scene = "babyiaxo_axion_image.toml";
+    let without = traced_flux(scene, &["emission=primakoff"], 20000);
+    let with = traced_flux(scene, &["emission=primakoff", "magnet=true"], 20000);
+    let ratio = with / without;
+    let lines = |place: &[&str]| {
+        let mut a = vec![
+            "--field-map",
+            "bykovskiy_201906",
+            "--energies",
+            "4",
+            "--g-agamma",
+            "1e-12",
+        ];
+        a.extend_from_slice(place);
+        conversion(&a)[0]
+    };
+    let axis = lines(&["--at", "0,0"]);
+    let edge = lines(&["--at", "340,0"]).min(lines(&["--at", "0,340"]));
+    assert!(
+        ratio < axis && ratio > edge,
+        "{ratio:e} not within ({edge:e}, {axis:e})"
+    );
+}
+
+#[test]
+fn with_a_magnet_the_outputs_say_x_rays() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let scene = crate::common::repo().join("scenes/cast_axion_image.toml");
+    let run = run_ok(
+        traxer()
+            .arg("trace")
+            .arg(&scene)
+            .args(["-n", "2000", "-D", "magnet=true", "-o"])
+            .arg(&out),
+    );
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert!(
+        stdout.contains("X-rays/s") && stdout.contains("per hour of tracking"),
+        "{stdout}"
+    );
+    let json = std::fs::read_to_string(out.join("chip.json")).unwrap();
+    assert!(
+        json.contains("X-ray photons per second per pixel")
+            && !json.contains("before the conversion"),
+        "{json}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"magnet\"") && summary.contains("\"uniform_t\": 9.0"),
+        "{summary}"
+    );
 }

@@ -251,6 +251,7 @@ pub fn run(
             central_mm: s.central_mm,
             central_circle: s.central_circle,
             absolute: nominal.rate_per_unit_weight(s.photons).is_some(),
+            counted: nominal.counted(),
             seconds: start.elapsed().as_secs_f64(),
             threads,
         },

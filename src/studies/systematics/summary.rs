@@ -67,8 +67,10 @@ pub struct RunFacts {
     /// circle's radius (mm), about the sensor's centre.
     pub central_mm: f64,
     pub central_circle: bool,
-    /// Whether fluxes are in axions s⁻¹ (a Sun) or summed weights.
+    /// Whether fluxes are per second (a Sun) or summed weights …
     pub absolute: bool,
+    /// … and what they count (axions, or X-rays with a magnet).
+    pub counted: crate::scene::Counted,
     pub seconds: f64,
     pub threads: usize,
 }
