@@ -200,7 +200,8 @@ class SensorImage:
     counts: npt.NDArray[np.uint64]
     """Photons per pixel, the shape of ``flux``. Equal to NAME_counts.npy."""
     unit: Literal["ph", "s-1"]
-    """"ph" (weighted photons per pixel) or "s-1" (axions per second per pixel)."""
+    """"ph" (weighted photons per pixel) or "s-1" (axions per second per pixel;
+    with a magnet, X-rays per second)."""
     size_mm: tuple[float, float]
     """(x, y) extent of the sensor, mm."""
     pixels: tuple[int, int]

@@ -31,11 +31,12 @@ pub struct SensorImage {
     pub name: String,
     /// [iy, ix], or [band, iy, ix] with energy bins; ix along the sensor's local
     /// x. The sum of photon weights per pixel, or axions per second with a Sun
-    /// source (see `unit`). Equal to NAME.npy.
+    /// source — X-rays per second with a magnet (see `unit`). Equal to NAME.npy.
     pub flux: Py<PyAny>,
     /// Photons per pixel, the shape of `flux`. Equal to NAME_counts.npy.
     pub counts: Py<PyAny>,
-    /// "ph" (weighted photons per pixel) or "s-1" (axions per second per pixel).
+    /// "ph" (weighted photons per pixel) or "s-1" (axions per second per pixel;
+    /// with a magnet, X-rays per second).
     pub unit: String,
     /// (x, y) extent of the sensor, mm.
     pub size_mm: (f64, f64),
@@ -104,7 +105,7 @@ impl SensorImage {
         py: Python<'_>,
         spec: &SensorSpec,
         image: &traxer::sensor::SensorImage,
-        absolute: Option<f64>,
+        (absolute, counted): (Option<f64>, traxer::scene::Counted),
     ) -> PyResult<SensorImage> {
         let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
         let finished = FinishedImage::of(spec, image, absolute);
@@ -166,7 +167,7 @@ impl SensorImage {
             total_counts: image.total_counts(),
             flux: array(py, &shape, flux)?.unbind(),
             counts: array(py, &shape, image.counts.clone())?.unbind(),
-            unit: flux_unit(absolute.is_some()).bunit.to_string(),
+            unit: flux_unit(counted).bunit.to_string(),
             size_mm: (spec.size[0], spec.size[1]),
             pixels: (spec.pixels[0], spec.pixels[1]),
             pixel_pitch_mm: (pitch[0], pitch[1]),
@@ -257,7 +258,8 @@ impl TraceResult {
         let sensors = PyDict::new(py);
         let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
         for (spec, image) in scene.sensors.iter().zip(&tally.images) {
-            sensors.set_item(&spec.name, SensorImage::new(py, spec, image, absolute)?)?;
+            let units = (absolute, scene.counted());
+            sensors.set_item(&spec.name, SensorImage::new(py, spec, image, units)?)?;
             // The CLI's warnings on setups that are hardly what was meant.
             let finished = traxer::analysis::FinishedImage::of(spec, image, absolute);
             for d in traxer::analysis::doubts(spec, image, &finished, scene.has_mirrors()) {

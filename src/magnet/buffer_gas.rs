@@ -167,7 +167,8 @@ mod tests {
     #[test]
     fn helium_at_10_mbar_and_1_8_k_gives_the_photon_mass_of_the_literature() {
         // 0.333 eV (the issue), and the textbook form m_γ ≈ 28.77 eV √(Z ρ / A)
-        // with ρ in g/cm³ from the ideal gas law on its own.
+        // with ρ in g/cm³ from the ideal gas law on its own (its coefficient is
+        // rounded: CODATA's constants give 28.816, 0.16 % more).
         let g = helium(10.0, 1.8);
         assert!(
             (g.photon_mass_ev() - 0.333).abs() < 0.001,
@@ -176,6 +177,6 @@ mod tests {
         );
         let rho: f64 = 1000.0 * 4.002602 / (8.314_462_618 * 1.8) * 1e-6;
         let textbook = 28.77 * (2.0 * rho / 4.002602).sqrt();
-        assert!((g.photon_mass_ev() / textbook - 1.0).abs() < 1e-3);
+        assert!((g.photon_mass_ev() / textbook - 1.0).abs() < 2e-3);
     }
 }

@@ -319,3 +319,80 @@ fn the_abc_flux_table_of_docs_cast_comes_out_of_its_command() {
         );
     }
 }
+
+/// The probabilities `traxer conversion ARGS` prints.
+fn conversion(args: &str) -> Vec<f64> {
+    let o = run_ok(
+        traxer()
+            .current_dir(repo())
+            .arg("conversion")
+            .args(args.split(' '))
+            .arg("-q"),
+    );
+    String::from_utf8(o.stdout)
+        .unwrap()
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(2).unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn the_magnet_numbers_of_docs_magnet_come_out_of_their_commands() {
+    let table = [
+        (
+            "--field-t 9 --length-m 9.26 --g-agamma 1e-10 --energies 4",
+            "| CAST, 9 T over 9.26 m |",
+        ),
+        (
+            "--field-map bykovskiy_201906 --g-agamma 1e-10 --energies 4",
+            "| BabyIAXO's map, on the bore's axis |",
+        ),
+        (
+            "--field-map bykovskiy_201906 --g-agamma 1e-10 --energies 4 --bore-average",
+            "| BabyIAXO's map, averaged over the 700 mm bore |",
+        ),
+        (
+            "--field-t 2 --length-m 10 --g-agamma 1e-10 --energies 4",
+            "| a uniform 2 T over 10 m |",
+        ),
+    ];
+    let mut p = Vec::new();
+    for (args, row) in table {
+        assert_quoted("docs/magnet.md", &format!("traxer conversion {args}"));
+        let v = conversion(args)[0];
+        assert_quoted("docs/magnet.md", &format!("{row} {v:.4e} |"));
+        p.push(v);
+    }
+    // The equivalent fields and the map's share of a uniform 2 T.
+    let b = |x: f64| 2.0 * (x / p[3]).sqrt();
+    assert_quoted(
+        "docs/magnet.md",
+        &format!("| {:.4e} | {:.2} T over 10 m |", p[1], b(p[1])),
+    );
+    assert_quoted(
+        "docs/magnet.md",
+        &format!("| {:.4e} | {:.2} T over 10 m |", p[2], b(p[2])),
+    );
+    assert_quoted(
+        "docs/magnet.md",
+        &format!(
+            "converts {:.0} % of what a uniform 2 T",
+            100.0 * p[2] / p[3]
+        ),
+    );
+    assert_quoted(
+        "docs/magnet.md",
+        &format!("({:.0} % on the axis)", 100.0 * p[1] / p[3]),
+    );
+    // The helium table.
+    let args = "--field-map bykovskiy_201906 --energies 2,4,8 --masses 0.3,0.333 --gas He --pressure-mbar 10 --temperature-k 1.8 --bore-average";
+    assert_quoted("docs/magnet.md", &format!("traxer conversion {args}"));
+    let he = conversion(args);
+    for (k, e) in [2, 4, 8].iter().enumerate() {
+        assert_quoted(
+            "docs/magnet.md",
+            &format!("| {e} keV | {:.1e} | {:.2e} |", he[2 * k], he[2 * k + 1]),
+        );
+    }
+}

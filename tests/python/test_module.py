@@ -419,7 +419,7 @@ def test_abc_from_the_model_equals_the_cli(tmp_path):
                                             emission="abc", opacities=op)
     assert np.allclose(model.rates, table.rates, rtol=6e-7, atol=0)
     with pytest.raises(traxer.InputError, match="opacities"):
-        traxer.SolarEmission.from_model(SOLAR_MODEL, [1.0], radii=[0.1], emission="abc")
+        traxer.SolarEmission.from_model(SOLAR_MODEL, [1.0], radii=[0.1, 0.2], emission="abc")
 
 
 def test_scene_errors_name_file_line_and_key(tmp_path):
