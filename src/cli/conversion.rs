@@ -11,7 +11,7 @@ use traxer::magnet::buffer_gas::BufferGasDesc;
 use traxer::magnet::probe::{self, Where};
 use traxer::magnet::{Field, Magnet};
 use traxer::output::csv_text;
-use traxer::scene::magnet::{standalone, MagnetDesc, DEFAULT_STEP_MM};
+use traxer::scene::magnet::{standalone, MagnetDesc};
 
 /// The axion–photon conversion probability P(E) of a magnet, as CSV.
 ///
@@ -64,7 +64,8 @@ pub struct ConversionArgs {
     /// equal area).
     #[arg(long)]
     pub bore_average: bool,
-    /// The path integral's step through a map, mm [default: the scene's, else 10].
+    /// The path integral's step through a map, mm [default: the scene's, else
+    /// half the map's node spacing].
     #[arg(long, value_name = "MM")]
     pub step_mm: Option<f64>,
     /// Also write the CSV to this file (atomically).
@@ -146,7 +147,7 @@ fn magnet(a: &ConversionArgs) -> anyhow::Result<Magnet> {
                 field_direction: None,
                 field_map: a.field_map.clone(),
                 field_map_transform: Vec::new(),
-                step_mm: a.step_mm.unwrap_or(DEFAULT_STEP_MM),
+                step_mm: a.step_mm,
                 axion_mass_ev: 0.0,
                 g_agamma: a.g_agamma.unwrap_or(1e-10),
                 gas,

@@ -25,7 +25,8 @@ pub struct FieldMap {
     pub spacing: [f64; 3],
     /// Nodes along x, y, z.
     pub nodes: [usize; 3],
-    /// B at each node (T), x fastest, then y, then z.
+    /// B at each node (T), z fastest, then y, then x: a path along the bore
+    /// (z) reads each column of nodes in order.
     field: Vec<[f64; 3]>,
 }
 
@@ -95,7 +96,7 @@ impl FieldMap {
             for axis in 0..3 {
                 index[axis] = ((p[axis] - origin[axis]) / spacing[axis]).round() as usize;
             }
-            let k = index[0] + nodes[0] * (index[1] + nodes[1] * index[2]);
+            let k = index[2] + nodes[2] * (index[1] + nodes[1] * index[0]);
             if seen[k] != 0 {
                 return Err(format!(
                     "{name}:{line_no}: the node ({}, {}, {}) mm is also on line {}",
@@ -108,10 +109,10 @@ impl FieldMap {
         }
         if let Some(k) = seen.iter().position(|&l| l == 0) {
             let missing = seen.iter().filter(|&&l| l == 0).count();
-            let (ix, iy, iz) = (
-                k % nodes[0],
-                (k / nodes[0]) % nodes[1],
-                k / (nodes[0] * nodes[1]),
+            let (iz, iy, ix) = (
+                k % nodes[2],
+                (k / nodes[2]) % nodes[1],
+                k / (nodes[2] * nodes[1]),
             );
             let at = |axis: usize, i: usize| origin[axis] + i as f64 * spacing[axis];
             return Err(format!(
@@ -128,6 +129,11 @@ impl FieldMap {
         })
     }
 
+    /// The finest node spacing (mm): the default step of a path through it.
+    pub fn finest_spacing(&self) -> f64 {
+        self.spacing.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
     /// The grid's far corner (largest x, y, z), mm.
     pub fn end(&self) -> [f64; 3] {
         std::array::from_fn(|a| self.origin[a] + (self.nodes[a] - 1) as f64 * self.spacing[a])
@@ -137,29 +143,52 @@ impl FieldMap {
     /// outside the grid.
     #[inline]
     pub fn at(&self, p: [f64; 3]) -> Option<[f64; 3]> {
+        self.at_grid(self.to_grid(p))
+    }
+
+    /// `p` (mm) in grid units: node i of each axis at i.
+    #[inline]
+    pub fn to_grid(&self, p: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|a| (p[a] - self.origin[a]) / self.spacing[a])
+    }
+
+    /// A vector (mm) in grid units.
+    #[inline]
+    pub fn vector_to_grid(&self, v: [f64; 3]) -> [f64; 3] {
+        std::array::from_fn(|a| v[a] / self.spacing[a])
+    }
+
+    /// B (T) at the point `u` in grid units (a path steps through them
+    /// without a division per sample); `None` outside the grid.
+    #[inline]
+    pub fn at_grid(&self, u: [f64; 3]) -> Option<[f64; 3]> {
         let mut cell = [0usize; 3];
         let mut f = [0.0; 3];
         for a in 0..3 {
-            let u = (p[a] - self.origin[a]) / self.spacing[a];
             let last = (self.nodes[a] - 1) as f64;
-            if !(0.0..=last).contains(&u) {
+            // A point on the grid's face, computed a rounding error outside
+            // (a path's last sample on the bore's end plane), is on it.
+            let raw = u[a];
+            if !(raw >= -1e-9 && raw <= last + 1e-9) {
                 return None;
             }
+            let u = raw.clamp(0.0, last);
             let i = (u as usize).min(self.nodes[a] - 2);
             cell[a] = i;
             f[a] = u - i as f64;
         }
-        let (nx, nxy) = (self.nodes[0], self.nodes[0] * self.nodes[1]);
-        let k = cell[0] + nx * cell[1] + nxy * cell[2];
+        // Strides: z 1, y nz, x nz·ny.
+        let (sy, sx) = (self.nodes[2], self.nodes[2] * self.nodes[1]);
+        let k = cell[2] + sy * cell[1] + sx * cell[0];
         let v = &self.field;
         let mut b = [0.0; 3];
         for (c, out) in b.iter_mut().enumerate() {
             let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-            let x00 = lerp(v[k][c], v[k + 1][c], f[0]);
-            let x10 = lerp(v[k + nx][c], v[k + nx + 1][c], f[0]);
-            let x01 = lerp(v[k + nxy][c], v[k + nxy + 1][c], f[0]);
-            let x11 = lerp(v[k + nxy + nx][c], v[k + nxy + nx + 1][c], f[0]);
-            *out = lerp(lerp(x00, x10, f[1]), lerp(x01, x11, f[1]), f[2]);
+            let z00 = lerp(v[k][c], v[k + 1][c], f[2]);
+            let z10 = lerp(v[k + sy][c], v[k + sy + 1][c], f[2]);
+            let z01 = lerp(v[k + sx][c], v[k + sx + 1][c], f[2]);
+            let z11 = lerp(v[k + sx + sy][c], v[k + sx + sy + 1][c], f[2]);
+            *out = lerp(lerp(z00, z10, f[1]), lerp(z01, z11, f[1]), f[0]);
         }
         Some(b)
     }

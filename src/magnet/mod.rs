@@ -52,7 +52,8 @@ pub struct Magnet {
     pub half_length_mm: f64,
     pub radius_mm: f64,
     pub field: Field,
-    /// The sampling step along the path through a map (mm).
+    /// The sampling step along the path through a map (mm; for a uniform
+    /// field, unused).
     pub step_mm: f64,
     pub gas: Option<BufferGas>,
     pub axion_mass_ev: f64,
@@ -127,38 +128,41 @@ impl Magnet {
         let h = length / steps as f64;
         let d_local = self.frame.to_local.transform_vector3(dir).normalize();
         let (e1, e2) = d_local.any_orthonormal_pair();
-        let samples = (0..=steps)
-            .map(|k| {
-                let p = self
-                    .frame
-                    .to_local
-                    .transform_point3(origin + dir * (s0 + k as f64 * h));
-                let b = self.field_at(p);
-                let transverse = b - d_local * b.dot(d_local);
-                [
-                    transverse.dot(e1) * TESLA_EV2,
-                    transverse.dot(e2) * TESLA_EV2,
-                ]
-            })
-            .collect();
+        let project = |b: DVec3| {
+            let transverse = b - d_local * b.dot(d_local);
+            [
+                transverse.dot(e1) * TESLA_EV2,
+                transverse.dot(e2) * TESLA_EV2,
+            ]
+        };
+        let samples = match &self.field {
+            Field::Uniform { tesla, direction } => vec![project(*direction * *tesla); steps + 1],
+            Field::Map { map, to_map, .. } => {
+                // The path is a straight line in the map's frame too: its start
+                // and step there, then one trilinear lookup per sample.
+                let start = to_map.point(self.frame.to_local.transform_point3(origin + dir * s0));
+                let step = to_map.vector(self.frame.to_local.transform_vector3(dir * h));
+                let (u0, du) = (
+                    DVec3::from(map.to_grid(start.to_array())),
+                    DVec3::from(map.vector_to_grid(step.to_array())),
+                );
+                // The map's field is turned back into the bore's frame by
+                // to_map's inverse: B_bore = M⁻¹ B_map.
+                let back = to_map.to_local.matrix3;
+                (0..=steps)
+                    .map(|k| {
+                        let u = u0 + du * k as f64;
+                        let b = map
+                            .at_grid(u.to_array())
+                            .map_or(DVec3::ZERO, |b| back * DVec3::from(b));
+                        project(b)
+                    })
+                    .collect()
+            }
+        };
         PathField {
             step: h * 1e-3 * INV_EV_PER_METRE,
             samples,
-        }
-    }
-
-    /// B (T) at `p` in the bore's frame.
-    fn field_at(&self, p: DVec3) -> DVec3 {
-        match &self.field {
-            Field::Uniform { tesla, direction } => *direction * *tesla,
-            Field::Map { map, to_map, .. } => {
-                let q = to_map.point(p);
-                match map.at(q.to_array()) {
-                    // The map's field, turned back into the bore's frame.
-                    Some(b) => to_map.to_local.transform_vector3(DVec3::from(b)),
-                    None => DVec3::ZERO,
-                }
-            }
         }
     }
 

@@ -57,17 +57,28 @@ pub fn cache_dir() -> Option<PathBuf> {
     Some(root.join("reflectivity"))
 }
 
+/// The digest of the table-making sources and the scattering-factor tables
+/// (4 MB of text: hashed once per process, not once per table).
+fn sources_digest() -> &'static [u8] {
+    static DIGEST: std::sync::OnceLock<Vec<u8>> = std::sync::OnceLock::new();
+    DIGEST.get_or_init(|| {
+        let mut h = Sha256::new();
+        for source in TABLE_SOURCES
+            .into_iter()
+            .chain(super::elements::table_files())
+        {
+            h.update(Sha256::digest(source.as_bytes()));
+        }
+        h.finalize().to_vec()
+    })
+}
+
 /// The file of the table for these inputs.
 fn key(coating: &Coating, e_min: f64, e_max: f64, theta_max: f64) -> String {
     let mut h = Sha256::new();
     h.update(MAGIC);
     h.update(env!("CARGO_PKG_VERSION").as_bytes());
-    for source in TABLE_SOURCES
-        .into_iter()
-        .chain(super::elements::table_files())
-    {
-        h.update(Sha256::digest(source.as_bytes()));
-    }
+    h.update(sources_digest());
     h.update(format!("{coating:?}").as_bytes());
     for x in [e_min, e_max, theta_max] {
         h.update(x.to_bits().to_le_bytes());
