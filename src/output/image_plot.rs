@@ -256,8 +256,17 @@ fn draw_colour_bar(area: &Area, fig: &ImageFigure, max: f64) -> Result<(), Error
             )
         }
     };
+    // Room for the widest tick label (2.00e8 fits 62 px; 2.50e-14, an X-ray
+    // rate through a magnet, needs more, or the unit overlaps it).
+    let widest = match fig.scale {
+        Scale::Linear => [lo, hi, 0.5 * hi].map(|v| scientific(v).chars().count()),
+        Scale::Log { .. } => [lo, hi, 0.5 * (lo + hi)].map(|v| format!("{v:.1}").chars().count()),
+    }
+    .into_iter()
+    .max()
+    .unwrap_or(6);
     let mut bar = ChartBuilder::on(area)
-        .set_label_area_size(LabelAreaPosition::Right, 62)
+        .set_label_area_size(LabelAreaPosition::Right, (8 * widest as u32 + 14).max(62))
         .build_cartesian_2d(0.0..1.0, lo..hi)?;
     bar.configure_mesh()
         .disable_mesh()
