@@ -196,6 +196,10 @@ fn write_sensor(
             "counts": "number of photons per pixel",
         },
         "total_flux": finished.total_flux(),
+        // With a magnet, the expected X-rays per hour of tracking (total_flux
+        // is per second).
+        "x_rays_per_hour_of_tracking": (scene.counted() == Counted::XRays)
+            .then(|| finished.total_flux() * 3600.0),
         "image_quality": finished.image_quality(),
         "total_counts": image.total_counts(),
         "pixel_grid": grid,

@@ -476,6 +476,12 @@ fn with_a_magnet_the_outputs_say_x_rays() {
             && !json.contains("before the conversion"),
         "{json}"
     );
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let (per_s, per_h) = (
+        v["sensor"]["total_flux"].as_f64().unwrap(),
+        v["sensor"]["x_rays_per_hour_of_tracking"].as_f64().unwrap(),
+    );
+    assert!(rel(per_h, 3600.0 * per_s) < 1e-12 && per_h > 0.0);
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(
         summary.contains("\"magnet\"") && summary.contains("\"uniform_t\": 9.0"),
