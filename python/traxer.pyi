@@ -533,6 +533,30 @@ def reflectivity(
     may be an astropy Quantity. ``optical_constants``: the layers' table of
     scattering factors, "henke" or "chantler" (a second opinion)."""
 
+def conversion_probability(
+    energies_keV: _Numbers,
+    masses_eV: Optional[_Numbers] = None,
+    field_t: Optional[float] = None,
+    length_m: Optional[float] = None,
+    field_map: Optional[str] = None,
+    gas: Optional[str] = None,
+    pressure_mbar: Optional[float] = None,
+    temperature_k: Optional[float] = None,
+    g_agamma: float = 1e-10,
+    at: tuple[float, float] = (0.0, 0.0),
+    bore_average: bool = False,
+    step_mm: Optional[float] = None,
+) -> npt.NDArray[np.float64]:
+    """The axion–photon conversion probability P(a→γ) of a magnet, as
+    ``traxer conversion``: a uniform field (``field_t`` in T over ``length_m``)
+    or a field map (``field_map``: a shipped one such as "bykovskiy_201906",
+    BabyIAXO's, or a file of rows x y z Bx By Bz in mm and T), with an optional
+    buffer gas (``gas`` a formula, "He" for helium-3 or -4, with
+    ``pressure_mbar`` and ``temperature_k``), at ``g_agamma`` (GeV⁻¹), along the
+    axial line through ``at`` (mm) or averaged over the bore
+    (``bore_average``). ``masses_eV``: a list (default [0]). Returns a float64
+    array [energy, mass]."""
+
 def eef(
     image: npt.ArrayLike,
     pixel_pitch_mm: Union[_Number, tuple[_Number, _Number]],

@@ -16,6 +16,7 @@ mod convert;
 mod effective_area;
 mod errors;
 mod grid;
+mod magnet;
 mod psf;
 mod result;
 mod run;
@@ -63,5 +64,6 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::eef, m)?)?;
+    m.add_function(wrap_pyfunction!(magnet::conversion_probability, m)?)?;
     Ok(())
 }

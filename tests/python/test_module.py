@@ -883,3 +883,26 @@ def test_a_trace_warns_of_a_sensor_that_sees_the_source_directly(tmp_path):
         traxer.Scene(scene).trace(20_000, seed=1)
     said = " ".join(str(w.message) for w in caught)
     assert "was reflected by a mirror" in said and "beyond the sensor" in said
+
+
+def test_conversion_probability_equals_the_cli():
+    """P(a→γ) from Python is the CLI's, number for number; CAST's vacuum
+    number is (g B L / 2)² = 1.70e-17 with the units of the issue
+    (1 T = 195.35 eV², 1 m = 5.0677e6 eV⁻¹)."""
+    cast = traxer.conversion_probability([1.0, 4.0], field_t=9.0, length_m=9.26)
+    assert cast.shape == (2, 1)
+    assert cast[0, 0] == pytest.approx((1e-19 * 9 * 195.35 * 9.26 * 5.0677e6 / 2) ** 2, rel=1e-3)
+    masses = [0.0, 0.01, 0.02]
+    p = traxer.conversion_probability([1.0, 4.0], masses, field_map="bykovskiy_201906", bore_average=True)
+    out = cli("conversion", "--field-map", "bykovskiy_201906", "--energies", "1,4",
+              "--masses", "0,0.01,0.02", "--bore-average", "-q")
+    printed = [float(line.split(",")[2]) for line in out.stdout.splitlines()[1:]]
+    assert p.shape == (2, 3)
+    assert list(p.ravel()) == printed
+    he = traxer.conversion_probability(4.0, [0.333], field_t=9.0, length_m=9.26, gas="He",
+                                       pressure_mbar=10.0, temperature_k=1.8)
+    assert 0.8 * cast[1, 0] < he[0, 0] < cast[1, 0]  # coherent at m_γ, absorbed on the way
+    with pytest.raises(traxer.InputError, match="field_t"):
+        traxer.conversion_probability(4.0)
+    with pytest.raises(traxer.InputError, match="pressure_mbar"):
+        traxer.conversion_probability(4.0, field_t=9.0, length_m=9.26, gas="He")
