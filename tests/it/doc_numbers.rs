@@ -396,3 +396,31 @@ fn the_magnet_numbers_of_docs_magnet_come_out_of_their_commands() {
         );
     }
 }
+
+#[test]
+#[ignore = "expensive (two BabyIAXO traces of 1e6 photons through the field map): scripts/doc_numbers.sh runs it"]
+fn the_traced_x_ray_rates_of_docs_magnet_come_out_of_their_commands() {
+    let dir = tempfile::tempdir().unwrap();
+    for (k, defines) in [
+        &["-D", "magnet=true"][..],
+        &[
+            "-D",
+            "magnet=true",
+            "-D",
+            "emission=primakoff",
+            "-D",
+            "g_agamma=1e-10",
+        ][..],
+    ]
+    .iter()
+    .enumerate()
+    {
+        let mut args = vec!["trace", "scenes/babyiaxo_axion_image.toml"];
+        args.extend_from_slice(defines);
+        args.extend_from_slice(&["-n", "1e6"]);
+        let out = stdout(&args, &dir.path().join(format!("t{k}")));
+        let line = out.lines().find(|l| l.contains("X-rays/s")).unwrap();
+        let quoted = line.split("photons, ").nth(1).unwrap().trim();
+        assert_quoted("docs/magnet.md", quoted);
+    }
+}
