@@ -21,9 +21,9 @@
 use crate::constants::{
     ALPHA, ELECTRON_MASS_EV, ELECTRON_RADIUS_CM, HBAR_C_EV_M, HC_KEV_CM, K_B_J_PER_K,
 };
-use crate::xray::compound::parse_formula;
 use crate::xray::elements::{element, scattering_table, OpticalConstants};
 use crate::xray::elements::{HENKE_MAX_KEV, HENKE_MIN_KEV};
+use crate::xray::gas::mixture_parts;
 use crate::xray::scattering;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -77,32 +77,11 @@ impl BufferGas {
                 crate::text::number(desc.temperature_k)
             ));
         }
-        if desc.mixture.is_empty() {
-            return bad("mixture is empty: e.g. { He = 1.0 }".into());
-        }
-        if let Some((f, x)) = desc
-            .mixture
-            .iter()
-            .find(|(_, x)| !(x.is_finite() && **x > 0.0))
-        {
-            return bad(format!(
-                "mixture: {f} = {}: a part's fraction by volume must be positive",
-                crate::text::number(*x)
-            ));
-        }
-        let total: f64 = desc.mixture.values().sum();
-        if (total - 1.0).abs() > 0.02 {
-            return bad(format!(
-                "mixture: fractions by volume must sum to 1 (they sum to {total:.6})"
-            ));
-        }
         let mut atoms: BTreeMap<u32, f64> = BTreeMap::new();
-        for (formula, x) in &desc.mixture {
-            let parts = parse_formula(formula)
-                .map_err(|e| InvalidBufferGas(format!("mixture: {}", e.0)))?;
+        for (_, x, parts) in mixture_parts(&desc.mixture).map_err(InvalidBufferGas)? {
             for (symbol, n) in parts {
                 let z = element(&symbol).expect("parse_formula checks symbols").z;
-                *atoms.entry(z).or_default() += x / total * n;
+                *atoms.entry(z).or_default() += x * n;
             }
         }
         let electrons: f64 = atoms.iter().map(|(z, n)| *z as f64 * n).sum();

@@ -105,6 +105,38 @@ pub fn build(
     dir: &Path,
     note: &dyn Fn(&Path),
 ) -> Result<Magnet, String> {
+    let map = d
+        .field_map
+        .as_ref()
+        .map(|name| load_map(name, dir, note))
+        .transpose()?;
+    assemble(d, bore, map)
+}
+
+/// A shipped map by name, or the map file `name` relative to `dir` (noted as
+/// an input).
+fn load_map(name: &str, dir: &Path, note: &dyn Fn(&Path)) -> Result<Arc<FieldMap>, String> {
+    if let Some(m) = shipped_map(name) {
+        return m;
+    }
+    let path = dir.join(name);
+    if !path.is_file() {
+        let shipped: Vec<&str> = SHIPPED_MAPS.iter().map(|m| m.0).collect();
+        return Err(format!(
+            "field_map = \"{name}\": not a shipped map ({}) and no file {}",
+            shipped.join(", "),
+            path.display()
+        ));
+    }
+    note(&path);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(Arc::new(
+        FieldMap::parse(&path.display().to_string(), &text).map_err(|e| e.0)?,
+    ))
+}
+
+/// The magnet of `d` in `bore`, its field map (if it names one) loaded.
+fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<Magnet, String> {
     let centre = 0.5 * (bore.z_start + bore.z_end);
     let frame = crate::geometry::Transform::from_affine(DAffine3::from_translation(DVec3::new(
         0.0, 0.0, centre,
@@ -128,30 +160,12 @@ pub fn build(
             d.g_agamma
         ));
     }
-    let field = match (d.field_t, &d.field_map) {
-        (Some(b), None) => uniform(b, d.field_direction)?,
-        (None, Some(name)) => {
+    let field = match (d.field_t, &d.field_map, map) {
+        (Some(b), None, _) => uniform(b, d.field_direction)?,
+        (None, Some(name), Some(map)) => {
             if d.field_direction.is_some() {
                 return Err("field_direction is for a uniform field (field_t); a map gives its own".into());
             }
-            let map = match shipped_map(name) {
-                Some(m) => m?,
-                None => {
-                    let path = dir.join(name);
-                    if !path.is_file() {
-                        let shipped: Vec<&str> = SHIPPED_MAPS.iter().map(|m| m.0).collect();
-                        return Err(format!(
-                            "field_map = \"{name}\": not a shipped map ({}) and no file {}",
-                            shipped.join(", "),
-                            path.display()
-                        ));
-                    }
-                    note(&path);
-                    let text = std::fs::read_to_string(&path)
-                        .map_err(|e| format!("{}: {e}", path.display()))?;
-                    Arc::new(FieldMap::parse(&path.display().to_string(), &text).map_err(|e| e.0)?)
-                }
-            };
             let to_map = transform(&d.field_map_transform)
                 .map_err(|(_, m)| format!("field_map_transform: {m}"))?;
             // The steps place the map in the bore's frame; points go the other way.
@@ -360,13 +374,7 @@ pub fn standalone(d: &MagnetDesc, length_mm: Option<f64>) -> Result<Magnet, Stri
             build(d, &bore, Path::new("."), &|_| {})
         }
         (Some(name), None) => {
-            let map = match shipped_map(name) {
-                Some(m) => m?,
-                None => {
-                    let text = std::fs::read_to_string(name).map_err(|e| format!("{name}: {e}"))?;
-                    Arc::new(FieldMap::parse(name, &text).map_err(|e| e.0)?)
-                }
-            };
+            let map = load_map(name, Path::new("."), &|_| {})?;
             let (lo, hi) = (map.origin, map.end());
             let centre: [f64; 3] = std::array::from_fn(|a| 0.5 * (lo[a] + hi[a]));
             let bore = Bore {
@@ -383,7 +391,7 @@ pub fn standalone(d: &MagnetDesc, length_mm: Option<f64>) -> Result<Magnet, Stri
                 )],
                 ..d.clone()
             };
-            build(&placed, &bore, Path::new("."), &|_| {})
+            assemble(&placed, &bore, Some(map))
         }
     }
 }

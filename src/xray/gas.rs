@@ -250,36 +250,53 @@ fn exact_attenuation_per_mm(
     Ok(4.0 * std::f64::consts::PI * beta / lambda_mm)
 }
 
+/// One part of a gas mixture: its formula, its normalised fraction by volume
+/// and its atoms per molecule (symbol → count).
+pub type MixturePart = (String, f64, BTreeMap<String, f64>);
+
+/// A gas mixture's parts with their fractions by volume (= by moles),
+/// checked (each positive, summing to 1 within 2 %) and normalised, each with
+/// its atoms per molecule: for a detector's gas and a magnet's buffer gas.
+pub fn mixture_parts(mixture: &BTreeMap<String, f64>) -> Result<Vec<MixturePart>, String> {
+    if mixture.is_empty() {
+        return Err(
+            "mixture is empty: give each gas's fraction by volume, e.g. { Ar = 0.977, C4H10 = 0.023 }"
+                .into(),
+        );
+    }
+    if let Some((gas, x)) = mixture.iter().find(|(_, x)| !(x.is_finite() && **x > 0.0)) {
+        return Err(format!(
+            "mixture: {gas} = {}: a part's fraction by volume must be positive (leave out a gas that is not in the mixture)",
+            crate::text::number(*x)
+        ));
+    }
+    let total: f64 = mixture.values().sum();
+    if (total - 1.0).abs() > 0.02 {
+        return Err(format!(
+            "mixture: fractions by volume must sum to 1 (they sum to {total:.6}; within 2 % they are normalised)"
+        ));
+    }
+    mixture
+        .iter()
+        .map(|(formula, x)| {
+            let atoms = parse_formula(formula).map_err(|e| format!("mixture: {}", e.0))?;
+            Ok((formula.clone(), x / total, atoms))
+        })
+        .collect()
+}
+
 /// Mass fractions of the mixture's parts (from the volume fractions, normalised)
 /// and the mean molar mass M̄ = Σ x_i M_i.
 fn mass_fractions(
     mixture: &BTreeMap<String, f64>,
 ) -> Result<(Vec<(String, f64)>, f64), InvalidGas> {
-    if mixture.is_empty() {
-        return Err(InvalidGas::from(
-            "mixture is empty: give each gas's fraction by volume, e.g. { Ar = 0.977, C4H10 = 0.023 }",
-        ));
-    }
-    if let Some((gas, x)) = mixture.iter().find(|(_, x)| !(x.is_finite() && **x > 0.0)) {
-        return Err(InvalidGas::from(format!(
-            "mixture: {gas} = {}: a part's fraction by volume must be positive (leave out a gas that is not in the mixture)",
-            crate::text::number(*x)
-        )));
-    }
-    let total: f64 = mixture.values().sum();
-    if (total - 1.0).abs() > 0.02 {
-        return Err(InvalidGas::from(format!(
-            "mixture: fractions by volume must sum to 1 (they sum to {total:.6}; within 2 % they are normalised)"
-        )));
-    }
     let mut molar = Vec::new();
-    for (formula, x) in mixture {
-        let atoms = parse_formula(formula).map_err(|e| InvalidGas(format!("mixture: {}", e.0)))?;
+    for (formula, x, atoms) in mixture_parts(mixture).map_err(InvalidGas)? {
         let m: f64 = atoms
             .iter()
             .map(|(s, n)| n * element(s).expect("parse_formula checks symbols").mass)
             .sum();
-        molar.push((formula.clone(), x / total, m));
+        molar.push((formula, x, m));
     }
     let mean: f64 = molar.iter().map(|(_, x, m)| x * m).sum();
     let parts = molar

@@ -259,38 +259,27 @@ fn bad_magnets_are_refused_by_name_and_nothing_is_written() {
         s
     };
     let row = |x: i32, y: i32, z: i32| Some(format!("{x} {y} {z} 0 2.0 0\n"));
+    // The grid with node `at`'s row replaced by `line` (None: left out).
+    let with = |at: (i32, i32, i32), line: Option<&str>| {
+        grid(&|x, y, z| match (x, y, z) == at {
+            true => line.map(str::to_string),
+            false => row(x, y, z),
+        })
+    };
     let cases: Vec<(&str, String, &str)> = vec![
         (
             "missing",
-            grid(&|x, y, z| {
-                if (x, y, z) == (0, 0, 0) {
-                    None
-                } else {
-                    row(x, y, z)
-                }
-            }),
+            with((0, 0, 0), None),
             "1 of the grid's 27 nodes (3 × 3 × 3) are missing, the first at (0, 0, 0) mm",
         ),
         (
             "nan",
-            grid(&|x, y, z| {
-                if (x, y, z) == (10, 0, 0) {
-                    Some("10 0 0 0 NaN 0\n".into())
-                } else {
-                    row(x, y, z)
-                }
-            }),
+            with((10, 0, 0), Some("10 0 0 0 NaN 0\n")),
             "column 5 is `NaN`, not a finite number",
         ),
         (
             "ragged",
-            grid(&|x, y, z| {
-                if (x, y, z) == (10, 10, 100) {
-                    Some("10 10 130 0 2 0\n".into())
-                } else {
-                    row(x, y, z)
-                }
-            }),
+            with((10, 10, 100), Some("10 10 130 0 2 0\n")),
             "z = 130 mm is off the regular grid",
         ),
         ("columns", "0 0 0 1 2\n".into(), "5 columns"),
