@@ -77,6 +77,7 @@ pub fn conversion_probability<'py>(
         field_map_transform: Vec::new(),
         step_mm,
         axion_mass_ev: 0.0,
+        masses_ev: Vec::new(),
         g_agamma,
         gas,
     };

@@ -149,6 +149,7 @@ fn magnet(a: &ConversionArgs) -> anyhow::Result<Magnet> {
                 field_map_transform: Vec::new(),
                 step_mm: a.step_mm,
                 axion_mass_ev: 0.0,
+                masses_ev: Vec::new(),
                 g_agamma: a.g_agamma.unwrap_or(1e-10),
                 gas,
             };

@@ -61,6 +61,12 @@ pub struct TraceArgs {
     /// BUNIT, the energy range and the provenance.
     #[arg(long)]
     pub fits: bool,
+    /// A mass scan: also one image per axion mass (eV), from the same photons
+    /// (NAME_by_mass.npy, totals in NAME.json → by_mass). Shorthand for
+    /// -D axion_masses_ev=[LIST], the variable the shipped magnet scenes give
+    /// their [magnet] masses_ev; needs the magnet on (-D magnet=true).
+    #[arg(value_name = "LIST", long, conflicts_with = "resume")]
+    pub masses: Option<String>,
     /// Replace the results of a run with other inputs (scene, variables, seed,
     /// photons, shards) in the results folder; without it such a folder is
     /// refused and kept.
@@ -87,12 +93,16 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     cfg.first_photon = shard.range().start;
     cfg.photons = shard.photons();
     cfg.photon_list = traxer::run::check_photon_list(a.photon_list, traxer::run::FrontEnd::Cli)?;
+    let mut vars = a.vars.clone();
+    if let Some(list) = &a.masses {
+        vars.define.push(mass_scan_define(list)?);
+    }
     let scene_args = SceneArgs {
         scene: a
             .scene
             .clone()
             .expect("clap requires a scene without --resume"),
-        vars: a.vars.clone(),
+        vars,
     };
     let (device, scene) = load_xray_scene(&scene_args)?;
     if scene.sensors.is_empty() {
@@ -109,6 +119,20 @@ pub fn run(a: TraceArgs) -> anyhow::Result<()> {
     let finished = job.run(&out, &settings, &super::invocation(), &control);
     resume::finish(&scene, finished?, &control, quiet);
     Ok(())
+}
+
+/// `--masses LIST` as the override of the shipped scenes' mass-scan variable.
+fn mass_scan_define(list: &str) -> Result<String, InputError> {
+    let masses = list
+        .split(',')
+        .map(|m| match m.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 0.0 => Ok(v.to_string()),
+            _ => Err(InputError(format!(
+                "--masses {list}: `{m}` is not a mass ≥ 0 in eV (give e.g. --masses 0,0.01,0.02)"
+            ))),
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(format!("axion_masses_ev=[{}]", masses.join(",")))
 }
 
 /// `--checkpoint-every` checked: a finite number of seconds ≥ 0.

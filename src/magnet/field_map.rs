@@ -8,6 +8,7 @@
 //! a file) and places it on the bore; `magnet` samples it along each photon's
 //! path.
 
+use glam::DVec3;
 use std::collections::BTreeMap;
 
 message_error!(
@@ -132,6 +133,15 @@ impl FieldMap {
     /// The finest node spacing (mm): the default step of a path through it.
     pub fn finest_spacing(&self) -> f64 {
         self.spacing.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    /// The strongest field at any node (T): with trilinear interpolation, the
+    /// strongest anywhere in the map.
+    pub fn peak_tesla(&self) -> f64 {
+        self.field
+            .iter()
+            .map(|b| DVec3::from(*b).length())
+            .fold(0.0, f64::max)
     }
 
     /// The grid's far corner (largest x, y, z), mm.

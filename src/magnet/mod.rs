@@ -59,9 +59,31 @@ pub struct Magnet {
     pub axion_mass_ev: f64,
     /// g_aγ in GeV⁻¹.
     pub g_agamma_gev: f64,
+    /// The masses (eV) of a mass scan: each sensor also records an image per
+    /// mass ([`Magnet::scan_factors`]).
+    pub scan_masses: Vec<f64>,
+    /// The unit of a photon's conversion weight: P_max = (g_aγ B_peak L / 2)²,
+    /// the vacuum P of the strongest field over the whole length, which no
+    /// path exceeds ([`Magnet::peak_probability`]).
+    pub weight_scale: f64,
 }
 
 impl Magnet {
+    /// P_max = (g_aγ B_peak L / 2)² for the field's strongest value B_peak and
+    /// the bore's length L. A photon's weight carries P / P_max (≤ 1 in vacuum)
+    /// and the Sun's rate per unit weight carries P_max: the sensors add
+    /// weights in fixed point (`sensor::exact`, resolution 2⁻⁸⁰ ≈ 8e-25), where
+    /// P itself (1e-19 at g_aγ = 1e-10, 1e-27 at 1e-12) would lose its digits.
+    pub fn peak_probability(field: &Field, g_agamma_gev: f64, length_mm: f64) -> f64 {
+        let peak = match field {
+            Field::Uniform { tesla, .. } => *tesla,
+            Field::Map { map, .. } => map.peak_tesla(),
+        };
+        let amplitude =
+            0.5 * g_agamma_gev * 1e-9 * peak * TESLA_EV2 * length_mm * 1e-3 * INV_EV_PER_METRE;
+        amplitude * amplitude
+    }
+
     /// The path of the line through `origin` along the unit vector `dir`
     /// (world) between the bore's end planes: the distances along `dir` from
     /// `origin` where it enters and leaves; `None` for a line parallel to
@@ -103,6 +125,9 @@ impl Magnet {
             "field": field,
             "axion_mass_ev": self.axion_mass_ev,
             "g_agamma_per_gev": self.g_agamma_gev,
+            "masses_ev": self.scan_masses,
+            "weight_scale": self.weight_scale,
+            "weight_scale_is": "P_max = (g_aγ B_peak L / 2)²: each photon's weight carries P / P_max, rate_per_unit_weight carries P_max",
             "gas": self.gas.as_ref().map(|g| serde_json::json!({
                 "mixture": g.desc.mixture,
                 "pressure_mbar": g.desc.pressure_mbar,
@@ -196,6 +221,23 @@ impl Magnet {
                 }
             }
             Field::Map { .. } => ConversionPath::Sampled(self.path_field(origin, dir)),
+        }
+    }
+
+    /// For the axion of `energy_kev` on the line through `origin` along `dir`
+    /// (a recorded photon's start), appends P at each scan mass over P at the
+    /// magnet's mass: the factor that turns the photon's weight into its
+    /// weight at that mass (the optics do not depend on the mass). A path
+    /// with P = 0 at the magnet's mass (no field along it) gives 0.
+    pub fn scan_factors(&self, (origin, dir): (DVec3, DVec3), energy_kev: f64, out: &mut Vec<f64>) {
+        let path = self.path_of(origin, dir);
+        let p = path.probability(self, energy_kev, self.axion_mass_ev);
+        for &m in &self.scan_masses {
+            out.push(if p > 0.0 {
+                path.probability(self, energy_kev, m) / p
+            } else {
+                0.0
+            });
         }
     }
 

@@ -22,6 +22,8 @@ mod focus;
 mod history;
 mod image_plot;
 mod labels;
+mod masses;
+pub use masses::mass_images;
 mod montage;
 mod npy;
 mod plot;

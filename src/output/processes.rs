@@ -27,21 +27,28 @@ pub fn process_images(
         .collect()
 }
 
-/// What the coupling of each built-in process is, for the recombination rule.
-fn coupling_of(process: &str) -> Option<&'static str> {
-    match process {
-        "primakoff" => Some("g_agamma"),
-        "abc" | "atomic" | "electron_ion" | "electron_electron" | "compton" => Some("g_ae"),
+/// How each built-in process's image scales with the couplings: its
+/// production's coupling squared, times g_aγ² with a magnet (the conversion).
+fn scales_as(process: &str, magnet: bool) -> Option<&'static str> {
+    match (process, magnet) {
+        ("primakoff", false) => Some("g_agamma²"),
+        ("primakoff", true) => Some("g_agamma⁴"),
+        ("abc" | "atomic" | "electron_ion" | "electron_electron" | "compton", false) => {
+            Some("g_ae²")
+        }
+        ("abc" | "atomic" | "electron_ion" | "electron_electron" | "compton", true) => {
+            Some("g_ae² g_agamma²")
+        }
         _ => None,
     }
 }
 
 /// Writes the per-process images as `.npy`; returns the JSON entry (`null`
-/// without processes) and adds the paths to `written`.
+/// without processes) and adds the paths to `written`. `magnet`: the scene
+/// converts the axions (the images scale with g_aγ² more).
 pub fn write_process_images(
     dir: &Path,
-    spec: &SensorSpec,
-    image: &SensorImage,
+    (spec, image, magnet): (&SensorSpec, &SensorImage, bool),
     images: &[(String, Vec<f64>)],
     scale: f64,
     written: &mut Vec<PathBuf>,
@@ -64,12 +71,16 @@ pub fn write_process_images(
             "total_flux": totals[k] * scale,
             "fraction_of_total_flux": if all > 0.0 { totals[k] / all } else { 0.0 },
             "photons": image.processes.counts[k],
-            "scales_as": coupling_of(name).map(|g| format!("{g}²")),
+            "scales_as": scales_as(name, magnet),
         }));
     }
     Ok(json!({
         "what": "the image of each emission process, from the same photons as the total, summed over energy bands: primakoff and abc (with both couplings) add up to the total, and ABC's four processes (atomic, electron_ion, electron_electron, compton) add up to abc, each photon's weight split by its emission cell's shares (data/solar/abc_b16_agss09met_process_shares.csv, to 1e-4); with both couplings each coupling's table was drawn for half the photons, so each image has the statistics of half the run whatever the couplings, and the photons' paths do not depend on the couplings",
-        "recombine": "the image for other couplings is (g_agamma/g_agamma_run)² × primakoff + (g_ae/g_ae_run)² × abc, the couplings of this run in sources[].coupling; it equals a trace with those couplings to rounding; ABC's four processes scale as g_ae² like abc",
+        "recombine": if magnet {
+            "the image for other couplings is (g_agamma/g_agamma_run)⁴ × primakoff + (g_ae/g_ae_run)² (g_agamma/g_agamma_run)² × abc (production times conversion), the couplings of this run in sources[].coupling and sources[].magnet.g_agamma_per_gev (keep them equal); ABC's four processes scale like abc"
+        } else {
+            "the image for other couplings is (g_agamma/g_agamma_run)² × primakoff + (g_ae/g_ae_run)² × abc, the couplings of this run in sources[].coupling; it equals a trace with those couplings to rounding; ABC's four processes scale as g_ae² like abc"
+        },
         "processes": entries,
     }))
 }

@@ -180,7 +180,10 @@ fn write_sensor(
     write_projections(&path(&files.projections_csv), summed, geometry)?;
     let grid = write_grid_files(dir, scene, spec, on_grid, &finished, run, &mut written)?;
     written.extend(write_class_images(dir, spec, image, scale)?);
-    let processes = write_process_images(dir, spec, image, &processes, scale, &mut written)?;
+    let magnet = scene.counted() == Counted::XRays;
+    let processes =
+        write_process_images(dir, (spec, image, magnet), &processes, scale, &mut written)?;
+    let masses = super::masses::write_mass_images(dir, spec, image, scale, &mut written)?;
     let conversion = write_conversion_files(dir, scene, spec, image, absolute, &mut written)?;
     let sensor = json!({
         "name": spec.name,
@@ -207,6 +210,7 @@ fn write_sensor(
         "conversion": conversion,
         "history": history_json(scene, image, scale),
         "by_process": processes,
+        "by_mass": masses,
         "files": files_json(spec, &files, quality.is_some(), run.fits),
     });
     let doc = json!({

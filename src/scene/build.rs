@@ -72,6 +72,7 @@ pub(super) fn build(
         .first()
         .map(|s| s.process_names())
         .unwrap_or_default();
+    materials.masses = super::magnet::scan_masses(&desc, bore.is_some());
     let mut objects = Vec::new();
     let mut builder = ObjectBuilder::new(at, dir, representation, &inputs);
     let mut embree = device.scene::<embree_binding::AnalyticPieces>();

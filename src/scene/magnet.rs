@@ -29,6 +29,7 @@ use toml::Spanned;
 /// step_mm = 25.0                   # optional: the path integral's step through a map
 ///                                  # (default: half the map's finest node spacing)
 /// axion_mass_ev = 0.0
+/// masses_ev = [0.01, 0.02]         # optional: also an image per mass, from the same photons
 /// g_agamma = 1e-10                 # GeV⁻¹: the conversion's coupling (the Sun's g_aγ)
 /// gas = { mixture = { He = 1.0 }, pressure_mbar = 10.0, temperature_k = 1.8 }
 /// ```
@@ -53,6 +54,11 @@ pub struct MagnetDesc {
     pub step_mm: Option<f64>,
     #[serde(default)]
     pub axion_mass_ev: f64,
+    /// A mass scan: the sensors also record one image per mass (eV), each
+    /// photon's weight times its axion's P at that mass over P at
+    /// `axion_mass_ev`.
+    #[serde(default)]
+    pub masses_ev: Vec<f64>,
     pub g_agamma: f64,
     #[serde(default)]
     pub gas: Option<BufferGasDesc>,
@@ -154,6 +160,7 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
             d.axion_mass_ev
         ));
     }
+    check_scan(&d.masses_ev)?;
     if !(d.g_agamma.is_finite() && d.g_agamma > 0.0) {
         return Err(format!(
             "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
@@ -196,6 +203,7 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
         Field::Map { map, .. } => 0.5 * map.finest_spacing(),
         Field::Uniform { .. } => 1000.0,
     });
+    let weight_scale = Magnet::peak_probability(&field, d.g_agamma, 2.0 * half_length_mm);
     let magnet = Magnet {
         bore: bore.name.to_string(),
         frame,
@@ -206,9 +214,38 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
         gas,
         axion_mass_ev: d.axion_mass_ev,
         g_agamma_gev: d.g_agamma,
+        scan_masses: d.masses_ev.clone(),
+        weight_scale,
     };
     check_representable(&magnet)?;
     Ok(magnet)
+}
+
+/// The most masses one scan takes: each is a whole image (and one per
+/// process) on every sensor.
+pub const MAX_SCAN_MASSES: usize = 1000;
+
+/// Refuses a mass scan with a mass that is not a mass, or too many.
+fn check_scan(masses: &[f64]) -> Result<(), String> {
+    if masses.len() > MAX_SCAN_MASSES {
+        return Err(format!(
+            "masses_ev: {} masses, more than {MAX_SCAN_MASSES} (each is an image on every sensor)",
+            masses.len()
+        ));
+    }
+    if let Some(m) = masses.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
+        return Err(format!("masses_ev: {m} is not a mass ≥ 0 (eV)"));
+    }
+    Ok(())
+}
+
+/// The mass scan the sensors record: the `[magnet]` table's `masses_ev` when
+/// the magnet is on (`enabled`, with its bore found).
+pub(super) fn scan_masses(desc: &super::desc::SceneDesc, enabled: bool) -> Vec<f64> {
+    match (&desc.magnet, enabled) {
+        (Some(m), true) => m.get_ref().masses_ev.clone(),
+        _ => Vec::new(),
+    }
 }
 
 /// Refuses a coupling or mass whose P is below the smallest normal double on
@@ -284,6 +321,16 @@ pub(super) fn find_bore(
     at: super::error::SceneText,
     desc: &super::desc::SceneDesc,
 ) -> Result<Option<(usize, super::shapes::CylinderDesc)>, super::SceneError> {
+    if let Some(m) = desc
+        .magnet
+        .as_ref()
+        .filter(|m| !m.get_ref().enabled && !m.get_ref().masses_ev.is_empty())
+    {
+        return Err(at.error(
+            m.span(),
+            "magnet: masses_ev (a mass scan) needs the magnet on: enabled = false leaves the axions unconverted (-D magnet=true in the shipped scenes)",
+        ));
+    }
     let Some(m) = desc.magnet.as_ref().filter(|m| m.get_ref().enabled) else {
         return Ok(None);
     };

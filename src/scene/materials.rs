@@ -132,6 +132,8 @@ pub struct Materials {
     /// The source's processes each sensor records an image of
     /// ([`crate::source::Source::process_names`]).
     pub processes: Vec<String>,
+    /// The magnet's mass scan (eV), recorded by every sensor.
+    pub masses: Vec<f64>,
 }
 
 impl Materials {
@@ -182,6 +184,7 @@ impl Materials {
             foils: Vec::new(),
             roughness: Vec::new(),
             processes: Vec::new(),
+            masses: Vec::new(),
         }
     }
 
@@ -242,6 +245,7 @@ impl Materials {
             MaterialDesc::Sensor(s) => match s.spec(object_name, object) {
                 Ok(mut spec) => {
                     spec.processes = self.processes.clone();
+                    spec.masses = self.masses.clone();
                     self.sensors.push(spec);
                     Ok(Material::Sensor {
                         sensor: self.sensors.len() - 1,

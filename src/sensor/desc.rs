@@ -95,6 +95,7 @@ impl SensorDesc {
             history_images: self.history_images,
             gas,
             processes: Vec::new(),
+            masses: Vec::new(),
         })
     }
 }

@@ -155,6 +155,18 @@ pub fn process_file_names(name: &str, processes: &[String]) -> Vec<String> {
         .collect()
 }
 
+/// The files of sensor `name`'s mass scan: the images of every mass
+/// (`NAME_by_mass.npy`) and, for a source of several processes, each mass's
+/// per-process images (`NAME_by_mass_and_process.npy`).
+pub fn mass_file_names(name: &str, processes: bool) -> Vec<String> {
+    let stem = file_stem(name);
+    let mut names = vec![format!("{stem}_by_mass.npy")];
+    if processes {
+        names.push(format!("{stem}_by_mass_and_process.npy"));
+    }
+    names
+}
+
 /// The longest process name a source has ("electron_electron"), for the
 /// file-name check made before the sources are known.
 const LONGEST_PROCESS: &str = "electron_electron";
@@ -182,6 +194,7 @@ pub fn check_file_names(name: &str) -> Result<(), String> {
         .map(str::to_string)
         .chain(class_file_names(name))
         .chain(process_file_names(name, &[LONGEST_PROCESS.to_string()]))
+        .chain(mass_file_names(name, true))
         .chain([fits_file_name(name), grid_fits_file_name(name)])
         .map(|f| f.len() + TEMPORARY_NAME_EXTRA_BYTES)
         .max()

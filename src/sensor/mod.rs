@@ -15,6 +15,7 @@ pub mod conversion;
 mod desc;
 pub mod exact;
 mod files;
+pub mod masses;
 pub mod paths;
 mod processes;
 pub mod rebin;
@@ -23,7 +24,8 @@ pub use desc::{SensorDesc, MAX_TOTAL_PIXELS};
 pub use exact::WeightSum;
 pub use files::{
     check_file_names, class_file_names, file_stem, fits_file_name, grid_fits_file_name,
-    process_file_names, ConversionFiles, GridFiles, SensorFiles, MAX_FILE_NAME_BYTES, SUMMARY_FILE,
+    mass_file_names, process_file_names, ConversionFiles, GridFiles, SensorFiles,
+    MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
 pub use processes::ProcessTally;
@@ -62,6 +64,9 @@ pub struct SensorSpec {
     /// "abc"), each recorded as an image of its own beside the total; empty
     /// for a source of one process.
     pub processes: Vec<String>,
+    /// The axion masses (eV) of a magnet's mass scan, each recorded as an
+    /// image of its own beside the total ([`masses`]); empty without a scan.
+    pub masses: Vec<f64>,
 }
 
 impl SensorSpec {
@@ -79,6 +84,9 @@ impl SensorSpec {
             names.extend(owned(&ConversionFiles::of(&self.name).all()));
         }
         names.extend(process_file_names(&self.name, &self.processes));
+        if !self.masses.is_empty() {
+            names.extend(mass_file_names(&self.name, !self.processes.is_empty()));
+        }
         names
     }
 
@@ -112,8 +120,9 @@ impl SensorSpec {
 
     /// The image values a run holds for this sensor, toward the scene's cap
     /// [`MAX_TOTAL_PIXELS`]: pixels × bands, one image per path class with
-    /// `history_images`, one per process of the source, and its pixel grid's
-    /// pixels × bands (made when written).
+    /// `history_images`, one per process of the source, its pixel grid's
+    /// pixels × bands (made when written), and per mass of a mass scan the
+    /// pixels × bands and one image per process.
     pub fn image_values(&self) -> u64 {
         let pixels = self.pixel_count() as u64;
         let bands = self.bands() as u64;
@@ -126,7 +135,9 @@ impl SensorSpec {
             .pixel_grid
             .as_ref()
             .map_or(0, |g| g.pixels[0] as u64 * g.pixels[1] as u64 * bands);
-        pixels * bands + classes + grid + self.processes.len() as u64 * pixels
+        let processes = self.processes.len() as u64 * pixels;
+        let masses = self.masses.len() as u64 * (pixels * bands + processes);
+        pixels * bands + classes + grid + processes + masses
     }
 
     /// Number of energy bands (1 without binning).
@@ -184,6 +195,9 @@ pub struct SensorImage {
     /// The flux by emission process ([`SensorSpec::processes`]).
     #[serde(default)]
     pub processes: ProcessTally,
+    /// The flux for each mass of a mass scan ([`SensorSpec::masses`]).
+    #[serde(default)]
+    pub masses: masses::MassTally,
     /// Pixels per band plane.
     plane: usize,
 }
@@ -198,6 +212,12 @@ impl SensorImage {
             paths: PathTally::new(spec.history_images, spec.pixel_count()),
             conversion: spec.gas.as_ref().map(|g| ConversionTally::new(&g.desc)),
             processes: ProcessTally::new(spec.processes.len(), spec.pixel_count()),
+            masses: masses::MassTally::new(
+                spec.masses.len(),
+                n,
+                spec.processes.len(),
+                spec.pixel_count(),
+            ),
             plane: spec.pixel_count(),
         }
     }
@@ -218,7 +238,7 @@ impl SensorImage {
     #[inline]
     pub fn record(
         &mut self,
-        (pixel, weight, shares): (u32, f64, &crate::source::ProcessWeights),
+        (pixel, weight, shares, mass_factors): (u32, f64, &crate::source::ProcessWeights, &[f64]),
         class: PathClass,
         (first, last): (u32, u32),
         (energy_kev, conversion): (f64, Option<&ConversionRecord>),
@@ -231,6 +251,8 @@ impl SensorImage {
         self.counts[pixel as usize] += 1;
         let in_plane = pixel as usize % self.plane.max(1);
         self.processes.record(in_plane, (weight, fixed), shares);
+        self.masses
+            .record((pixel as usize, in_plane), weight, mass_factors, shares);
         self.paths.record(in_plane, fixed, class, (first, last));
     }
 
@@ -242,6 +264,7 @@ impl SensorImage {
         }
         self.paths.add(&other.paths);
         self.processes.add(&other.processes);
+        self.masses.add(&other.masses);
         if let (Some(a), Some(b)) = (&mut self.conversion, &other.conversion) {
             a.add(b);
         }

@@ -272,7 +272,7 @@ fn trace_point(
             shared
                 .lock()
                 .expect("no worker panics while holding the tally")
-                .add_records(scene, &chunk.records, &chunk.stats);
+                .add_records(scene, &chunk);
             progress.advance(n);
         });
     shared

@@ -118,27 +118,30 @@ impl Tally {
     /// photon order); keeps the first `photon_list` recorded photons. Does not
     /// count `traced`.
     pub fn add_chunk(&mut self, scene: &Scene, chunk: Chunk, photon_list: usize) {
-        self.add_records(scene, &chunk.records, &chunk.stats);
+        self.add_records(scene, &chunk);
         self.add_listed(chunk.listed, photon_list);
     }
 
     /// Adds the sensor records and statistics of a chunk of `scene` (whose Sun
-    /// says how each photon's weight splits among the process images). The sums
-    /// are exact, so chunks may come in any order.
-    pub fn add_records(&mut self, scene: &Scene, records: &[Record], stats: &Statistics) {
+    /// says how each photon's weight splits among the process images, and
+    /// whose magnet's mass scan the chunk's factors serve). The sums are
+    /// exact, so chunks may come in any order.
+    pub fn add_records(&mut self, scene: &Scene, chunk: &Chunk) {
         let emission = scene.sun_emission();
-        for r in records {
+        let masses = chunk.mass_factors.len() / chunk.records.len().max(1);
+        for (i, r) in chunk.records.iter().enumerate() {
             let h = &r.history;
             let shares =
                 emission.map_or_else(Default::default, |e| e.process_weights(r.process, r.cell));
+            let factors = &chunk.mass_factors[i * masses..(i + 1) * masses];
             self.images[r.sensor as usize].record(
-                (r.pixel, r.weight, &shares),
+                (r.pixel, r.weight, &shares, factors),
                 h.class(),
                 (h.first_mirror, h.last_mirror),
                 (r.energy, r.conversion.as_ref()),
             );
         }
-        self.stats.add(stats);
+        self.stats.add(&chunk.stats);
     }
 
     /// Appends the listed photons of the next chunk in photon order, up to
@@ -234,7 +237,7 @@ pub fn run_part(
                     shared
                         .lock()
                         .expect("no worker panics while holding the tally")
-                        .add_records(scene, &r.records, &r.stats);
+                        .add_records(scene, &r);
                     progress.advance(n);
                     r.listed
                 })
@@ -258,6 +261,9 @@ pub fn run_part(
 /// What one chunk of photons gave.
 pub struct Chunk {
     pub records: Vec<Record>,
+    /// With a magnet's mass scan, each record's weight factor per mass
+    /// (record-major; [`crate::magnet::Magnet::scan_factors`]); else empty.
+    pub mass_factors: Vec<f64>,
     /// Details of the first recorded photons (at most the cap asked for).
     pub listed: Vec<RecordedPhoton>,
     pub stats: Statistics,
@@ -313,22 +319,35 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
 ) -> Chunk {
     let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
     let mut records = Vec::new();
+    let mut mass_factors = Vec::new();
     let mut listed = Vec::new();
     let n_sources = sources.len() as u64;
     if n_sources == 0 {
         // A scene for visible-light renders only: nothing is emitted.
         return Chunk {
             records,
+            mass_factors,
             listed,
             stats,
         };
     }
+    // A Sun whose magnet scans masses: each recorded photon's factors.
+    let scan = match sources {
+        [crate::source::Source::Sun(s)] => {
+            s.magnet.as_deref().filter(|m| !m.scan_masses.is_empty())
+        }
+        _ => None,
+    };
     for i in range {
         let mut rng = PhotonRng::new(seed, i);
         let photon = sources[(i % n_sources) as usize].emit(&mut rng);
+        let axion = ((photon.origin, photon.dir), photon.energy);
         if let Some((record, local, dir)) =
             trace_photon(scene, photon, &mut rng, &mut stats, hook, att)
         {
+            if let Some(m) = scan {
+                m.scan_factors(axion.0, axion.1, &mut mass_factors);
+            }
             if listed.len() < list_cap {
                 listed.push(RecordedPhoton {
                     index: i,
@@ -342,6 +361,7 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
     }
     Chunk {
         records,
+        mass_factors,
         listed,
         stats,
     }

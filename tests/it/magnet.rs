@@ -373,6 +373,7 @@ g_agamma = 1e-10
         field_map_transform: Vec::new(),
         step_mm: None,
         axion_mass_ev: 0.0,
+        masses_ev: Vec::new(),
         g_agamma: 1e-10,
         gas: None,
     };

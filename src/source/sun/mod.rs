@@ -160,7 +160,8 @@ pub struct SunSource {
     /// D_min² in mm² (see the module documentation).
     nearest_mm2: f64,
     /// The helioscope's magnet, when the scene has one: each photon's weight
-    /// is then multiplied by its axion's conversion probability.
+    /// is then multiplied by its axion's conversion probability in units of
+    /// the magnet's [`crate::magnet::Magnet::weight_scale`].
     pub magnet: Option<Arc<crate::magnet::Magnet>>,
 }
 
@@ -368,10 +369,9 @@ impl SunSource {
         let v = (on_target - self.target.center) - emission;
         let d2 = v.length_squared();
         let dir = v / d2.sqrt();
-        let converted = self
-            .magnet
-            .as_ref()
-            .map_or(1.0, |m| m.probability(on_target, dir, energy));
+        let converted = self.magnet.as_ref().map_or(1.0, |m| {
+            m.probability(on_target, dir, energy) / m.weight_scale
+        });
         Photon {
             origin: on_target,
             dir,
@@ -388,11 +388,13 @@ impl SunSource {
     }
 
     /// Axions per second that one unit of weight stands for, summed over a run of
-    /// `photons` photons: L·A / (4π D_min²) / photons.
+    /// `photons` photons: L·A / (4π D_min²) / photons; with a magnet, X-rays
+    /// per second: times its weight scale P_max (the weights carry P / P_max).
     pub fn rate_per_unit_weight(&self, photons: u64) -> f64 {
         self.emission_draw.luminosity * self.target.area()
             / (4.0 * std::f64::consts::PI * self.nearest_mm2)
             / photons.max(1) as f64
+            * self.magnet.as_ref().map_or(1.0, |m| m.weight_scale)
     }
 
     /// Axions per second through the target (energy range only): L·A·cos θ/(4πD²)
