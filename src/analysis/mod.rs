@@ -13,6 +13,7 @@ mod doubts;
 pub mod eef;
 mod finished;
 pub mod focus;
+pub mod signal;
 
 pub use doubts::doubts;
 pub use finished::FinishedImage;
@@ -77,6 +78,7 @@ impl Eef {
 
 /// A 2-D image [iy][ix] with its geometry: pixel (0, 0) has its corner at
 /// (x0, y0) mm; pixels are `pitch` mm.
+#[derive(Clone, Debug, PartialEq)]
 pub struct ImageGeometry {
     pub nx: usize,
     pub ny: usize,
@@ -166,6 +168,18 @@ pub fn flux_within(
 ) -> Vec<f64> {
     let encircled = encircled_about(image, g, centre_mm);
     radii_mm.iter().map(|&r| encircled.flux_within(r)).collect()
+}
+
+/// The radius (mm) about `centre_mm` holding `fraction` of the flux of
+/// `image`; `None` without flux.
+pub fn radius_holding(
+    image: &[f64],
+    g: &ImageGeometry,
+    centre_mm: [f64; 2],
+    fraction: f64,
+) -> Option<f64> {
+    let encircled = encircled_about(image, g, centre_mm);
+    (encircled.outer_radius() > 0.0).then(|| encircled.radius_at(fraction))
 }
 
 /// The encircled flux of `image` about `centre_mm`: each lit pixel's flux

@@ -37,6 +37,7 @@ pub mod reflectivity;
 pub mod render;
 pub mod report;
 pub mod resume;
+pub mod signal;
 pub mod signals;
 pub mod solar_flux;
 pub mod synopsis;

@@ -526,6 +526,11 @@ pub fn sources_json(scene: &Scene, photons: u64) -> Value {
                     "type": "sun",
                     "emission": sun.emission,
                     "coupling": sun.coupling,
+                    "productions": sun.productions.iter().map(|(p, g)| json!({
+                        "process": p,
+                        "coupling": if p == "primakoff" { "g_agamma" } else { "g_ae" },
+                        "value": g,
+                    })).collect::<Vec<_>>(),
                     "couplings_not_used": sun.couplings_not_used,
                     "distance_au": sun.distance_mm / (crate::constants::AU_CM * 10.0),
                     "toward_sun": sun.toward_sun.to_array(),

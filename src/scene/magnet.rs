@@ -386,7 +386,18 @@ pub(super) fn attach(
     };
     let magnet = Arc::new(build(m.get_ref(), &bore, dir, &|p| inputs.note(p)).map_err(fail)?);
     match sources {
-        [crate::source::Source::Sun(sun)] => sun.magnet = Some(magnet.clone()),
+        [crate::source::Source::Sun(sun)] => {
+            // One coupling produces and converts the Primakoff axions.
+            if let Some((_, g)) = sun.productions.iter().find(|(p, _)| p == "primakoff") {
+                if (g - magnet.g_agamma_gev).abs() > 1e-9 * g {
+                    return Err(fail(format!(
+                        "g_agamma = {:e} GeV⁻¹, but the Sun produces its Primakoff axions with g_agamma = {g:e}: one coupling makes and converts them (give both the same value, e.g. one scene variable)",
+                        magnet.g_agamma_gev
+                    )));
+                }
+            }
+            sun.magnet = Some(magnet.clone())
+        }
         _ => {
             return Err(fail(
                 "a magnet converts axions: the scene's source must be a `sun`".into(),

@@ -12,6 +12,25 @@ const MAX_PIXELS: u64 = 1 << 26;
 /// 2^27 values of flux and counts are 2 GB, allocated once when a run starts.
 pub const MAX_TOTAL_PIXELS: u64 = 1 << 27;
 
+/// `energy_bins`: `[min, max, count]`, or `[]` for none.
+fn bins_or_none<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> Result<Option<(f64, f64, u32)>, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Bins {
+        Bands(f64, f64, u32),
+        None([f64; 0]),
+    }
+    match Bins::deserialize(d) {
+        Ok(Bins::Bands(lo, hi, n)) => Ok(Some((lo, hi, n))),
+        Ok(Bins::None(_)) => Ok(None),
+        Err(_) => Err(serde::de::Error::custom(
+            "energy_bins = [min, max, count] (keV, keV, a whole number of bands), or [] for none",
+        )),
+    }
+}
+
 message_error!(
     /// A sensor table whose numbers describe no sensor, with what is wrong.
     InvalidSensor
@@ -23,8 +42,8 @@ pub struct SensorDesc {
     pub size: [f64; 2],
     pub pixels: [u32; 2],
     /// Optional energy binning `[min, max, count]` (keV): the image gets an energy
-    /// axis, one image per band.
-    #[serde(default)]
+    /// axis, one image per band. `[]` is none (a scene variable's default).
+    #[serde(default, deserialize_with = "bins_or_none")]
     pub energy_bins: Option<(f64, f64, u32)>,
     /// Focal length (mm) of the optics in front of the sensor: image-quality
     /// diameters are then also given in arcseconds, 2·atan(r/f).

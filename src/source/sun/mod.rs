@@ -157,6 +157,10 @@ pub struct SunSource {
     /// Couplings given in `couplings` for a process the emission does not have
     /// (e.g. "g_ae = 1e-13"): not used, and said so in summary.json.
     pub couplings_not_used: Vec<String>,
+    /// The built-in emission's productions and their couplings' values:
+    /// ("primakoff", g_aγ in GeV⁻¹) and ("abc", g_ae); empty for an emission
+    /// table file (whose coupling is only text).
+    pub productions: Vec<(String, f64)>,
     /// D_min² in mm² (see the module documentation).
     nearest_mm2: f64,
     /// The helioscope's magnet, when the scene has one: each photon's weight
@@ -235,6 +239,27 @@ impl SunDesc {
         }
         let (primakoff, abc) = builtin::parse_name(&self.emission).unwrap_or((false, false));
         Ok((set.g_agamma.filter(|_| primakoff), set.g_ae.filter(|_| abc)))
+    }
+
+    /// The built-in emission's productions with their couplings (see
+    /// [`SunSource::productions`]).
+    fn productions(&self) -> Result<Vec<(String, f64)>, InvalidSource> {
+        if builtin::parse_name(&self.emission).is_none() {
+            return Ok(Vec::new());
+        }
+        let names = builtin::CouplingNames {
+            assign: " = ",
+            emission: "emission",
+            g_agamma: "g_agamma",
+            g_ae: "g_ae",
+        };
+        let (g_agamma, g_ae) = self.given_couplings()?;
+        let (g_agamma, g_ae) = builtin::checked_couplings(&self.emission, g_agamma, g_ae, &names)
+            .map_err(|e| InvalidSource(format!("sun: {e}")))?;
+        Ok([("primakoff", g_agamma), ("abc", g_ae)]
+            .into_iter()
+            .filter_map(|(n, g)| g.map(|g| (n.to_string(), g)))
+            .collect())
     }
 
     /// The couplings of `couplings` the emission does not use, for the summary.
@@ -329,6 +354,7 @@ impl SunDesc {
             emission,
             coupling,
             couplings_not_used: p.couplings_not_used(),
+            productions: p.productions()?,
             nearest_mm2: nearest * nearest,
             magnet: None,
         })

@@ -1,0 +1,156 @@
+//! The expected signal of a helioscope run in a signal region: for each axion
+//! mass of the run (its scene's mass, or the masses of a mass scan), the
+//! X-rays per second converting in the detector within a circle on the
+//! sensor, in all and per energy band. The circle is centred on a given point
+//! or on the centroid of the run's image at the scene's mass, with a given
+//! radius or the radius holding a given fraction of that image's flux; one
+//! region serves every mass, so that the masses compare like for like. Each
+//! pixel's flux is spread over its area, as for the encircled energy
+//! ([`super::eef`]): no lattice bias.
+//!
+//! Data flow: `output::run_read` reads a results folder into a [`RunSignal`];
+//! [`signal`] measures it; `output::signal` writes the tables and `reach`
+//! turns them into limits.
+
+use super::eef::rectangle_in_disk;
+use super::ImageGeometry;
+
+/// What a finished magnet run holds for one sensor, in X-rays per second.
+#[derive(Clone, Debug)]
+pub struct RunSignal {
+    /// The sensor's name and its geometry.
+    pub sensor: String,
+    pub geometry: ImageGeometry,
+    /// The energy bands' edges (keV), bands + 1 values (one band over the
+    /// source's range without energy bins).
+    pub band_edges: Vec<f64>,
+    /// The axion masses (eV) with their images [band][iy][ix] (X-rays/s).
+    pub masses: Vec<f64>,
+    pub images: Vec<Vec<f64>>,
+    /// The image at the scene's mass (summed over bands), which places the
+    /// region.
+    pub reference: Vec<f64>,
+    /// The run's couplings (GeV⁻¹; g_ae dimensionless) and emission.
+    pub g_agamma: f64,
+    pub g_ae: Option<f64>,
+    pub emission: String,
+    /// The buffer gas, as the run's summary describes it (`None`: vacuum).
+    pub gas: Option<String>,
+}
+
+/// Where the signal region's circle lies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Centre {
+    /// The centroid of the image at the scene's mass.
+    Centroid,
+    /// A point (mm) in the sensor's frame.
+    At([f64; 2]),
+}
+
+/// How large it is.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Size {
+    RadiusMm(f64),
+    /// The radius holding this fraction of the image at the scene's mass.
+    Fraction(f64),
+}
+
+/// A signal region: a circle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    pub centre: Centre,
+    pub size: Size,
+}
+
+/// The signal of one mass.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MassSignal {
+    pub mass_ev: f64,
+    /// X-rays per second in the region, in all and per band.
+    pub rate: f64,
+    pub spectrum: Vec<f64>,
+    /// X-rays per second on the whole sensor.
+    pub sensor_rate: f64,
+}
+
+/// The signal of every mass in one region.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Signal {
+    pub centre_mm: [f64; 2],
+    pub radius_mm: f64,
+    /// The circle's area on the sensor (cm²): the background's area.
+    pub area_cm2: f64,
+    /// The fraction of the scene-mass image's flux inside.
+    pub fraction: f64,
+    pub band_edges: Vec<f64>,
+    pub masses: Vec<MassSignal>,
+}
+
+/// Why a region cannot be measured.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct RegionError(pub String);
+
+/// The signal of `run` in `region`.
+pub fn signal(run: &RunSignal, region: &Region) -> Result<Signal, RegionError> {
+    let g = &run.geometry;
+    let centre = match region.centre {
+        Centre::At(c) => c,
+        Centre::Centroid => {
+            super::analyse(&run.reference, g, None)
+                .ok_or_else(|| {
+                    RegionError(
+                        "the image at the scene's mass holds no flux: no centroid to centre on"
+                            .into(),
+                    )
+                })?
+                .0
+                .centroid_mm
+        }
+    };
+    let radius = match region.size {
+        Size::RadiusMm(r) if r.is_finite() && r > 0.0 => r,
+        Size::Fraction(f) if f > 0.0 && f < 1.0 => {
+            super::radius_holding(&run.reference, g, centre, f)
+                .ok_or_else(|| RegionError("the image at the scene's mass holds no flux".into()))?
+        }
+        Size::RadiusMm(r) => return Err(RegionError(format!("radius {r} mm: a radius is > 0"))),
+        Size::Fraction(f) => {
+            return Err(RegionError(format!(
+                "fraction {f}: the region holds a fraction in (0, 1) of the flux"
+            )))
+        }
+    };
+    let plane = g.nx * g.ny;
+    let within = |img: &[f64]| super::flux_within(img, g, centre, &[radius])[0];
+    let masses = run
+        .masses
+        .iter()
+        .zip(&run.images)
+        .map(|(&m, img)| {
+            let spectrum: Vec<f64> = img.chunks_exact(plane).map(within).collect();
+            MassSignal {
+                mass_ev: m,
+                rate: spectrum.iter().sum(),
+                spectrum,
+                sensor_rate: img.iter().sum(),
+            }
+        })
+        .collect();
+    // The circle's area on the sensor: the sensor's rectangle inside it.
+    let (x0, y0) = (g.origin_mm[0] - centre[0], g.origin_mm[1] - centre[1]);
+    let (x1, y1) = (x0 + g.nx as f64 * g.pitch[0], y0 + g.ny as f64 * g.pitch[1]);
+    let total: f64 = run.reference.iter().sum();
+    Ok(Signal {
+        centre_mm: centre,
+        radius_mm: radius,
+        area_cm2: rectangle_in_disk(x0, x1, y0, y1, radius) * 1e-2,
+        fraction: if total > 0.0 {
+            within(&run.reference) / total
+        } else {
+            0.0
+        },
+        band_edges: run.band_edges.clone(),
+        masses,
+    })
+}
