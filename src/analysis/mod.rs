@@ -13,6 +13,7 @@ mod doubts;
 pub mod eef;
 mod finished;
 pub mod focus;
+pub mod reach;
 pub mod signal;
 
 pub use doubts::doubts;

@@ -33,6 +33,7 @@ pub mod inspect;
 pub mod merge;
 pub mod progress;
 pub mod psf;
+pub mod reach;
 pub mod reflectivity;
 pub mod render;
 pub mod report;

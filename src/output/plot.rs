@@ -57,7 +57,7 @@ const PALETTE: [(u8, u8, u8); 7] = [
 ];
 
 /// Colour number `i` of [`PALETTE`] (repeating).
-fn palette(i: usize) -> RGBColor {
+pub(super) fn palette(i: usize) -> RGBColor {
     let (r, g, b) = PALETTE[i % PALETTE.len()];
     RGBColor(r, g, b)
 }

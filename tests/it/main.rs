@@ -33,6 +33,7 @@ mod photon_loop;
 mod pictures;
 mod processes;
 mod quiet;
+mod reach;
 mod rebin;
 mod refusals;
 mod render;
