@@ -119,8 +119,11 @@ fn coupling_of(run: &RunSignal, dir: &std::path::Path) -> Result<Coupling, Input
     }
 }
 
-pub fn run(a: ReachArgs) -> anyhow::Result<()> {
-    let exposure = a.exposure()?;
+/// Each run's curve, what they limit and the energy window.
+fn curves(
+    a: &ReachArgs,
+    exposure: &Exposure,
+) -> Result<(Vec<ReachCurve>, &'static str, [f64; 2]), InputError> {
     let mut curves = Vec::new();
     let mut kind = None;
     let mut window = [0.0; 2];
@@ -128,7 +131,7 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         let (run, s) = a.region.measure(dir)?;
         let coupling = coupling_of(&run, dir)?;
         if kind.is_some_and(|k: &'static str| k != coupling.name()) {
-            return Err(InputError("the runs limit different couplings (Primakoff and ABC runs): give runs of one emission".into()).into());
+            return Err(InputError("the runs limit different couplings (Primakoff and ABC runs): give runs of one emission".into()));
         }
         kind = Some(coupling.name());
         let (b0, b1) = window_bands(&s, &a.window)?;
@@ -143,7 +146,7 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
                     rate,
                     coupling,
                     (s.area_cm2, window[1] - window[0]),
-                    &exposure,
+                    exposure,
                 )
             })
             .collect();
@@ -154,6 +157,12 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
             region: json!({"centre_mm": s.centre_mm, "radius_mm": s.radius_mm, "area_cm2": s.area_cm2, "fraction": s.fraction}),
         });
     }
+    Ok((curves, kind.unwrap_or("g_agamma"), window))
+}
+
+pub fn run(a: ReachArgs) -> anyhow::Result<()> {
+    let exposure = a.exposure()?;
+    let (curves, kind, window) = curves(&a, &exposure)?;
     let out = a
         .output
         .out
@@ -161,11 +170,10 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         .unwrap_or_else(|| a.runs[0].join("reach"));
     let folder = OutputFolder::prepare(&out, &REACH_FILES)?;
     let provenance = Provenance::of_table(&super::invocation());
-    let coupling = kind.unwrap_or("g_agamma");
     write_reach(
         folder.path(),
         &curves,
-        coupling,
+        kind,
         (&exposure, window),
         &provenance,
     )
@@ -178,7 +186,7 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         "signal",
         "background",
         "limit",
-        coupling
+        kind
     );
     for c in &curves {
         for l in &c.limits {

@@ -77,6 +77,46 @@ pub fn write_reach(
     super::run_files::write_json(&dir.join(REACH_FILES[2]), &doc)
 }
 
+/// Each curve's points with a mass (m_a > 0 on a log axis), the vacuum
+/// plateau (the least limit at m_a = 0) and the axes' ranges.
+type PlotData = (Vec<Vec<(f64, f64)>>, Option<f64>, ((f64, f64), (f64, f64)));
+
+fn plot_data(curves: &[ReachCurve]) -> PlotData {
+    let points: Vec<Vec<(f64, f64)>> = curves
+        .iter()
+        .map(|c| {
+            c.limits
+                .iter()
+                .filter_map(|l| Some((l.mass_ev, l.coupling_limit?)))
+                .filter(|p| p.0 > 0.0 && p.1.is_finite())
+                .collect()
+        })
+        .collect();
+    let plateau: Option<f64> = curves
+        .iter()
+        .flat_map(|c| &c.limits)
+        .filter(|l| l.mass_ev == 0.0)
+        .filter_map(|l| l.coupling_limit)
+        .reduce(f64::min);
+    let all = points.iter().flatten();
+    let (x0, x1) = all.clone().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.0), b.max(p.0))
+    });
+    let (x0, x1) = if x0.is_finite() {
+        (x0 / 2.0, x1 * 2.0)
+    } else {
+        (1e-4, 1.0)
+    };
+    let ys = all.map(|p| p.1).chain(plateau);
+    let (y0, y1) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
+    let (y0, y1) = if y0.is_finite() {
+        (y0 / 1.5, y1 * 3.0)
+    } else {
+        (1e-12, 1e-9)
+    };
+    (points, plateau, ((x0, x1), (y0, y1)))
+}
+
 /// 1, 2 and 5 × 10ⁿ within [lo, hi] (every decade's 1 alone beyond three
 /// decades).
 fn ticks(lo: f64, hi: f64) -> Vec<f64> {
@@ -93,34 +133,8 @@ fn ticks(lo: f64, hi: f64) -> Vec<f64> {
 fn write_plot(path: &Path, curves: &[ReachCurve], coupling: &str) -> std::io::Result<()> {
     register_font();
     let (w, h) = (900u32, 620u32);
-    let points = |c: &ReachCurve| -> Vec<(f64, f64)> {
-        c.limits
-            .iter()
-            .filter_map(|l| Some((l.mass_ev, l.coupling_limit?)))
-            .filter(|p| p.0 > 0.0 && p.1.is_finite())
-            .collect()
-    };
-    let plateau: Option<f64> = curves
-        .iter()
-        .flat_map(|c| &c.limits)
-        .filter(|l| l.mass_ev == 0.0)
-        .filter_map(|l| l.coupling_limit)
-        .reduce(f64::min);
-    let all: Vec<(f64, f64)> = curves.iter().flat_map(points).collect();
-    let (mut x0, mut x1) = all.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
-        (a.min(p.0), b.max(p.0))
-    });
-    if !x0.is_finite() {
-        (x0, x1) = (1e-4, 1.0);
-    }
-    let ys = all.iter().map(|p| p.1).chain(plateau);
-    let (y0, y1) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
-    let (x0, x1) = (x0 / 2.0, x1 * 2.0);
-    let (y0, y1) = if y0.is_finite() {
-        (y0 / 1.5, y1 * 3.0)
-    } else {
-        (1e-12, 1e-9)
-    };
+    let (points, plateau, ranges) = plot_data(curves);
+    let ((x0, x1), (y0, y1)) = ranges;
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
@@ -180,7 +194,7 @@ fn write_plot(path: &Path, curves: &[ReachCurve], coupling: &str) -> std::io::Re
             }
             for (i, c) in curves.iter().enumerate() {
                 let color = palette(i).to_rgba();
-                let pts = points(c);
+                let pts = &points[i];
                 chart
                     .draw_series(LineSeries::new(pts.iter().copied(), color.stroke_width(2)))?
                     .label(c.label.clone())

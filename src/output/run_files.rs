@@ -180,10 +180,8 @@ fn write_sensor(
     write_projections(&path(&files.projections_csv), summed, geometry)?;
     let grid = write_grid_files(dir, scene, spec, on_grid, &finished, run, &mut written)?;
     written.extend(write_class_images(dir, spec, image, scale)?);
-    let magnet = scene.counted() == Counted::XRays;
-    let processes =
-        write_process_images(dir, (spec, image, magnet), &processes, scale, &mut written)?;
-    let masses = super::masses::write_mass_images(dir, spec, image, scale, &mut written)?;
+    let (processes, masses) =
+        write_tallies(dir, (scene, spec, image), &processes, scale, &mut written)?;
     let conversion = write_conversion_files(dir, scene, spec, image, absolute, &mut written)?;
     let sensor = json!({
         "name": spec.name,
@@ -228,6 +226,25 @@ fn write_sensor(
             .map(path),
     );
     Ok((sensor, written))
+}
+
+/// The per-process and per-mass images and their JSON entries.
+fn write_tallies(
+    dir: &Path,
+    (scene, spec, image): (
+        &Scene,
+        &crate::sensor::SensorSpec,
+        &crate::sensor::SensorImage,
+    ),
+    processes: &[(String, Vec<f64>)],
+    scale: f64,
+    written: &mut Vec<PathBuf>,
+) -> std::io::Result<(Value, Value)> {
+    let magnet = scene.counted() == Counted::XRays;
+    Ok((
+        write_process_images(dir, (spec, image, magnet), processes, scale, written)?,
+        super::masses::write_mass_images(dir, spec, image, scale, written)?,
+    ))
 }
 
 /// The `files` entry of a sensor's JSON: each file by what it holds.

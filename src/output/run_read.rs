@@ -43,26 +43,7 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
         return Err(bad("the run has no magnet: its images count axions before conversion, not X-rays (trace a Sun scene with its [magnet] on, e.g. -D magnet=true)"));
     }
     let magnet = &source["magnet"];
-    let names: Vec<&str> = summary["sensors"]
-        .as_array()
-        .map(|a| a.iter().filter_map(|s| s["name"].as_str()).collect())
-        .unwrap_or_default();
-    let name = match (sensor, names.as_slice()) {
-        (Some(s), _) if names.contains(&s) => s,
-        (None, [one]) => one,
-        _ => {
-            return Err(bad(&format!(
-                "{} sensor{}: pick one of {} with --sensor",
-                sensor.map_or("no".to_string(), |s| format!("no `{s}`")),
-                if sensor.is_some() {
-                    ""
-                } else {
-                    "s to choose from"
-                },
-                names.join(", ")
-            )))
-        }
-    };
+    let name = &sensor_name(&summary, sensor).map_err(|m| bad(&m))?;
     let files = SensorFiles::of(name);
     let doc = read_json(&dir.join(&files.json))?;
     let s = &doc["sensor"];
@@ -128,6 +109,58 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
             .collect();
         (scan, images)
     };
+    let (emission, g_ae) = emission_of(source);
+    Ok(RunSignal {
+        sensor: name.to_string(),
+        geometry,
+        band_edges,
+        masses,
+        images,
+        reference,
+        g_agamma: number(&magnet["g_agamma_per_gev"], "magnet.g_agamma_per_gev")?,
+        g_ae,
+        emission: emission.to_string(),
+        gas: gas_of(magnet),
+    })
+}
+
+/// The sensor asked for, or the run's only one.
+fn sensor_name(summary: &Value, sensor: Option<&str>) -> Result<String, String> {
+    let names: Vec<&str> = summary["sensors"]
+        .as_array()
+        .map(|a| a.iter().filter_map(|s| s["name"].as_str()).collect())
+        .unwrap_or_default();
+    match (sensor, names.as_slice()) {
+        (Some(s), _) if names.contains(&s) => Ok(s.to_string()),
+        (None, [one]) => Ok(one.to_string()),
+        _ => Err(format!(
+            "{} sensor{}: pick one of {} with --sensor",
+            sensor.map_or("no".to_string(), |s| format!("no `{s}`")),
+            if sensor.is_some() {
+                ""
+            } else {
+                "s to choose from"
+            },
+            names.join(", ")
+        )),
+    }
+}
+
+/// The gas phase's description from the magnet's summary (`None`: vacuum).
+fn gas_of(magnet: &Value) -> Option<String> {
+    magnet["gas"].as_object().map(|g| {
+        format!(
+            "{} mbar at {} K (m_γ = {:.4} eV)",
+            g["pressure_mbar"],
+            g["temperature_k"],
+            g["photon_mass_ev"].as_f64().unwrap_or(0.0)
+        )
+    })
+}
+
+/// The run's emission ("primakoff", "abc", "primakoff+abc" or "a table
+/// file") and its g_ae, from the source's productions.
+fn emission_of(source: &Value) -> (&'static str, Option<f64>) {
     let production = |p: &str| {
         source["productions"]
             .as_array()
@@ -140,24 +173,5 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
         (None, Some(_)) => "abc",
         (None, None) => "a table file",
     };
-    let gas = magnet["gas"].as_object().map(|g| {
-        format!(
-            "{} mbar at {} K (m_γ = {:.4} eV)",
-            g["pressure_mbar"],
-            g["temperature_k"],
-            g["photon_mass_ev"].as_f64().unwrap_or(0.0)
-        )
-    });
-    Ok(RunSignal {
-        sensor: name.to_string(),
-        geometry,
-        band_edges,
-        masses,
-        images,
-        reference,
-        g_agamma: number(&magnet["g_agamma_per_gev"], "magnet.g_agamma_per_gev")?,
-        g_ae: production("abc"),
-        emission: emission.to_string(),
-        gas,
-    })
+    (emission, production("abc"))
 }

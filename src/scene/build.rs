@@ -46,13 +46,7 @@ pub(super) fn build(
         original: &original,
         overrides: &overrides,
     };
-    let max_interactions = *desc.max_interactions.get_ref();
-    if max_interactions == 0 {
-        return Err(at.error(
-            desc.max_interactions.span(),
-            "max_interactions must be at least 1",
-        ));
-    }
+    let max_interactions = max_interactions(at, &desc)?;
     let figure_errors = FigureErrorLibrary::shipped().merged(&desc.figure_errors);
     let mut materials = Materials::new(
         std::mem::take(&mut desc.materials),
@@ -68,11 +62,13 @@ pub(super) fn build(
 
     let mut sources = build_sources(at, &desc, dir, &inputs)?;
     let bore = super::magnet::find_bore(at, &desc)?;
-    materials.processes = sources
-        .first()
-        .map(|s| s.process_names())
-        .unwrap_or_default();
-    materials.masses = super::magnet::scan_masses(&desc, bore.is_some());
+    (materials.processes, materials.masses) = (
+        sources
+            .first()
+            .map(|s| s.process_names())
+            .unwrap_or_default(),
+        super::magnet::scan_masses(&desc, bore.is_some()),
+    );
     let mut objects = Vec::new();
     let mut builder = ObjectBuilder::new(at, dir, representation, &inputs);
     let mut embree = device.scene::<embree_binding::AnalyticPieces>();
@@ -129,6 +125,18 @@ pub(super) fn build(
 }
 
 /// The sources, with the files they read noted; a Sun must be alone.
+/// `max_interactions`, at least 1.
+fn max_interactions(at: SceneText, desc: &super::desc::SceneDesc) -> Result<u32, SceneError> {
+    let n = *desc.max_interactions.get_ref();
+    if n == 0 {
+        return Err(at.error(
+            desc.max_interactions.span(),
+            "max_interactions must be at least 1",
+        ));
+    }
+    Ok(n)
+}
+
 fn build_sources(
     at: SceneText,
     desc: &super::desc::SceneDesc,
