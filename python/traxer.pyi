@@ -250,8 +250,13 @@ class SensorImage:
     its sum over bands), and ABC's four processes ("atomic", "electron_ion",
     "electron_electron", "compton", adding up to "abc"), equal to
     NAME_PROCESS.npy; ABC alone has the four; None for a source of one
-    process. Each scales as its coupling squared (g_aγ², g_ae²): the image for
+    process. Each scales as its coupling squared (g_aγ², g_ae²; with a magnet g_aγ⁴ and g_ae² g_aγ²): the image for
     other couplings is their sum so scaled, equal to a trace with them."""
+    by_mass: Optional[dict[float, npt.NDArray[np.float64]]]
+    """With a magnet's mass scan (`masses_ev`, `--masses`): {axion mass (eV):
+    flux} in the shape and units of `flux`, from the same photons (each
+    weight times its path's P(m) / P at the scene's mass), equal to the
+    slices of NAME_by_mass.npy; None without a scan."""
 
 class GridImage:
     """A sensor's image on its detector pixel grid (the scene's ``pixel_grid``),

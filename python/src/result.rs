@@ -85,9 +85,14 @@ pub struct SensorImage {
     /// its sum over bands), and ABC's four processes ("atomic", "electron_ion",
     /// "electron_electron", "compton", adding up to "abc"), equal to
     /// NAME_PROCESS.npy; ABC alone has the four; None for a source of one
-    /// process. Each scales as its coupling squared (g_aγ², g_ae²): the image
+    /// process. Each scales as its coupling squared (g_aγ², g_ae²; with a magnet g_aγ⁴ and g_ae² g_aγ²): the image
     /// for other couplings is their sum so scaled, equal to a trace with them.
     pub by_process: Option<Py<PyDict>>,
+    /// With a magnet's mass scan (`masses_ev`, `--masses`): {axion mass (eV):
+    /// flux} in the shape and units of `flux`, from the same photons (each
+    /// weight times its path's P(m) / P at the scene's mass), equal to the
+    /// slices of NAME_by_mass.npy; None without a scan.
+    pub by_mass: Option<Py<PyDict>>,
 }
 
 #[pymethods]
@@ -158,6 +163,7 @@ impl SensorImage {
             }
         };
         Ok(SensorImage {
+            by_mass: by_mass(py, spec, image, (&shape, absolute.unwrap_or(1.0)))?,
             conversion,
             grid,
             by_class,
@@ -180,6 +186,24 @@ impl SensorImage {
             eef_fraction: array(py, &[fraction.len()], fraction)?.unbind(),
         })
     }
+}
+
+/// The mass scan's images as a dict (see `SensorImage.by_mass`).
+fn by_mass(
+    py: Python<'_>,
+    spec: &SensorSpec,
+    image: &traxer::sensor::SensorImage,
+    (shape, scale): (&[usize], f64),
+) -> PyResult<Option<Py<PyDict>>> {
+    if spec.masses.is_empty() {
+        return Ok(None);
+    }
+    let d = PyDict::new(py);
+    for (m, img) in spec.masses.iter().zip(&image.masses.images) {
+        let flux = img.flux_sum.iter().map(|s| s.value() * scale).collect();
+        d.set_item(*m, array(py, shape, flux)?)?;
+    }
+    Ok(Some(d.unbind()))
 }
 
 /// The conversion tally of a gas detector as a dict (see `SensorImage.conversion`).
