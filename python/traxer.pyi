@@ -562,6 +562,42 @@ def conversion_probability(
     (``bore_average``). ``masses_eV``: a list (default [0]). Returns a float64
     array [energy, mass]."""
 
+def signal(
+    run: Union[str, os.PathLike[str]],
+    radius_mm: Optional[float] = None,
+    fraction: Optional[float] = None,
+    centre: Optional[tuple[float, float]] = None,
+    sensor: Optional[str] = None,
+) -> dict[str, Any]:
+    """The expected X-rays in a signal region per axion mass, as ``traxer
+    signal``, from the results folder ``run`` of a trace with the magnet on: a
+    circle of ``radius_mm``, or the one holding ``fraction`` of the flux at the
+    scene's mass, about ``centre`` (mm, the sensor's frame) or the centroid.
+    Returns a dict: sensor, centre_mm, radius_mm, area_cm2, fraction,
+    energy_band_edges_keV, masses_eV, x_rays_per_s [mass], x_rays_per_hour
+    [mass], spectrum_x_rays_per_s [mass, band]."""
+
+def reach(
+    runs: list[Union[str, os.PathLike[str]]],
+    background: float,
+    tracking_hours: float,
+    radius_mm: Optional[float] = None,
+    fraction: Optional[float] = None,
+    centre: Optional[tuple[float, float]] = None,
+    window: Optional[tuple[float, float]] = None,
+    bores: float = 1.0,
+    efficiency: float = 1.0,
+    sensor: Optional[str] = None,
+) -> dict[str, Any]:
+    """The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
+    g_ae·g_aγ (ABC runs) per axion mass, as ``traxer reach``: CLs, exact
+    Poisson, one bin (the region and the energy ``window`` (lo, hi) keV, on the
+    run's band edges; default all), ``background`` in counts per keV per cm² per
+    second, ``tracking_hours`` per run, ``bores`` identical lines,
+    ``efficiency`` beyond the run's. Returns a dict: coupling, window_keV and
+    curves, one per run: setting, run, region, masses_eV, signal, background,
+    counts_limit and limit (NaN without signal)."""
+
 def eef(
     image: npt.ArrayLike,
     pixel_pitch_mm: Union[_Number, tuple[_Number, _Number]],

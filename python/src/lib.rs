@@ -21,6 +21,7 @@ mod psf;
 mod result;
 mod run;
 mod scene;
+mod signal;
 mod solar;
 mod systematics;
 mod units;
@@ -65,5 +66,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::eef, m)?)?;
     m.add_function(wrap_pyfunction!(magnet::conversion_probability, m)?)?;
+    m.add_function(wrap_pyfunction!(signal::signal, m)?)?;
+    m.add_function(wrap_pyfunction!(signal::reach, m)?)?;
     Ok(())
 }

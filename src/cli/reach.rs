@@ -4,12 +4,11 @@
 use super::signal::RegionArgs;
 use super::InputError;
 use anyhow::Context;
-use serde_json::json;
 use std::path::PathBuf;
-use traxer::analysis::reach::{limit, Coupling, Exposure};
-use traxer::analysis::signal::{RunSignal, Signal};
+use traxer::analysis::reach::Exposure;
 use traxer::files::OutputFolder;
-use traxer::output::{write_reach, Provenance, ReachCurve, REACH_FILES};
+use traxer::output::{write_reach, Provenance, REACH_FILES};
+use traxer::studies::reach::{reach, Reach, ReachError};
 
 /// The expected sensitivity: limit on g_aγ (or g_ae·g_aγ) versus m_a.
 ///
@@ -51,118 +50,22 @@ pub struct ReachArgs {
     pub output: super::args::OutputArgs,
 }
 
-impl ReachArgs {
-    fn exposure(&self) -> Result<Exposure, InputError> {
-        let positive = |v: f64, what: &str| {
-            if v.is_finite() && v > 0.0 {
-                Ok(v)
-            } else {
-                Err(InputError(format!("{what} {v}: expected a number > 0")))
-            }
-        };
-        if !(self.background.is_finite() && self.background >= 0.0) {
-            return Err(InputError(format!(
-                "--background {}: counts per keV per cm² per second, ≥ 0",
-                self.background
-            )));
-        }
-        if !(self.efficiency > 0.0 && self.efficiency <= 1.0) {
-            return Err(InputError(format!(
-                "--efficiency {}: in (0, 1]",
-                self.efficiency
-            )));
-        }
-        Ok(Exposure {
-            tracking_hours: positive(self.tracking_hours, "--tracking-hours")?,
-            bores: positive(self.bores, "--bores")?,
-            efficiency: self.efficiency,
-            background: self.background,
-        })
-    }
-}
-
-/// The bands of `s` inside `window` (their edges), or why not.
-fn window_bands(s: &Signal, window: &[f64]) -> Result<(usize, usize), InputError> {
-    let e = &s.band_edges;
-    let n = e.len() - 1;
-    let [lo, hi] = match window {
-        [] => return Ok((0, n)),
-        [lo, hi] if lo < hi => [*lo, *hi],
-        _ => {
-            return Err(InputError(
-                "--window LO,HI: two energies (keV), LO < HI".into(),
-            ))
-        }
-    };
-    let at = |v: f64| {
-        e.iter()
-            .position(|x| (x - v).abs() <= 1e-9 * x.abs().max(1.0))
-    };
-    match (at(lo), at(hi)) {
-        (Some(a), Some(b)) => Ok((a, b)),
-        _ => Err(InputError(format!(
-            "--window {lo},{hi}: the window's edges must be edges of the run's energy bands ({} keV); trace with -D energy_bins=[LO,HI,COUNT] for others",
-            e.iter().map(|x| traxer::text::number(*x)).collect::<Vec<_>>().join(", ")
-        ))),
-    }
-}
-
-/// What a run's signal limits.
-fn coupling_of(run: &RunSignal, dir: &std::path::Path) -> Result<Coupling, InputError> {
-    match (run.emission.as_str(), run.g_ae) {
-        ("primakoff", _) => Ok(Coupling::GAgamma(run.g_agamma)),
-        ("abc", Some(g_ae)) => Ok(Coupling::GAeGAgamma(g_ae * run.g_agamma)),
-        (e, _) => Err(InputError(format!(
-            "{}: the run's emission is {e}: its signal does not scale as one coupling; trace -D emission=primakoff for the reach in g_aγ, or -D emission=abc for g_ae·g_aγ",
-            dir.display()
-        ))),
-    }
-}
-
-/// Each run's curve, what they limit and the energy window.
-fn curves(
-    a: &ReachArgs,
-    exposure: &Exposure,
-) -> Result<(Vec<ReachCurve>, &'static str, [f64; 2]), InputError> {
-    let mut curves = Vec::new();
-    let mut kind = None;
-    let mut window = [0.0; 2];
-    for dir in &a.runs {
-        let (run, s) = a.region.measure(dir)?;
-        let coupling = coupling_of(&run, dir)?;
-        if kind.is_some_and(|k: &'static str| k != coupling.name()) {
-            return Err(InputError("the runs limit different couplings (Primakoff and ABC runs): give runs of one emission".into()));
-        }
-        kind = Some(coupling.name());
-        let (b0, b1) = window_bands(&s, &a.window)?;
-        window = [s.band_edges[b0], s.band_edges[b1]];
-        let limits = s
-            .masses
-            .iter()
-            .map(|m| {
-                let rate: f64 = m.spectrum[b0..b1].iter().sum();
-                limit(
-                    m.mass_ev,
-                    rate,
-                    coupling,
-                    (s.area_cm2, window[1] - window[0]),
-                    exposure,
-                )
-            })
-            .collect();
-        curves.push(ReachCurve {
-            label: run.gas.as_ref().map_or("vacuum".into(), |g| format!("He {g}")),
-            run: dir.display().to_string(),
-            limits,
-            region: json!({"centre_mm": s.centre_mm, "radius_mm": s.radius_mm, "area_cm2": s.area_cm2, "fraction": s.fraction}),
-        });
-    }
-    Ok((curves, kind.unwrap_or("g_agamma"), window))
-}
-
 pub fn run(a: ReachArgs) -> anyhow::Result<()> {
-    let exposure = a.exposure()?;
-    let (curves, kind, window) = curves(&a, &exposure)?;
+    let fail = |e: ReachError| InputError(e.0);
+    let exposure =
+        Exposure::checked(a.tracking_hours, a.bores, a.efficiency, a.background).map_err(fail)?;
+    let window = match a.window.as_slice() {
+        [] => None,
+        [lo, hi] => Some([*lo, *hi]),
+        _ => return Err(InputError("--window LO,HI: two energies (keV)".into()).into()),
+    };
+    let dirs: Vec<&std::path::Path> = a.runs.iter().map(|p| p.as_path()).collect();
+    let region = (a.region.sensor.as_deref(), &a.region.region()?);
+    let Reach {
+        curves,
+        coupling: kind,
+        window,
+    } = reach(&dirs, region, window, &exposure).map_err(fail)?;
     let out = a
         .output
         .out

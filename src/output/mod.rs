@@ -37,7 +37,7 @@ mod provenance;
 mod reach;
 mod run_files;
 pub mod run_read;
-pub use reach::{write_reach, ReachCurve, REACH_FILES};
+pub use reach::{write_reach, REACH_FILES};
 mod signal;
 pub use signal::{write_signal, SIGNAL_FILES};
 mod sensor_figure;

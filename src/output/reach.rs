@@ -10,23 +10,14 @@
 use super::csv_table::write_csv;
 use super::plot::{palette, register_font, superscript, typeset};
 use super::Provenance;
-use crate::analysis::reach::{Exposure, Limit};
+use crate::analysis::reach::Exposure;
+use crate::studies::reach::ReachCurve;
 use plotters::prelude::*;
-use serde_json::{json, Value};
+use serde_json::json;
 use std::path::Path;
 
 /// The files `traxer reach` writes.
 pub const REACH_FILES: [&str; 3] = ["reach.csv", "reach.png", "reach.json"];
-
-/// One run's curve.
-pub struct ReachCurve {
-    /// "vacuum", or the buffer gas.
-    pub label: String,
-    pub run: String,
-    pub limits: Vec<Limit>,
-    /// The region and window the counts are in.
-    pub region: Value,
-}
 
 /// Writes the reach of `curves` into `dir`; `coupling` names what is limited
 /// ("g_agamma" or "g_ae_g_agamma").

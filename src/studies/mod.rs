@@ -13,6 +13,7 @@ pub mod fit_errors;
 pub mod focus;
 mod measure;
 pub mod psf;
+pub mod reach;
 pub mod sky;
 pub mod systematics;
 

@@ -251,6 +251,32 @@ def test_a_mass_scan_equals_the_cli_and_direct_traces(tmp_path):
     assert traxer.Scene(CAST, {"magnet": True}).trace(1000)["chip"].by_mass is None
 
 
+def test_signal_and_reach_equal_the_cli(tmp_path):
+    """traxer.signal and traxer.reach give the numbers of `traxer signal` and
+    `traxer reach` on the same run; without background the limit is the
+    classical 3.0 counts (ln 20)."""
+    run = tmp_path / "run"
+    cli("trace", CAST, "-n", 10_000, "-D", "magnet=true", "-D", "pixels=200",
+        "-D", "energy_bins=[1,10,9]", "--masses", "0,0.02", "--out", run, "-q")
+    s = traxer.signal(run, fraction=0.8)
+    cli("signal", run, "--fraction", "0.8", "--out", tmp_path / "s", "-q")
+    rows = list(csv.DictReader(open(tmp_path / "s" / "signal.csv")))
+    assert [float(r["x_rays_per_s"]) for r in rows] == pytest.approx(list(s["x_rays_per_s"]), rel=1e-12)
+    assert s["spectrum_x_rays_per_s"].shape == (2, 9)
+    r = traxer.reach([run], background=0.0, tracking_hours=1000.0, radius_mm=3.0, window=(2.0, 7.0))
+    cli("reach", run, "--radius-mm", "3", "--window", "2,7", "--background", "0",
+        "--tracking-hours", "1000", "--out", tmp_path / "r", "-q")
+    rows = list(csv.DictReader(open(tmp_path / "r" / "reach.csv")))
+    curve = r["curves"][0]
+    assert r["coupling"] == "g_agamma" and curve["setting"] == "vacuum"
+    assert [float(x["g_agamma_limit_per_gev"]) for x in rows] == pytest.approx(list(curve["limit"]), rel=1e-12)
+    assert curve["counts_limit"] == pytest.approx([math.log(20)] * 2, rel=1e-9)
+    with pytest.raises(traxer.InputError, match="radius_mm or fraction"):
+        traxer.signal(run)
+    with pytest.raises(traxer.InputError, match="band"):
+        traxer.reach([run], 1e-7, 100.0, radius_mm=3.0, window=(1.5, 7.0))
+
+
 def test_save_writes_the_cli_files(pair):
     out, _, saved, _ = pair
     cli_files = sorted(p.name for p in out.iterdir())

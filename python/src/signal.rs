@@ -1,0 +1,137 @@
+//! `traxer.signal` and `traxer.reach`: the expected X-rays in a signal region
+//! per axion mass, and the limit on the coupling versus the mass, from
+//! finished magnet runs, as `traxer signal` and `traxer reach` compute them
+//! (the same library calls).
+
+use crate::convert::{array, json};
+use crate::errors::input;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+use traxer::analysis::reach::Exposure;
+use traxer::analysis::signal::{signal as measure, Centre, Region, Size};
+use traxer::output::run_read::read_run_signal;
+use traxer::studies::reach::reach as reach_of;
+
+/// The region from the keyword arguments.
+fn region(
+    radius_mm: Option<f64>,
+    fraction: Option<f64>,
+    centre: Option<(f64, f64)>,
+) -> PyResult<Region> {
+    let size = match (radius_mm, fraction) {
+        (Some(r), None) => Size::RadiusMm(r),
+        (None, Some(f)) => Size::Fraction(f),
+        _ => return Err(input("give radius_mm or fraction, one of them")),
+    };
+    Ok(Region {
+        centre: centre.map_or(Centre::Centroid, |(x, y)| Centre::At([x, y])),
+        size,
+    })
+}
+
+/// signal(run, radius_mm=None, fraction=None, centre=None, sensor=None)
+///
+/// The expected X-rays in a signal region per axion mass, as `traxer signal`,
+/// from the results folder `run` of a trace with the magnet on: a circle of
+/// `radius_mm`, or the one holding `fraction` of the flux at the scene's
+/// mass, about `centre` (mm, the sensor's frame) or the centroid. Returns a
+/// dict: sensor, centre_mm, radius_mm, area_cm2, fraction, energy_band_edges_keV,
+/// masses_eV, x_rays_per_s [mass], x_rays_per_hour [mass], spectrum_x_rays_per_s
+/// [mass, band].
+#[pyfunction]
+#[pyo3(signature = (run, radius_mm = None, fraction = None, centre = None, sensor = None))]
+pub fn signal<'py>(
+    py: Python<'py>,
+    run: PathBuf,
+    radius_mm: Option<f64>,
+    fraction: Option<f64>,
+    centre: Option<(f64, f64)>,
+    sensor: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let region = region(radius_mm, fraction, centre)?;
+    let r = read_run_signal(&run, sensor.as_deref()).map_err(|e| input(e.0))?;
+    let s = measure(&r, &region).map_err(|e| input(e.0))?;
+    let d = PyDict::new(py);
+    let n = s.masses.len();
+    let bands = s.band_edges.len() - 1;
+    d.set_item("sensor", r.sensor)?;
+    d.set_item("centre_mm", (s.centre_mm[0], s.centre_mm[1]))?;
+    d.set_item("radius_mm", s.radius_mm)?;
+    d.set_item("area_cm2", s.area_cm2)?;
+    d.set_item("fraction", s.fraction)?;
+    d.set_item("energy_band_edges_keV", s.band_edges.clone())?;
+    let each = |f: &dyn Fn(&traxer::analysis::signal::MassSignal) -> f64| {
+        array(py, &[n], s.masses.iter().map(f).collect())
+    };
+    d.set_item("masses_eV", each(&|m| m.mass_ev)?)?;
+    d.set_item("x_rays_per_s", each(&|m| m.rate)?)?;
+    d.set_item("x_rays_per_hour", each(&|m| m.rate * 3600.0)?)?;
+    let spectra = s.masses.iter().flat_map(|m| m.spectrum.clone()).collect();
+    d.set_item("spectrum_x_rays_per_s", array(py, &[n, bands], spectra)?)?;
+    Ok(d)
+}
+
+/// reach(runs, background, tracking_hours, radius_mm=None, fraction=None, centre=None, window=None, bores=1.0, efficiency=1.0, sensor=None)
+///
+/// The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
+/// g_ae·g_aγ (ABC runs) per axion mass, as `traxer reach`: CLs, exact
+/// Poisson, one bin (the region and the energy `window` (lo, hi) keV, on the
+/// run's band edges; default all), `background` in counts per keV per cm² per
+/// second, `tracking_hours` per run, `bores` identical lines, `efficiency`
+/// beyond the run's. Returns a dict: coupling, window_keV and curves, one per
+/// run: setting, run, region, masses_eV, signal, background, counts_limit and
+/// limit (NaN without signal).
+#[pyfunction]
+#[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, centre = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None))]
+#[allow(clippy::too_many_arguments)]
+pub fn reach<'py>(
+    py: Python<'py>,
+    runs: Vec<PathBuf>,
+    background: f64,
+    tracking_hours: f64,
+    radius_mm: Option<f64>,
+    fraction: Option<f64>,
+    centre: Option<(f64, f64)>,
+    window: Option<(f64, f64)>,
+    bores: f64,
+    efficiency: f64,
+    sensor: Option<String>,
+) -> PyResult<Bound<'py, PyDict>> {
+    if runs.is_empty() {
+        return Err(input("runs: give at least one results folder"));
+    }
+    let region = region(radius_mm, fraction, centre)?;
+    let exposure =
+        Exposure::checked(tracking_hours, bores, efficiency, background).map_err(|e| input(e.0))?;
+    let dirs: Vec<&std::path::Path> = runs.iter().map(|p| p.as_path()).collect();
+    let r = reach_of(
+        &dirs,
+        (sensor.as_deref(), &region),
+        window.map(|(a, b)| [a, b]),
+        &exposure,
+    )
+    .map_err(|e| input(e.0))?;
+    let curves = pyo3::types::PyList::empty(py);
+    for c in &r.curves {
+        let d = PyDict::new(py);
+        let n = c.limits.len();
+        let each = |f: &dyn Fn(&traxer::analysis::reach::Limit) -> f64| {
+            array(py, &[n], c.limits.iter().map(f).collect())
+        };
+        d.set_item("setting", &c.label)?;
+        d.set_item("run", &c.run)?;
+        d.set_item("region", json(py, &c.region)?)?;
+        d.set_item("masses_eV", each(&|l| l.mass_ev)?)?;
+        d.set_item("signal", each(&|l| l.signal)?)?;
+        d.set_item("background", each(&|l| l.background)?)?;
+        d.set_item("counts_limit", each(&|l| l.counts_limit)?)?;
+        d.set_item("limit", each(&|l| l.coupling_limit.unwrap_or(f64::NAN))?)?;
+        curves.append(d)?;
+    }
+    let d = PyDict::new(py);
+    d.set_item("coupling", r.coupling)?;
+    d.set_item("window_keV", (r.window[0], r.window[1]))?;
+    d.set_item("curves", curves)?;
+    Ok(d)
+}
