@@ -117,7 +117,7 @@ fn window_bands(s: &Signal, window: Option<[f64; 2]>) -> Result<(usize, usize), 
     let Some([lo, hi]) = window else {
         return Ok((0, e.len() - 1));
     };
-    if !(lo < hi) {
+    if !(lo.is_finite() && hi.is_finite() && lo < hi) {
         return Err(ReachError(format!(
             "window {lo},{hi}: two energies (keV), LO < HI"
         )));
