@@ -580,7 +580,7 @@ def signal(
 def reach(
     runs: list[Union[str, os.PathLike[str]]],
     background: float,
-    tracking_hours: float,
+    tracking_hours: Union[float, list[float]],
     radius_mm: Optional[float] = None,
     fraction: Optional[float] = None,
     centre: Optional[tuple[float, float]] = None,
@@ -593,9 +593,9 @@ def reach(
     g_ae·g_aγ (ABC runs) per axion mass, as ``traxer reach``: CLs, exact
     Poisson, one bin (the region and the energy ``window`` (lo, hi) keV, on the
     run's band edges; default all), ``background`` in counts per keV per cm² per
-    second, ``tracking_hours`` per run, ``bores`` identical lines,
+    second, ``tracking_hours`` for every run or a list with one per run, ``bores`` identical lines,
     ``efficiency`` beyond the run's. Returns a dict: coupling, window_keV and
-    curves, one per run: setting, run, region, masses_eV, signal, background,
+    curves, one per run: setting, run, region, tracking_hours, masses_eV, signal, background,
     counts_limit and limit (NaN without signal)."""
 
 def eef(

@@ -78,9 +78,9 @@ pub fn signal<'py>(
 /// g_ae·g_aγ (ABC runs) per axion mass, as `traxer reach`: CLs, exact
 /// Poisson, one bin (the region and the energy `window` (lo, hi) keV, on the
 /// run's band edges; default all), `background` in counts per keV per cm² per
-/// second, `tracking_hours` per run, `bores` identical lines, `efficiency`
+/// second, `tracking_hours` for every run or a list with one per run, `bores` identical lines, `efficiency`
 /// beyond the run's. Returns a dict: coupling, window_keV and curves, one per
-/// run: setting, run, region, masses_eV, signal, background, counts_limit and
+/// run: setting, run, region, tracking_hours, masses_eV, signal, background, counts_limit and
 /// limit (NaN without signal).
 #[pyfunction]
 #[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, centre = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None))]
@@ -89,7 +89,7 @@ pub fn reach<'py>(
     py: Python<'py>,
     runs: Vec<PathBuf>,
     background: f64,
-    tracking_hours: f64,
+    tracking_hours: &Bound<'py, PyAny>,
     radius_mm: Option<f64>,
     fraction: Option<f64>,
     centre: Option<(f64, f64)>,
@@ -109,7 +109,7 @@ pub fn reach<'py>(
         &dirs,
         (sensor.as_deref(), &region),
         window.map(|(a, b)| [a, b]),
-        &exposure,
+        &exposures,
     )
     .map_err(|e| input(e.0))?;
     let curves = pyo3::types::PyList::empty(py);
@@ -122,6 +122,7 @@ pub fn reach<'py>(
         d.set_item("setting", &c.label)?;
         d.set_item("run", &c.run)?;
         d.set_item("region", json(py, &c.region)?)?;
+        d.set_item("tracking_hours", c.tracking_hours)?;
         d.set_item("masses_eV", each(&|l| l.mass_ev)?)?;
         d.set_item("signal", each(&|l| l.signal)?)?;
         d.set_item("background", each(&|l| l.background)?)?;

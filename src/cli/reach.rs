@@ -35,9 +35,10 @@ pub struct ReachArgs {
     /// Background in the window: counts per keV per cm² per second.
     #[arg(value_name = "B", long)]
     pub background: f64,
-    /// Hours of tracking the Sun (per run).
-    #[arg(value_name = "H", long)]
-    pub tracking_hours: f64,
+    /// Hours of tracking the Sun: one value for every run, or one per run
+    /// (H1,H2,...: a gas setting's share of the gas phase).
+    #[arg(value_name = "H", long, value_delimiter = ',', required = true)]
+    pub tracking_hours: Vec<f64>,
     /// Identical bores, each with its optic and detector (signal and
     /// background both scale with it).
     #[arg(value_name = "N", long, default_value_t = 1.0)]
@@ -52,8 +53,12 @@ pub struct ReachArgs {
 
 pub fn run(a: ReachArgs) -> anyhow::Result<()> {
     let fail = |e: ReachError| InputError(e.0);
-    let exposure =
-        Exposure::checked(a.tracking_hours, a.bores, a.efficiency, a.background).map_err(fail)?;
+    let exposures = a
+        .tracking_hours
+        .iter()
+        .map(|&h| Exposure::checked(h, a.bores, a.efficiency, a.background))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(fail)?;
     let window = match a.window.as_slice() {
         [] => None,
         [lo, hi] => Some([*lo, *hi]),
@@ -65,7 +70,7 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         curves,
         coupling: kind,
         window,
-    } = reach(&dirs, region, window, &exposure).map_err(fail)?;
+    } = reach(&dirs, region, window, &exposures).map_err(fail)?;
     let out = a
         .output
         .out
@@ -77,7 +82,7 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         folder.path(),
         &curves,
         kind,
-        (&exposure, window),
+        (&exposures[0], window),
         &provenance,
     )
     .and_then(|_| folder.commit())

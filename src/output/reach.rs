@@ -35,6 +35,7 @@ pub fn write_reach(
         &[
             "run",
             "setting",
+            "tracking_hours",
             "axion_mass_ev",
             "signal_counts_at_run_couplings",
             "background_counts",
@@ -46,6 +47,7 @@ pub fn write_reach(
                 vec![
                     c.run.clone(),
                     c.label.clone(),
+                    f(c.tracking_hours),
                     f(l.mass_ev),
                     f(l.signal),
                     f(l.background),
@@ -61,8 +63,9 @@ pub fn write_reach(
         "what": "the median expected 95 % CL upper limit under the background-only hypothesis: CLs (Read 2002), exact Poisson, one bin (the signal region and energy window); n = the median of Poisson(background); the coupling from the counts as the signal's power law (Primakoff: s ∝ g_aγ⁴; ABC: s ∝ (g_ae g_aγ)²)",
         "coupling": coupling,
         "exposure": exposure,
+        "exposure_note": "tracking_hours of the first run; each run's own under runs[]",
         "energy_window_keV": window,
-        "runs": curves.iter().map(|c| json!({"run": c.run, "setting": c.label, "region": c.region})).collect::<Vec<_>>(),
+        "runs": curves.iter().map(|c| json!({"run": c.run, "setting": c.label, "region": c.region, "tracking_hours": c.tracking_hours})).collect::<Vec<_>>(),
         "files": REACH_FILES,
     });
     super::run_files::write_json(&dir.join(REACH_FILES[2]), &doc)

@@ -21,6 +21,8 @@ pub struct ReachCurve {
     pub limits: Vec<Limit>,
     /// The region the counts are in.
     pub region: Value,
+    /// The run's hours of tracking.
+    pub tracking_hours: f64,
 }
 
 /// Every run's curve, what they limit ("g_agamma" or "g_ae_g_agamma") and
@@ -68,17 +70,26 @@ impl Exposure {
     }
 }
 
-/// The reach of the runs in `dirs` on sensor `sensor` (or their only one).
+/// The reach of the runs in `dirs` on sensor `sensor` (or their only one),
+/// with one exposure for all or one per run.
 pub fn reach(
     dirs: &[&Path],
     (sensor, region): (Option<&str>, &Region),
     window: Option<[f64; 2]>,
-    exposure: &Exposure,
+    exposures: &[Exposure],
 ) -> Result<Reach, ReachError> {
+    if exposures.len() != 1 && exposures.len() != dirs.len() {
+        return Err(ReachError(format!(
+            "{} tracking times for {} runs: give one for all, or one per run",
+            exposures.len(),
+            dirs.len()
+        )));
+    }
     let mut curves = Vec::new();
     let mut kind = None;
     let mut edges = [0.0; 2];
-    for dir in dirs {
+    for (k, dir) in dirs.iter().enumerate() {
+        let exposure = &exposures[k.min(exposures.len() - 1)];
         let run = read_run_signal(dir, sensor).map_err(|e| ReachError(e.0))?;
         let s = signal(&run, region).map_err(|e| ReachError(e.0))?;
         let coupling = coupling_of(&run, dir)?;
@@ -102,6 +113,7 @@ pub fn reach(
             run: dir.display().to_string(),
             limits,
             region: json!({"centre_mm": s.centre_mm, "radius_mm": s.radius_mm, "area_cm2": s.area_cm2, "fraction": s.fraction}),
+            tracking_hours: exposure.tracking_hours,
         });
     }
     Ok(Reach {

@@ -134,10 +134,10 @@ fn without_background_the_limit_is_three_counts() {
             .map(|r| r[3])
             .sum();
         let s0 = rate * 1000.0 * 3600.0 * 2.0 * 0.5;
-        let limit: f64 = row[5].parse().unwrap();
-        let g: f64 = row[6].parse().unwrap();
+        let limit: f64 = row[6].parse().unwrap();
+        let g: f64 = row[7].parse().unwrap();
         assert!(rel(limit, 20f64.ln()) < 1e-9, "{limit}");
-        assert!(rel(row[3].parse().unwrap(), s0) < 1e-9);
+        assert!(rel(row[4].parse().unwrap(), s0) < 1e-9);
         assert!(rel(g, 1e-10 * (20f64.ln() / s0).powf(0.25)) < 1e-9, "{g:e}");
     }
     assert!(out.join("reach.png").is_file() && out.join("reach.json").is_file());
@@ -182,5 +182,7 @@ fn runs_the_reach_cannot_use_are_refused_and_nothing_is_written() {
     assert!(reach(&run, &["--efficiency", "1.5"]).contains("efficiency 1.5"));
     let hours = reach(&run, &["--tracking-hours", "0"]);
     assert!(hours.contains("tracking hours 0"), "{hours}");
+    let two = reach(&run, &["--tracking-hours", "1,2"]);
+    assert!(two.contains("one for all, or one per run"), "{two}");
     assert!(!dir.path().join("out").exists());
 }
