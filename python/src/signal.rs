@@ -102,8 +102,17 @@ pub fn reach<'py>(
         return Err(input("runs: give at least one results folder"));
     }
     let region = region(radius_mm, fraction, centre)?;
-    let exposure =
-        Exposure::checked(tracking_hours, bores, efficiency, background).map_err(|e| input(e.0))?;
+    let hours = match tracking_hours.extract::<f64>() {
+        Ok(h) => vec![h],
+        Err(_) => tracking_hours
+            .extract::<Vec<f64>>()
+            .map_err(|_| input("tracking_hours: hours of tracking, one number or one per run"))?,
+    };
+    let exposures = hours
+        .iter()
+        .map(|&h| Exposure::checked(h, bores, efficiency, background))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| input(e.0))?;
     let dirs: Vec<&std::path::Path> = runs.iter().map(|p| p.as_path()).collect();
     let r = reach_of(
         &dirs,
