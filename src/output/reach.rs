@@ -145,6 +145,7 @@ fn write_plot(path: &Path, curves: &[ReachCurve], coupling: &str) -> std::io::Re
                     ("sans-serif", 22),
                 )
                 .margin(14)
+                .margin_right(40)
                 .x_label_area_size(48)
                 .y_label_area_size(90)
                 .build_cartesian_2d(

@@ -148,11 +148,12 @@ fn sensor_name(summary: &Value, sensor: Option<&str>) -> Result<String, String> 
 
 /// The gas phase's description from the magnet's summary (`None`: vacuum).
 fn gas_of(magnet: &Value) -> Option<String> {
+    let number = |v: &Value| crate::text::number(v.as_f64().unwrap_or(f64::NAN));
     magnet["gas"].as_object().map(|g| {
         format!(
-            "{} mbar at {} K (m_γ = {:.4} eV)",
-            g["pressure_mbar"],
-            g["temperature_k"],
+            "{} mbar at {} K (mᵧ = {:.4} eV)",
+            number(&g["pressure_mbar"]),
+            number(&g["temperature_k"]),
             g["photon_mass_ev"].as_f64().unwrap_or(0.0)
         )
     })

@@ -424,3 +424,132 @@ fn the_traced_x_ray_rates_of_docs_magnet_come_out_of_their_commands() {
         assert_quoted("docs/magnet.md", quoted);
     }
 }
+
+/// The rows `traxer reach` prints, as docs/magnet.md's table writes them:
+/// (setting's first two words or "vacuum", mass, the four numbers).
+fn reach_rows(out: &str) -> Vec<String> {
+    out.lines()
+        .skip(1)
+        .map(|l| {
+            let (setting, numbers) = match l.strip_prefix("He ") {
+                Some(rest) => {
+                    let p = rest.split_whitespace().next().unwrap();
+                    (format!("He {p} mbar"), l.rsplit(')').next().unwrap())
+                }
+                None => ("vacuum".to_string(), l.trim_start_matches("vacuum")),
+            };
+            let v: Vec<&str> = numbers.split_whitespace().collect();
+            format!("| {setting} | {} |", v.join(" | "))
+        })
+        .collect()
+}
+
+#[test]
+#[ignore = "expensive (four traces of 1e6 photons, BabyIAXO's through its field map): scripts/doc_numbers.sh runs it"]
+fn the_reach_numbers_of_docs_magnet_come_out_of_their_commands() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n: &str| dir.path().join(n).to_str().unwrap().to_string();
+    let common = [
+        "-n",
+        "1e6",
+        "-q",
+        "-D",
+        "magnet=true",
+        "-D",
+        "emission=primakoff",
+        "-D",
+        "g_agamma=1e-10",
+        "-D",
+        "pixels=300",
+        "-D",
+        "energy_bins=[1,10,9]",
+    ];
+    let trace = |scene: &str, extra: &[&str], out: &str| {
+        let mut args = vec!["trace", scene];
+        args.extend_from_slice(&common);
+        args.extend_from_slice(extra);
+        stdout(&args, Path::new(&d(out)));
+    };
+    let bx = "scenes/babyiaxo_axion_image.toml";
+    trace(
+        bx,
+        &[
+            "--masses",
+            "0,0.001,0.002,0.005,0.01,0.015,0.02,0.03,0.04,0.05,0.07,0.1",
+        ],
+        "vac",
+    );
+    // The script's helium settings: masses m_γ (1 + s k / 4), k = −4..4.
+    for (p, span) in [("1", 0.04), ("10", 0.008)] {
+        let m = 0.3331 * (p.parse::<f64>().unwrap() / 10.0).sqrt();
+        let masses: Vec<String> = (-4..=4)
+            .map(|k| format!("{:.6}", m * (1.0 + span * k as f64 / 4.0)))
+            .collect();
+        let (he, first) = (
+            format!("helium_mbar={p}"),
+            format!("axion_mass_ev={}", masses[0]),
+        );
+        let list = masses.join(",");
+        trace(
+            bx,
+            &[
+                "-D",
+                &he,
+                "-D",
+                "helium_k=1.8",
+                "-D",
+                &first,
+                "--masses",
+                &list,
+            ],
+            p,
+        );
+    }
+    let reach = |runs: &[String], extra: &[&str], out: &str| {
+        let mut args: Vec<&str> = vec!["reach"];
+        args.extend(runs.iter().map(String::as_str));
+        args.extend_from_slice(&["--fraction", "0.8", "--window", "1,7"]);
+        args.extend_from_slice(extra);
+        reach_rows(&stdout(&args, Path::new(&d(out))))
+    };
+    let rows = reach(
+        &[d("vac"), d("1"), d("10")],
+        &[
+            "--background",
+            "1e-7",
+            "--bores",
+            "2",
+            "--efficiency",
+            "0.7",
+            "--tracking-hours",
+            "6574.5,100,100",
+        ],
+        "r",
+    );
+    for mass in [
+        "| 0 |",
+        "| 0.01 |",
+        "| 0.02 |",
+        "| 0.05 |",
+        "| 0.105335 |",
+        "| 0.3331 |",
+    ] {
+        let row = rows.iter().find(|r| r.contains(mass)).unwrap();
+        assert_quoted("docs/magnet.md", row);
+    }
+    trace(
+        "scenes/cast_axion_image.toml",
+        &[
+            "--masses",
+            "0,0.002,0.005,0.01,0.015,0.02,0.03,0.04,0.05,0.07,0.1",
+        ],
+        "cast",
+    );
+    let cast = reach(
+        &[d("cast")],
+        &["--background", "1e-6", "--tracking-hours", "300"],
+        "rc",
+    );
+    let plateau = cast[0].split(" | ").nth(5).unwrap().trim_end_matches(" |");
+    assert_quoted("docs/magnet.md", &format!("g_aγ < {plateau} GeV⁻¹"));
+}
