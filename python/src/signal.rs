@@ -113,14 +113,13 @@ pub fn reach<'py>(
         .map(|&h| Exposure::checked(h, bores, efficiency, background))
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| input(e.0))?;
-    let dirs: Vec<&std::path::Path> = runs.iter().map(|p| p.as_path()).collect();
-    let r = reach_of(
-        &dirs,
-        (sensor.as_deref(), &region),
-        window.map(|(a, b)| [a, b]),
-        &exposures,
-    )
-    .map_err(|e| input(e.0))?;
+    let runs = runs
+        .iter()
+        .map(|d| Ok((d.as_path(), read_run_signal(d, sensor.as_deref())?)))
+        .collect::<Result<Vec<_>, traxer::output::run_read::RunReadError>>()
+        .map_err(|e| input(e.0))?;
+    let r = reach_of(&runs, &region, window.map(|(a, b)| [a, b]), &exposures)
+        .map_err(|e| input(e.0))?;
     let curves = pyo3::types::PyList::empty(py);
     for c in &r.curves {
         let d = PyDict::new(py);

@@ -7,6 +7,7 @@ use anyhow::Context;
 use std::path::PathBuf;
 use traxer::analysis::reach::Exposure;
 use traxer::files::OutputFolder;
+use traxer::output::run_read::{read_run_signal, RunReadError};
 use traxer::output::{write_reach, Provenance, REACH_FILES};
 use traxer::studies::reach::{reach, Reach, ReachError};
 
@@ -64,13 +65,18 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         [lo, hi] => Some([*lo, *hi]),
         _ => return Err(InputError("--window LO,HI: two energies (keV)".into()).into()),
     };
-    let dirs: Vec<&std::path::Path> = a.runs.iter().map(|p| p.as_path()).collect();
-    let region = (a.region.sensor.as_deref(), &a.region.region()?);
+    let runs = a
+        .runs
+        .iter()
+        .map(|d| Ok((d.as_path(), read_run_signal(d, a.region.sensor.as_deref())?)))
+        .collect::<Result<Vec<_>, RunReadError>>()
+        .map_err(|e| InputError(e.0))?;
+    let region = a.region.region()?;
     let Reach {
         curves,
         coupling: kind,
         window,
-    } = reach(&dirs, region, window, &exposures).map_err(fail)?;
+    } = reach(&runs, &region, window, &exposures).map_err(fail)?;
     let out = a
         .output
         .out

@@ -1,15 +1,15 @@
 //! The reach study: from finished magnet runs (one per buffer-gas setting,
 //! each with its masses) to the expected limit on the coupling versus the
-//! axion mass, in one signal region and energy window: read each run
-//! (`output::run_read`), measure its signal (`analysis::signal`), and turn
-//! the counts in the window into limits (`analysis::reach`).
+//! axion mass, in one signal region and energy window: measure each run's
+//! signal (`analysis::signal`) and turn the counts in the window into limits
+//! (`analysis::reach`).
 //!
-//! Data flow: `traxer reach` and Python's `traxer.reach` call [`reach`];
-//! `output::reach` writes what it returns.
+//! Data flow: `traxer reach` and Python's `traxer.reach` read the runs
+//! (`output::run_read`) and call [`reach`]; `output::reach` writes what it
+//! returns.
 
 use crate::analysis::reach::{limit, Coupling, Exposure, Limit};
 use crate::analysis::signal::{signal, Region, RunSignal, Signal};
-use crate::output::run_read::read_run_signal;
 use serde_json::{json, Value};
 use std::path::Path;
 
@@ -70,14 +70,15 @@ impl Exposure {
     }
 }
 
-/// The reach of the runs in `dirs` on sensor `sensor` (or their only one),
-/// with one exposure for all or one per run.
+/// The reach of the runs (each read from its folder, named by it), with one
+/// exposure for all or one per run.
 pub fn reach(
-    dirs: &[&Path],
-    (sensor, region): (Option<&str>, &Region),
+    runs: &[(&Path, RunSignal)],
+    region: &Region,
     window: Option<[f64; 2]>,
     exposures: &[Exposure],
 ) -> Result<Reach, ReachError> {
+    let dirs: Vec<&Path> = runs.iter().map(|r| r.0).collect();
     if exposures.len() != 1 && exposures.len() != dirs.len() {
         return Err(ReachError(format!(
             "{} tracking times for {} runs: give one for all, or one per run",
@@ -88,11 +89,10 @@ pub fn reach(
     let mut curves = Vec::new();
     let mut kind = None;
     let mut edges = [0.0; 2];
-    for (k, dir) in dirs.iter().enumerate() {
+    for (k, (dir, run)) in runs.iter().enumerate() {
         let exposure = &exposures[k.min(exposures.len() - 1)];
-        let run = read_run_signal(dir, sensor).map_err(|e| ReachError(e.0))?;
-        let s = signal(&run, region).map_err(|e| ReachError(e.0))?;
-        let coupling = coupling_of(&run, dir)?;
+        let s = signal(run, region).map_err(|e| ReachError(e.0))?;
+        let coupling = coupling_of(run, dir)?;
         if kind.is_some_and(|k: &'static str| k != coupling.name()) {
             return Err(ReachError("the runs limit different couplings (Primakoff and ABC runs): give runs of one emission".into()));
         }

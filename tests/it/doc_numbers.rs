@@ -422,6 +422,9 @@ fn the_traced_x_ray_rates_of_docs_magnet_come_out_of_their_commands() {
         let line = out.lines().find(|l| l.contains("X-rays/s")).unwrap();
         let quoted = line.split("photons, ").nth(1).unwrap().trim();
         assert_quoted("docs/magnet.md", quoted);
+        if k == 1 {
+            assert_quoted("README.md", quoted);
+        }
     }
 }
 
@@ -537,6 +540,17 @@ fn the_reach_numbers_of_docs_magnet_come_out_of_their_commands() {
         let row = rows.iter().find(|r| r.contains(mass)).unwrap();
         assert_quoted("docs/magnet.md", row);
     }
+    let plateau: f64 = rows[0]
+        .split(" | ")
+        .nth(5)
+        .unwrap()
+        .trim_end_matches(" |")
+        .parse()
+        .unwrap();
+    assert_quoted(
+        "README.md",
+        &format!("{plateau:.2e} GeV⁻¹ on\nBabyIAXO's vacuum plateau"),
+    );
     trace(
         "scenes/cast_axion_image.toml",
         &[
