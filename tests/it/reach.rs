@@ -144,6 +144,48 @@ fn without_background_the_limit_is_three_counts() {
 }
 
 #[test]
+fn an_abc_run_limits_the_product_of_the_couplings() {
+    // ABC's signal is ∝ g_ae² g_aγ²: without background the limit on
+    // g_ae·g_aγ is (g_ae g_aγ)₀ √(ln 20 / s₀), s₀ from the run's own counts.
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("abc");
+    cast_run(&run, &["-D", "emission=abc", "-D", "g_ae=1e-13"]);
+    let out = dir.path().join("reach");
+    run_ok(
+        traxer()
+            .arg("reach")
+            .arg(&run)
+            .args([
+                "--radius-mm",
+                "3",
+                "--background",
+                "0",
+                "--tracking-hours",
+                "500",
+                "-q",
+                "-o",
+            ])
+            .arg(&out),
+    );
+    let csv = std::fs::read_to_string(out.join("reach.csv")).unwrap();
+    assert!(
+        csv.lines()
+            .next()
+            .unwrap()
+            .ends_with("g_ae_g_agamma_limit_per_gev"),
+        "{csv}"
+    );
+    for row in csv.lines().skip(1) {
+        let v: Vec<f64> = row.split(',').skip(3).map(|x| x.parse().unwrap()).collect();
+        let (s0, limit) = (v[1], v[4]);
+        assert!(
+            rel(limit, 1e-13 * 1e-10 * (20f64.ln() / s0).sqrt()) < 1e-9,
+            "{row}"
+        );
+    }
+}
+
+#[test]
 fn runs_the_reach_cannot_use_are_refused_and_nothing_is_written() {
     let dir = tempfile::tempdir().unwrap();
     let (run, both, plain) = (
