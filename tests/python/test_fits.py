@@ -408,3 +408,24 @@ def test_psf_library_refuses_what_it_cannot_place(tmp_path):
                          capture_output=True, text=True)
     assert bad.returncode == 2 and "focal_length" in bad.stderr, bad.stderr
     assert not (out / "psf.fits").exists()
+
+
+def test_signal_spectrum_fits_holds_the_csv_per_mass(tmp_path):
+    """`traxer signal` writes one SPECTRUM table per axion mass: ENERG_LO,
+    ENERG_HI (keV) and RATE (X-rays/s) equal to signal_spectrum.csv, with the
+    mass and the region in the header."""
+    run_dir = tmp_path / "run"
+    traxer("trace", REPO / "scenes" / "cast_axion_image.toml", "-n", 5000, "-q",
+           "-D", "magnet=true", "-D", "pixels=100", "-D", "energy_bins=[1,10,9]",
+           "--masses", "0,0.02", "-o", run_dir)
+    traxer("signal", run_dir, "--radius-mm", "3", "-q", "-o", tmp_path / "s")
+    rows = list(csv.DictReader(open(tmp_path / "s" / "signal_spectrum.csv")))
+    with fits.open(tmp_path / "s" / "signal_spectrum.fits") as f:
+        tables = [h for h in f if h.name == "SPECTRUM"]
+        assert len(tables) == 2
+        for k, (h, mass) in enumerate(zip(tables, [0.0, 0.02])):
+            assert h.header["MASS_EV"] == mass and h.header["REG_R"] == 3.0
+            assert h.header["HDUCLASS"] == "OGIP" and h.columns["ENERG_LO"].unit == "keV"
+            mine = [r for r in rows if float(r["axion_mass_ev"]) == mass]
+            assert list(h.data["ENERG_LO"]) == [float(r["energy_lo_kev"]) for r in mine]
+            assert list(h.data["RATE"]) == [float(r["x_rays_per_s"]) for r in mine]
