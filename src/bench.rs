@@ -2,7 +2,8 @@
 //! `rtcIntersect1` rate on the very rays that run asked for, so the ratio shows how
 //! much of the time is traxer's own work rather than Embree's; the best rate
 //! Embree reaches on the same rays when they come sorted (coherent rays share
-//! BVH nodes in the cache); the time to build the BVH of a large mesh.
+//! BVH nodes in the cache); the time to build the BVH of a large mesh; the
+//! process's peak memory (resident set) while a scene is loaded and traced.
 //!
 //! Data flow: used by `traxer bench` and `cargo bench`; reads a built `Scene`.
 
@@ -33,6 +34,29 @@ pub struct BenchReport {
     pub triangles: usize,
     /// Seconds Embree took to build the scene's BVH.
     pub bvh_seconds: f64,
+    /// The process's peak resident memory (MB, 10⁶ bytes) from loading the
+    /// scene (when the caller has called [`reset_peak_rss`] before) to the end
+    /// of the trace, before the raw rays are recorded ([`peak_rss_mb`]); where
+    /// the system reports it (Linux).
+    pub peak_rss_mb: Option<f64>,
+}
+
+/// Starts a new peak-memory measurement: the kernel's high-water mark of the
+/// resident set is set back to the current resident set (Linux ≥ 4.0:
+/// writing 5 to /proc/self/clear_refs). Without it the peak is since the
+/// process started.
+pub fn reset_peak_rss() {
+    let _ = std::fs::write("/proc/self/clear_refs", "5");
+}
+
+/// The process's peak resident set since it started or since
+/// [`reset_peak_rss`] (MB, 10⁶ bytes: VmHWM of /proc/self/status); `None`
+/// where the system does not report it.
+pub fn peak_rss_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024.0 / 1e6)
 }
 
 /// Orders in which the recorded rays are replayed.
@@ -80,6 +104,8 @@ pub fn run(
     // Warm-up (page faults, lazy Embree initialisation).
     trace::trace_range(scene, 7, 0, 20_000.min(photons));
     let r = trace::run_with_progress(scene, cfg, progress)?;
+    // The trace's peak, before the replayed rays below take memory of their own.
+    let peak_rss_mb = peak_rss_mb();
 
     let mut rec = Recorder(Vec::new());
     let first = cfg.first_photon;
@@ -114,6 +140,7 @@ pub fn run(
         best_order,
         triangles: scene.triangle_count,
         bvh_seconds: scene.bvh_seconds,
+        peak_rss_mb,
     })
 }
 
@@ -254,7 +281,7 @@ pub fn reflectivity_rates(
 
 #[cfg(test)]
 mod tests {
-    use super::{morton, sorted_rays, RayOrder};
+    use super::{morton, peak_rss_mb, reset_peak_rss, sorted_rays, RayOrder};
     use crate::embree::Query;
 
     /// Bit i of each coordinate lands in bit 3i (+0, +1, +2 for x, y, z).
@@ -295,5 +322,19 @@ mod tests {
             .filter(|w| w[0].origin != w[1].origin)
             .count();
         assert_eq!(changes, 13);
+    }
+
+    #[test]
+    fn the_peak_memory_sees_a_touched_allocation() {
+        // 200 MB written byte by byte are resident: the high-water mark rises
+        // by at least that much (other tests may add to it, never take away).
+        reset_peak_rss();
+        let Some(before) = peak_rss_mb() else {
+            return; // not Linux: nothing is reported, and the report says so
+        };
+        let block = vec![1u8; 200_000_000];
+        std::hint::black_box(&block);
+        let after = peak_rss_mb().unwrap();
+        assert!(after - before > 190.0, "{before} → {after} MB");
     }
 }

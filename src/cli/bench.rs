@@ -90,6 +90,9 @@ fn measure(
     raw_photons: u64,
     quiet: bool,
 ) -> anyhow::Result<traxer::bench::BenchReport> {
+    // The peak memory of this scene alone: from its loading (the reflectivity
+    // tables) to the end of the measurement.
+    traxer::bench::reset_peak_rss();
     let (_device, scene) = load_xray_scene(scene)?;
     let bar = progress::bar(cfg.photons, "photons", quiet);
     let r = traxer::bench::run(&scene, cfg, raw_photons, &|n| bar.inc(n));
@@ -116,6 +119,9 @@ fn print_report(path: &std::path::Path, r: &traxer::bench::BenchReport) {
         "  reaching sensor  {:>12.0} photons/s",
         r.sensor_photons_per_second
     );
+    if let Some(mb) = r.peak_rss_mb {
+        say!("  peak memory      {mb:>12.0} MB (resident, from loading the scene)");
+    }
     say!(
         "  Embree queries   {:>12.3} per photon",
         r.queries_per_photon

@@ -3,7 +3,7 @@
 //! collide, names no file system takes, more image memory than a stated limit,
 //! sweeps too long to hold.
 
-use crate::common::{run_fails, traxer, write};
+use crate::common::{run_fails, run_ok, traxer, write};
 
 /// A scene with one sensor object per (name, pixels) pair.
 fn sensors_scene(sensors: &[(&str, u32)]) -> String {
@@ -103,6 +103,22 @@ fn sweeps_and_replays_too_large_to_hold_are_refused() {
         2,
     );
     assert!(err.contains("--raw-photons"), "{err}");
+}
+
+#[test]
+fn bench_reports_the_peak_memory_of_its_scene() {
+    let scene = crate::common::repo().join("scenes/panter_al_ka.toml");
+    let out = run_ok(
+        traxer()
+            .arg("bench")
+            .arg(&scene)
+            .args(["-n", "20000", "--json", "-q"]),
+    );
+    let r: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // At least the images and tables the trace holds, at most what the
+    // machine has: a number, not a placeholder.
+    let mb = r["peak_rss_mb"].as_f64().unwrap();
+    assert!(mb > 5.0 && mb < 24_000.0, "{mb}");
 }
 
 #[test]

@@ -184,16 +184,7 @@ impl SunDesc {
             if self.coupling.is_some() {
                 return Err("sun: coupling describes an emission table file; a built-in emission takes g_agamma (Primakoff) and g_ae (ABC)".into());
             }
-            let names = builtin::CouplingNames {
-                assign: " = ",
-                emission: "emission",
-                g_agamma: "g_agamma",
-                g_ae: "g_ae",
-            };
-            let (g_agamma, g_ae) = self.given_couplings()?;
-            let (g_agamma, g_ae) =
-                builtin::checked_couplings(&self.emission, g_agamma, g_ae, &names)
-                    .map_err(|e| InvalidSource(format!("sun: {e}")))?;
+            let (g_agamma, g_ae) = self.builtin_couplings()?;
             let model = match &self.solar_model {
                 None => builtin::BuiltinModel::B16Agss09met,
                 Some(m) => builtin::BuiltinModel::parse(m)
@@ -241,12 +232,9 @@ impl SunDesc {
         Ok((set.g_agamma.filter(|_| primakoff), set.g_ae.filter(|_| abc)))
     }
 
-    /// The built-in emission's productions with their couplings (see
-    /// [`SunSource::productions`]).
-    fn productions(&self) -> Result<Vec<(String, f64)>, InvalidSource> {
-        if builtin::parse_name(&self.emission).is_none() {
-            return Ok(Vec::new());
-        }
+    /// A built-in emission's couplings as given, checked, with the defaults
+    /// of the processes it has: (g_aγ, g_ae), `None` for a process it lacks.
+    fn builtin_couplings(&self) -> Result<(Option<f64>, Option<f64>), InvalidSource> {
         let names = builtin::CouplingNames {
             assign: " = ",
             emission: "emission",
@@ -254,8 +242,17 @@ impl SunDesc {
             g_ae: "g_ae",
         };
         let (g_agamma, g_ae) = self.given_couplings()?;
-        let (g_agamma, g_ae) = builtin::checked_couplings(&self.emission, g_agamma, g_ae, &names)
-            .map_err(|e| InvalidSource(format!("sun: {e}")))?;
+        builtin::checked_couplings(&self.emission, g_agamma, g_ae, &names)
+            .map_err(|e| InvalidSource(format!("sun: {e}")))
+    }
+
+    /// The built-in emission's productions with their couplings (see
+    /// [`SunSource::productions`]).
+    fn productions(&self) -> Result<Vec<(String, f64)>, InvalidSource> {
+        if builtin::parse_name(&self.emission).is_none() {
+            return Ok(Vec::new());
+        }
+        let (g_agamma, g_ae) = self.builtin_couplings()?;
         Ok([("primakoff", g_agamma), ("abc", g_ae)]
             .into_iter()
             .filter_map(|(n, g)| g.map(|g| (n.to_string(), g)))
