@@ -169,3 +169,35 @@ fn masses_on_the_command_line_write_the_stack_and_bad_ones_are_refused() {
     assert!(err.contains("needs the magnet on"), "{err}");
     assert!(!dir.path().join("bad").exists() && !dir.path().join("off").exists());
 }
+
+#[test]
+fn a_mass_scan_cut_into_shards_merges_to_the_whole_run_bit_for_bit() {
+    // The mass images are exact sums like the total: two shards merged give
+    // the whole run's NAME_by_mass.npy to the bit.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = repo().join("scenes/cast_axion_image.toml");
+    let trace = |out: &str, shard: Option<&str>| {
+        let mut c = traxer();
+        c.arg("trace")
+            .arg(&scene)
+            .args(["-n", "30000", "-q", "-D", "magnet=true"]);
+        c.args(["--masses", "0,0.015,0.03", "-o"])
+            .arg(dir.path().join(out));
+        if let Some(s) = shard {
+            c.args(["--shard", s]);
+        }
+        run_ok(&mut c);
+    };
+    trace("one", None);
+    trace("s1", Some("1/2"));
+    trace("s2", Some("2/2"));
+    run_ok(
+        traxer()
+            .args(["merge", "-q", "-o"])
+            .arg(dir.path().join("merged"))
+            .arg(dir.path().join("s2"))
+            .arg(dir.path().join("s1")),
+    );
+    let bytes = |d: &str| std::fs::read(dir.path().join(d).join("chip_by_mass.npy")).unwrap();
+    assert_eq!(bytes("one"), bytes("merged"));
+}
