@@ -93,6 +93,31 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
     )
     .and_then(|_| folder.commit())
     .with_context(|| format!("cannot write the reach into {}", out.display()))?;
+    print_limits(&curves, kind, window, a.output.quiet.quiet);
+    if !a.output.quiet.quiet {
+        tell!("wrote {} to {}", REACH_FILES.join(", "), out.display());
+    }
+    Ok(())
+}
+
+/// The limits as a table on stdout, the window and region as a note.
+fn print_limits(
+    curves: &[traxer::studies::reach::ReachCurve],
+    kind: &str,
+    window: [f64; 2],
+    quiet: bool,
+) {
+    if !quiet {
+        let c = &curves[0].region;
+        tell!(
+            "energy window {}–{} keV; signal region of the first run: a circle of {:.4} mm, {:.4} cm² ({:.1} % of its flux at the scene's mass); counts for the whole exposure",
+            traxer::text::number(window[0]),
+            traxer::text::number(window[1]),
+            c["radius_mm"].as_f64().unwrap_or(f64::NAN),
+            c["area_cm2"].as_f64().unwrap_or(f64::NAN),
+            100.0 * c["fraction"].as_f64().unwrap_or(f64::NAN)
+        );
+    }
     say!(
         "{:<28} {:>10} {:>12} {:>12} {:>10} {:>12}",
         "setting",
@@ -102,7 +127,7 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         "limit",
         kind
     );
-    for c in &curves {
+    for c in curves {
         for l in &c.limits {
             say!(
                 "{:<28} {:>10} {:>12.4e} {:>12.4e} {:>10.4} {:>12}",
@@ -116,8 +141,4 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
             );
         }
     }
-    if !a.output.quiet.quiet {
-        tell!("wrote {} to {}", REACH_FILES.join(", "), out.display());
-    }
-    Ok(())
 }
