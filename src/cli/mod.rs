@@ -22,6 +22,7 @@ macro_rules! tell {
 
 pub mod args;
 pub mod bench;
+pub mod cache;
 pub mod compare;
 pub mod conversion;
 pub mod eef;

@@ -21,7 +21,9 @@
 //! The folder: `TRAXER_CACHE` if set (`off` disables the cache), else
 //! `$XDG_CACHE_HOME/traxer`, else `~/.cache/traxer`; tables go in its
 //! `reflectivity/`. A cache that cannot be written is skipped silently: it only
-//! saves time.
+//! saves time. Reading a table marks it used (its modification time), so that
+//! [`cached_tables`] can say when each was last used; `traxer cache` lists the
+//! tables and clears them ([`clear_tables`]).
 
 use super::coating::Coating;
 use super::optical::EnergyOutOfRange;
@@ -99,6 +101,13 @@ impl ReflectivityTable {
         let path =
             cache_dir().map(|d| d.join(format!("{}.bin", key(coating, e_min, e_max, theta_max))));
         if let Some(table) = path.as_deref().and_then(|p| read(p, coating)) {
+            // Marked used (the listing's "last used"; an error only loses that).
+            let _ = path.as_deref().map(|p| {
+                std::fs::File::options()
+                    .append(true)
+                    .open(p)
+                    .and_then(|f| f.set_modified(std::time::SystemTime::now()))
+            });
             return Ok(table);
         }
         // Energies as a person writes them (10, not 10.000000000000007).
@@ -127,6 +136,56 @@ impl ReflectivityTable {
         }
         Ok(table)
     }
+}
+
+/// One table file of the cache.
+#[derive(Clone, Debug)]
+pub struct CachedTable {
+    pub path: PathBuf,
+    pub bytes: u64,
+    /// When it was written or last read.
+    pub last_used: std::time::SystemTime,
+}
+
+/// Whether `name` is a table file's name: 64 hexadecimal digits and `.bin`.
+fn is_table_name(name: &str) -> bool {
+    name.strip_suffix(".bin")
+        .is_some_and(|k| k.len() == 64 && k.bytes().all(|b| b.is_ascii_hexdigit()))
+}
+
+/// The table files in the cache folder `dir`, most recently used first (none
+/// if the folder does not exist); other files are not the cache's.
+pub fn cached_tables(dir: &Path) -> std::io::Result<Vec<CachedTable>> {
+    let entries = match std::fs::read_dir(dir) {
+        Ok(e) => e,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => return Err(e),
+    };
+    let mut tables = Vec::new();
+    for entry in entries {
+        let entry = entry?;
+        if !is_table_name(&entry.file_name().to_string_lossy()) {
+            continue;
+        }
+        let meta = entry.metadata()?;
+        tables.push(CachedTable {
+            path: entry.path(),
+            bytes: meta.len(),
+            last_used: meta.modified()?,
+        });
+    }
+    tables.sort_by_key(|t| std::cmp::Reverse(t.last_used));
+    Ok(tables)
+}
+
+/// Removes every table file from the cache folder `dir` (nothing else);
+/// returns how many and their bytes.
+pub fn clear_tables(dir: &Path) -> std::io::Result<(usize, u64)> {
+    let tables = cached_tables(dir)?;
+    for t in &tables {
+        std::fs::remove_file(&t.path)?;
+    }
+    Ok((tables.len(), tables.iter().map(|t| t.bytes).sum()))
 }
 
 /// The table's file contents.

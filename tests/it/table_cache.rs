@@ -103,3 +103,44 @@ fn runs_filling_an_empty_cache_at_once_both_succeed_and_leave_whole_tables() {
     assert!(!note.contains("building"), "{note}");
     assert_eq!(again.len(), read("a").len());
 }
+
+#[test]
+fn traxer_cache_lists_marks_use_and_clears_only_its_tables() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let c = cache.to_str().unwrap();
+    trace(c, &dir.path().join("a"), true);
+    let files = tables(&cache);
+    assert!(!files.is_empty());
+    // A file that is not a table stays whatever the command does.
+    std::fs::write(cache.join("reflectivity/notes.txt"), "mine").unwrap();
+    // Reading a table marks it used: an old time becomes now.
+    let old = std::time::SystemTime::UNIX_EPOCH + std::time::Duration::from_secs(1_000_000_000);
+    for f in &files {
+        let file = std::fs::File::options().append(true).open(f).unwrap();
+        file.set_modified(old).unwrap();
+    }
+    trace(c, &dir.path().join("b"), true);
+    let list = |args: &[&str]| {
+        let o = run_ok(traxer().env("TRAXER_CACHE", c).arg("cache").args(args));
+        String::from_utf8(o.stdout).unwrap()
+    };
+    let v: serde_json::Value = serde_json::from_str(&list(&["--json"])).unwrap();
+    let listed = v["tables"].as_array().unwrap();
+    assert_eq!(listed.len(), files.len(), "{v}");
+    let bytes: u64 = files
+        .iter()
+        .map(|f| std::fs::metadata(f).unwrap().len())
+        .sum();
+    assert!((v["total_mb"].as_f64().unwrap() - bytes as f64 / 1e6).abs() < 1e-9);
+    for t in listed {
+        assert!(t["hours_since_used"].as_f64().unwrap() < 1.0, "{t}");
+    }
+    let cleared = list(&["--clear"]);
+    assert!(
+        cleared.contains(&format!("removed {} table", files.len())),
+        "{cleared}"
+    );
+    let left: Vec<_> = tables(&cache);
+    assert_eq!(left, vec![cache.join("reflectivity/notes.txt")]);
+}
