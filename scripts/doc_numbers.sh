@@ -8,4 +8,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 ./scripts/setup.sh
 export TRAXER_CACHE="${TRAXER_CACHE:-$PWD/target/traxer-cache}"
+# The tests build tables of many coatings and energy ranges (about 6 GB): a bound
+# below that would drop and rebuild them during the run.
+export TRAXER_CACHE_MAX_MB="${TRAXER_CACHE_MAX_MB:-100000}"
 cargo test --release -- --include-ignored doc_numbers::

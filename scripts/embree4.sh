@@ -70,7 +70,8 @@ trap 'rm -rf "$e3"' EXIT
 cp target/release/traxer "$e3/traxer"
 
 export EMBREE_DIR=$root LD_LIBRARY_PATH=$root/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
-cargo test --release
+# The tests' reflectivity tables (about 6 GB) stay cached through the run.
+TRAXER_CACHE_MAX_MB="${TRAXER_CACHE_MAX_MB:-100000}" cargo test --release
 version=$(target/release/traxer info | sed -n 's/^Embree \([0-9.]*\).*/\1/p')
 case "$version" in
   4.*) ;;

@@ -14,6 +14,9 @@ cd "$(dirname "$0")/.."
 # Reflectivity tables built by the tests are kept in the build folder, not in
 # the user's cache (a CAST scene's tables are about 100 MB).
 export TRAXER_CACHE="${TRAXER_CACHE:-$PWD/target/traxer-cache}"
+# The tests build tables of many coatings and energy ranges (about 6 GB): a bound
+# below that would drop and rebuild them during the run.
+export TRAXER_CACHE_MAX_MB="${TRAXER_CACHE_MAX_MB:-100000}"
 failed=()
 skipped=()
 cargo test --release "$@" || failed+=("Rust tests (cargo test --release)")

@@ -1,7 +1,7 @@
 //! `traxer cache`: the reflectivity tables kept on disk, listed or cleared.
 
 use serde_json::json;
-use traxer::xray::table_cache::{cache_dir, cached_tables, clear_tables};
+use traxer::xray::table_cache::{cache_dir, cached_tables, clear_tables, size_limit_bytes};
 
 /// List the reflectivity tables traxer keeps on disk, or clear them.
 ///
@@ -12,7 +12,8 @@ use traxer::xray::table_cache::{cache_dir, cached_tables, clear_tables};
 /// reflectivity/. Lists each table file with its size and when it was last
 /// used, most recent first, and the total; --clear removes them (a table is
 /// rebuilt when a scene needs it again). Other files in the folder are left
-/// alone.
+/// alone. The folder is bounded by TRAXER_CACHE_MAX_MB (default 4000): a build
+/// that writes a table removes the least recently used others beyond it.
 #[derive(clap::Args)]
 pub struct CacheArgs {
     /// Remove every table file.
@@ -52,17 +53,18 @@ pub fn run(a: CacheArgs) -> anyhow::Result<()> {
         say!(
             "{}",
             serde_json::to_string_pretty(
-                &json!({"folder": dir, "tables": files, "total_mb": mb(total)})
+                &json!({"folder": dir, "tables": files, "total_mb": mb(total), "bound_mb": mb(size_limit_bytes())})
             )?
         );
         return Ok(());
     }
     say!(
-        "{}: {} reflectivity table{}, {:.0} MB",
+        "{}: {} reflectivity table{}, {:.0} MB (bound: {:.0} MB, TRAXER_CACHE_MAX_MB)",
         dir.display(),
         tables.len(),
         if tables.len() == 1 { "" } else { "s" },
-        mb(total)
+        mb(total),
+        mb(size_limit_bytes())
     );
     for t in &tables {
         let name = t.path.file_name().unwrap_or_default().to_string_lossy();

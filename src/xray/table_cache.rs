@@ -23,7 +23,10 @@
 //! `reflectivity/`. A cache that cannot be written is skipped silently: it only
 //! saves time. Reading a table marks it used (its modification time), so that
 //! [`cached_tables`] can say when each was last used; `traxer cache` lists the
-//! tables and clears them ([`clear_tables`]).
+//! tables and clears them ([`clear_tables`]). The folder is bounded: after a
+//! table is written, the least recently used others are removed until the
+//! tables take at most `TRAXER_CACHE_MAX_MB` (default 4000 MB; the table just
+//! written is kept even alone above it).
 
 use super::coating::Coating;
 use super::optical::EnergyOutOfRange;
@@ -131,8 +134,10 @@ impl ReflectivityTable {
         let table = ReflectivityTable::new(coating, e_min, e_max, theta_max)?;
         if let Some(p) = &path {
             // Only time is lost if the cache cannot be written.
-            let _ = std::fs::create_dir_all(p.parent().expect("a file in a folder"))
-                .and_then(|()| crate::files::atomic_write(p, &encode(&table)));
+            let dir = p.parent().expect("a file in a folder");
+            let _ = std::fs::create_dir_all(dir)
+                .and_then(|()| crate::files::atomic_write(p, &encode(&table)))
+                .and_then(|()| evict(dir, p, size_limit_bytes()));
         }
         Ok(table)
     }
@@ -176,6 +181,36 @@ pub fn cached_tables(dir: &Path) -> std::io::Result<Vec<CachedTable>> {
     }
     tables.sort_by_key(|t| std::cmp::Reverse(t.last_used));
     Ok(tables)
+}
+
+/// The default bound of the cache folder (MB).
+pub const DEFAULT_MAX_MB: f64 = 4000.0;
+
+/// The cache's bound in bytes: `TRAXER_CACHE_MAX_MB` if it is a number ≥ 0,
+/// else [`DEFAULT_MAX_MB`].
+pub fn size_limit_bytes() -> u64 {
+    let mb = std::env::var("TRAXER_CACHE_MAX_MB")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|v| v.is_finite() && *v >= 0.0)
+        .unwrap_or(DEFAULT_MAX_MB);
+    (mb * 1e6) as u64
+}
+
+/// Removes the least recently used tables of `dir` other than `keep` until
+/// they take at most `limit` bytes.
+fn evict(dir: &Path, keep: &Path, limit: u64) -> std::io::Result<()> {
+    let tables = cached_tables(dir)?; // most recently used first
+    let mut total: u64 = tables.iter().map(|t| t.bytes).sum();
+    for t in tables.iter().rev() {
+        if total <= limit {
+            break;
+        }
+        if t.path != keep && std::fs::remove_file(&t.path).is_ok() {
+            total -= t.bytes;
+        }
+    }
+    Ok(())
 }
 
 /// Removes every table file from the cache folder `dir` (nothing else);

@@ -144,3 +144,34 @@ fn traxer_cache_lists_marks_use_and_clears_only_its_tables() {
     let left: Vec<_> = tables(&cache);
     assert_eq!(left, vec![cache.join("reflectivity/notes.txt")]);
 }
+
+#[test]
+fn the_cache_keeps_within_its_bound_by_dropping_the_least_recently_used() {
+    // Each coating is one table. With a bound of 1 byte a second coating's
+    // table replaces the first (the one just written stays even above the
+    // bound); with the default bound the next one is added.
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let build = |coating: &str, bound: Option<&str>| {
+        let mut c = traxer();
+        c.env("TRAXER_CACHE", &cache)
+            .env_remove("TRAXER_CACHE_MAX_MB");
+        if let Some(b) = bound {
+            c.env("TRAXER_CACHE_MAX_MB", b);
+        }
+        c.arg("trace")
+            .arg(repo().join("scenes/wolter1_parallel.toml"))
+            .args(["-n", "2000", "-q", "--replace", "-D"])
+            .arg(format!("coating={coating}"))
+            .arg("-o")
+            .arg(dir.path().join("o"));
+        run_ok(&mut c);
+        tables(&cache)
+    };
+    let gold = build("gold", Some("0.000001"));
+    assert_eq!(gold.len(), 1);
+    let recipe = build("llnl_recipe_1", Some("0.000001"));
+    assert_eq!(recipe.len(), 1);
+    assert_ne!(gold, recipe, "the older table went, the new one stayed");
+    assert_eq!(build("gold", None).len(), 2);
+}
