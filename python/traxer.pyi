@@ -566,14 +566,14 @@ def signal(
     run: Union[str, os.PathLike[str]],
     radius_mm: Optional[float] = None,
     fraction: Optional[float] = None,
-    centre: Optional[tuple[float, float]] = None,
+    center: Optional[tuple[float, float]] = None,
     sensor: Optional[str] = None,
 ) -> dict[str, Any]:
     """The expected X-rays in a signal region per axion mass, as ``traxer
     signal``, from the results folder ``run`` of a trace with the magnet on: a
     circle of ``radius_mm``, or the one holding ``fraction`` of the flux at the
-    scene's mass, about ``centre`` (mm, the sensor's frame) or the centroid.
-    Returns a dict: sensor, centre_mm, radius_mm, area_cm2, fraction,
+    scene's mass, about ``center`` (mm, the sensor's frame) or the centroid.
+    Returns a dict: sensor, center_mm, radius_mm, area_cm2, fraction,
     energy_band_edges_keV, masses_eV, x_rays_per_s [mass], x_rays_per_hour
     [mass], spectrum_x_rays_per_s [mass, band]."""
 
@@ -583,7 +583,7 @@ def reach(
     tracking_hours: Union[float, list[float]],
     radius_mm: Optional[float] = None,
     fraction: Optional[float] = None,
-    centre: Optional[tuple[float, float]] = None,
+    center: Optional[tuple[float, float]] = None,
     window: Optional[tuple[float, float]] = None,
     bores: float = 1.0,
     efficiency: float = 1.0,

@@ -30,33 +30,33 @@ fn region(
     })
 }
 
-/// signal(run, radius_mm=None, fraction=None, centre=None, sensor=None)
+/// signal(run, radius_mm=None, fraction=None, center=None, sensor=None)
 ///
 /// The expected X-rays in a signal region per axion mass, as `traxer signal`,
 /// from the results folder `run` of a trace with the magnet on: a circle of
 /// `radius_mm`, or the one holding `fraction` of the flux at the scene's
-/// mass, about `centre` (mm, the sensor's frame) or the centroid. Returns a
-/// dict: sensor, centre_mm, radius_mm, area_cm2, fraction, energy_band_edges_keV,
+/// mass, about `center` (mm, the sensor's frame) or the centroid. Returns a
+/// dict: sensor, center_mm, radius_mm, area_cm2, fraction, energy_band_edges_keV,
 /// masses_eV, x_rays_per_s [mass], x_rays_per_hour [mass], spectrum_x_rays_per_s
 /// [mass, band].
 #[pyfunction]
-#[pyo3(signature = (run, radius_mm = None, fraction = None, centre = None, sensor = None))]
+#[pyo3(signature = (run, radius_mm = None, fraction = None, center = None, sensor = None))]
 pub fn signal<'py>(
     py: Python<'py>,
     run: PathBuf,
     radius_mm: Option<f64>,
     fraction: Option<f64>,
-    centre: Option<(f64, f64)>,
+    center: Option<(f64, f64)>,
     sensor: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let region = region(radius_mm, fraction, centre)?;
+    let region = region(radius_mm, fraction, center)?;
     let r = read_run_signal(&run, sensor.as_deref()).map_err(|e| input(e.0))?;
     let s = measure(&r, &region).map_err(|e| input(e.0))?;
     let d = PyDict::new(py);
     let n = s.masses.len();
     let bands = s.band_edges.len() - 1;
     d.set_item("sensor", r.sensor)?;
-    d.set_item("centre_mm", (s.centre_mm[0], s.centre_mm[1]))?;
+    d.set_item("center_mm", (s.centre_mm[0], s.centre_mm[1]))?;
     d.set_item("radius_mm", s.radius_mm)?;
     d.set_item("area_cm2", s.area_cm2)?;
     d.set_item("fraction", s.fraction)?;
@@ -72,7 +72,7 @@ pub fn signal<'py>(
     Ok(d)
 }
 
-/// reach(runs, background, tracking_hours, radius_mm=None, fraction=None, centre=None, window=None, bores=1.0, efficiency=1.0, sensor=None)
+/// reach(runs, background, tracking_hours, radius_mm=None, fraction=None, center=None, window=None, bores=1.0, efficiency=1.0, sensor=None)
 ///
 /// The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
 /// g_ae·g_aγ (ABC runs) per axion mass, as `traxer reach`: CLs, exact
@@ -83,7 +83,7 @@ pub fn signal<'py>(
 /// run: setting, run, region, tracking_hours, masses_eV, signal, background, counts_limit and
 /// limit (NaN without signal).
 #[pyfunction]
-#[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, centre = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None))]
+#[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, center = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn reach<'py>(
     py: Python<'py>,
@@ -92,7 +92,7 @@ pub fn reach<'py>(
     tracking_hours: &Bound<'py, PyAny>,
     radius_mm: Option<f64>,
     fraction: Option<f64>,
-    centre: Option<(f64, f64)>,
+    center: Option<(f64, f64)>,
     window: Option<(f64, f64)>,
     bores: f64,
     efficiency: f64,
@@ -101,7 +101,7 @@ pub fn reach<'py>(
     if runs.is_empty() {
         return Err(input("runs: give at least one results folder"));
     }
-    let region = region(radius_mm, fraction, centre)?;
+    let region = region(radius_mm, fraction, center)?;
     let hours = match tracking_hours.extract::<f64>() {
         Ok(h) => vec![h],
         Err(_) => tracking_hours

@@ -17,7 +17,7 @@ use traxer::output::{write_signal, Provenance, SIGNAL_FILES};
 /// X-rays per second and per hour of tracking inside a circle on the sensor,
 /// and their spectrum in the sensor's energy bands (one band without
 /// energy_bins). The circle lies about the centroid of the image at the
-/// scene's mass or about --centre, with --radius-mm or the radius holding
+/// scene's mass or about --center, with --radius-mm or the radius holding
 /// --fraction of that image's flux; each pixel's flux is spread over its
 /// area (no lattice bias). Writes signal.csv, signal_spectrum.csv,
 /// signal_spectrum.fits (one SPECTRUM table per mass: ENERG_LO, ENERG_HI in
@@ -54,7 +54,8 @@ pub struct RegionArgs {
     /// centroid); default: the centroid of the image at the scene's mass.
     #[arg(
         value_name = "X,Y",
-        long,
+        long = "center",
+        alias = "centre",
         value_delimiter = ',',
         allow_hyphen_values = true
     )]
@@ -67,7 +68,7 @@ impl RegionArgs {
         let centre = match self.centre.as_slice() {
             [] => Centre::Centroid,
             [x, y] if x.is_finite() && y.is_finite() => Centre::At([*x, *y]),
-            _ => return Err(InputError("--centre X,Y: two finite numbers (mm)".into())),
+            _ => return Err(InputError("--center X,Y: two finite numbers (mm)".into())),
         };
         let size = match (self.radius_mm, self.fraction) {
             (Some(r), None) => Size::RadiusMm(r),

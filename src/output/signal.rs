@@ -88,7 +88,7 @@ pub fn write_signal(
         "what": "the X-rays per second expected in a circle on the sensor (converting in the detector's gas for a gas detector), for each axion mass of the run at its couplings; each pixel's flux spread over its area (no lattice bias); one region for every mass, placed on the image at the scene's mass",
         "sensor": run.sensor,
         "region": {
-            "centre_mm": s.centre_mm,
+            "center_mm": s.centre_mm,
             "radius_mm": s.radius_mm,
             "area_cm2": s.area_cm2,
             "fraction_of_flux_at_the_scenes_mass": s.fraction,

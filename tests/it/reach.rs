@@ -45,7 +45,7 @@ fn the_signal_region_holds_what_the_images_hold() {
         json(&dir.path().join(out).join("signal.json"))
     };
     // A 1 mm circle inside the 14 mm sensor: π r² exactly.
-    let small = signal(&["--radius-mm", "1", "--centre", "0.3,-0.2"], "small");
+    let small = signal(&["--radius-mm", "1", "--center", "0.3,-0.2"], "small");
     let area = small["region"]["area_cm2"].as_f64().unwrap();
     assert!(rel(area, std::f64::consts::PI * 0.01) < 1e-9, "{area}");
     // A circle over the whole sensor: its area and every X-ray of each mass.
