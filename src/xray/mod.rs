@@ -24,6 +24,7 @@ pub mod roughness;
 pub mod scattering;
 pub mod table;
 pub mod table_cache;
+pub mod table_grid;
 
 pub use coating::{Coating, CoatingLibrary};
 pub use coating_spec::{coating_from_spec, CoatingSpecError};

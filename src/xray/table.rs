@@ -1,55 +1,61 @@
-//! Precomputed reflectivity R(E, θ) of one coating for the photon loop: a grid over
-//! the scene's energy range and grazing angles 0 … θ_max; cubic (Catmull–Rom)
-//! interpolation in angle, linear in energy.
+//! Precomputed reflectivity R(E, θ) of one coating for the photon loop: rows of
+//! fixed energy over the scene's energy range, each along x = E sin θ up to
+//! grazing angles θ_max; cubic (Catmull–Rom) interpolation in x (uniform step),
+//! linear in energy (nodes where they are needed).
 //!
-//! The grid is chosen from the physics so that the interpolation error stays below
-//! 1e-3 (tested in tests/it/xray.rs, which measures it against direct evaluation):
-//! * angle step: a fraction of the shortest Kiessig fringe period λ_min / (2 D) of
-//!   the whole stack (thickness D), and of the critical angle;
-//! * energy nodes: a uniform step that resolves the fringes in energy at θ_max,
-//!   then cells are halved where R(E) bends more than the linear interpolation
-//!   allows (absorption edges such as Pt M at 2.1–2.2 keV).
+//! The grid is sized to the coating (`table_grid.rs`): refined against the exact
+//! Parratt value until the interpolation error is within 1e-4 (tested in
+//! tests/it/xray.rs on random points over whole tables of the shipped coatings), so
+//! a single gold layer takes a few MB and a multilayer what its fringes need.
 //!
 //! Grazing angles above θ_max (rare in X-ray optics) are evaluated directly.
 
 use super::coating::Coating;
 use super::optical::EnergyOutOfRange;
-use super::parratt::reflectance;
-use crate::constants::HC_KEV_NM;
-use rayon::prelude::*;
+use super::table_grid::{build_grid, Row};
 
 /// An energy located in a table's energy nodes ([`ReflectivityTable::energy_cell`]).
 #[derive(Clone, Copy, Debug)]
 pub struct EnergyCell {
     energy_kev: f64,
+    /// The energy clamped to the table's range (where x is taken).
+    clamped_kev: f64,
     /// Index of the node above (≥ 1), and the weight of that node.
     upper: usize,
     weight: f64,
 }
 
-/// A grazing angle located in a table's angle nodes
-/// ([`ReflectivityTable::angle_cell`]).
+/// A grazing angle for a table's lookups ([`ReflectivityTable::angle_cell`]).
 #[derive(Clone, Copy, Debug)]
 pub struct AngleCell {
     theta: f64,
-    /// Index of the node below, or `usize::MAX` beyond the table.
-    node: usize,
-    /// Position between that node and the next (0–1).
-    t: f64,
+    /// sin θ, or NaN beyond the table's θ_max.
+    sin_theta: f64,
 }
 
-/// Tabulated unpolarised reflectivity of one coating.
+/// Tabulated unpolarised reflectivity of one coating: R on rows of fixed
+/// energy along x = E sin θ (`table_grid.rs` says why x).
 #[derive(Clone, Debug)]
 pub struct ReflectivityTable {
     pub coating: Coating,
     /// Energy nodes (keV), ascending; one node for a single line.
     pub energies: Vec<f64>,
-    /// Angle step (rad); nodes are 0, Δθ, …, θ_max.
-    pub theta_step: f64,
     pub theta_max: f64,
-    n_theta: usize,
-    /// R at [energy index][angle index], row-major.
+    /// Each row's step in x = E sin θ (keV): its nodes are x = 0, step, … .
+    pub x_steps: Vec<f64>,
+    /// Where each row starts in `values`, and where the last ends.
+    row_starts: Vec<usize>,
+    /// R along each row, rows one after the other.
     values: Vec<f32>,
+}
+
+/// A table's grid and values as the disk cache stores them.
+pub struct TableParts {
+    pub energies: Vec<f64>,
+    pub x_steps: Vec<f64>,
+    pub theta_max: f64,
+    pub row_lengths: Vec<usize>,
+    pub values: Vec<f32>,
 }
 
 impl ReflectivityTable {
@@ -64,59 +70,54 @@ impl ReflectivityTable {
         // Check the range once (direct evaluation errors outside the tables).
         coating.reflectivity(e_min, 0.0)?;
         coating.reflectivity(e_max, 0.0)?;
-        let stack = &coating.stack;
-        let depth: f64 = stack.layers.iter().map(|l| l.thickness_nm).sum();
-        let (n_theta, theta_step) = angle_grid(coating, depth, e_min, e_max, theta_max)?;
-        let mut energies = energy_grid(depth, e_min, e_max, theta_max);
-        let sigma = stack.substrate_roughness_nm;
-        let row = |e: f64| -> Vec<f32> {
-            let (layers, sub) = coating.layers_at(e).expect("range checked");
-            (0..n_theta)
-                .map(|j| {
-                    reflectance(e, j as f64 * theta_step, &layers, sub, sigma).unpolarised() as f32
-                })
-                .collect()
-        };
-        let mut rows: Vec<Vec<f32>> = energies.par_iter().map(|&e| row(e)).collect();
-        refine_in_energy(&mut energies, &mut rows, row);
-        let values: Vec<f32> = rows.concat();
-        Ok(ReflectivityTable {
-            coating: coating.clone(),
-            energies,
-            theta_step,
+        let grid = build_grid(coating, e_min, e_max, theta_max)?;
+        let parts = TableParts {
+            row_lengths: grid.rows.iter().map(|r| r.values.len()).collect(),
+            x_steps: grid.rows.iter().map(|r| r.x_step).collect(),
+            values: grid.rows.into_iter().flat_map(|r| r.values).collect(),
+            energies: grid.energies,
             theta_max,
-            n_theta,
-            values,
-        })
+        };
+        Ok(Self::from_parts(coating, parts).expect("a grid covers its energies"))
     }
 
     /// The table's grid and values, for the disk cache.
-    pub(super) fn parts(&self) -> (&[f64], f64, f64, usize, &[f32]) {
-        let t = self;
-        (&t.energies, t.theta_step, t.theta_max, t.n_theta, &t.values)
+    pub(super) fn parts(&self) -> TableParts {
+        TableParts {
+            energies: self.energies.clone(),
+            x_steps: self.x_steps.clone(),
+            theta_max: self.theta_max,
+            row_lengths: self.row_starts.windows(2).map(|w| w[1] - w[0]).collect(),
+            values: self.values.clone(),
+        }
     }
 
-    /// A table from the cache's parts, if they make a table.
-    pub(super) fn from_parts(
-        coating: &Coating,
-        energies: Vec<f64>,
-        theta_step: f64,
-        theta_max: f64,
-        n_theta: usize,
-        values: Vec<f32>,
-    ) -> Option<ReflectivityTable> {
-        let grid_ok = !energies.is_empty()
-            && n_theta >= 2
-            && theta_step > 0.0
-            && theta_max > 0.0
-            && values.len() == energies.len() * n_theta;
+    /// A table from the cache's parts, if they make a table: one row per
+    /// energy, each long enough for every x its cells look up.
+    pub(super) fn from_parts(coating: &Coating, p: TableParts) -> Option<ReflectivityTable> {
+        let mut row_starts = vec![0];
+        for &n in &p.row_lengths {
+            row_starts.push(row_starts.last()? + n);
+        }
+        let sin_max = p.theta_max.sin();
+        let covers = |i: usize, n: usize| {
+            let e_next = p.energies.get(i + 1).unwrap_or(&p.energies[i]);
+            n >= 2 && p.x_steps[i] > 0.0 && ((n - 1) as f64) * p.x_steps[i] >= e_next * sin_max
+        };
+        let grid_ok = !p.energies.is_empty()
+            && p.energies.windows(2).all(|w| w[0] < w[1])
+            && p.theta_max > 0.0
+            && p.row_lengths.len() == p.energies.len()
+            && p.x_steps.len() == p.energies.len()
+            && p.row_lengths.iter().enumerate().all(|(i, &n)| covers(i, n))
+            && row_starts.last() == Some(&p.values.len());
         grid_ok.then(|| ReflectivityTable {
             coating: coating.clone(),
-            energies,
-            theta_step,
-            theta_max,
-            n_theta,
-            values,
+            energies: p.energies,
+            x_steps: p.x_steps,
+            theta_max: p.theta_max,
+            row_starts,
+            values: p.values,
         })
     }
 
@@ -132,9 +133,11 @@ impl ReflectivityTable {
     #[inline]
     pub fn energy_cell(&self, energy_kev: f64) -> EnergyCell {
         let e = &self.energies;
+        let clamped_kev = energy_kev.clamp(e[0], e[e.len() - 1]);
         if e.len() == 1 {
             return EnergyCell {
                 energy_kev,
+                clamped_kev,
                 upper: 0,
                 weight: 0.0,
             };
@@ -145,58 +148,42 @@ impl ReflectivityTable {
         let weight = ((energy_kev - e[i - 1]) / (e[i] - e[i - 1])).clamp(0.0, 1.0);
         EnergyCell {
             energy_kev,
+            clamped_kev,
             upper: i,
             weight,
         }
     }
 
-    /// Where `theta` (rad) falls between the angle nodes, with its interpolation
-    /// weights (for [`Self::at`]: one reflection evaluated at many energies
-    /// computes them once).
+    /// A grazing angle `theta` (rad) ready for [`Self::at`] (its sine, taken
+    /// once for one reflection evaluated at many energies).
     #[inline]
     pub fn angle_cell(&self, theta: f64) -> AngleCell {
-        if theta > self.theta_max {
-            return AngleCell {
-                theta,
-                node: usize::MAX,
-                t: 0.0,
-            };
-        }
-        let ft = theta / self.theta_step;
-        let node = (ft as usize).min(self.n_theta - 2);
         AngleCell {
             theta,
-            node,
-            t: ft - node as f64,
+            sin_theta: if theta > self.theta_max {
+                f64::NAN
+            } else {
+                theta.sin()
+            },
         }
     }
 
-    /// R at an energy and an angle located by [`Self::energy_cell`] and
-    /// [`Self::angle_cell`]: cubic (Catmull–Rom) in angle, linear in energy.
+    /// R at an energy and an angle from [`Self::energy_cell`] and
+    /// [`Self::angle_cell`]: cubic (Catmull–Rom) in x = E sin θ along the two
+    /// rows around the energy, linear between them.
     #[inline]
     pub fn at(&self, energy: &EnergyCell, angle: &AngleCell) -> f64 {
-        if angle.node == usize::MAX {
+        if angle.sin_theta.is_nan() {
             // Beyond the table (rare in X-ray optics): evaluated directly.
             return self
                 .coating
                 .reflectivity(energy.energy_kev, angle.theta)
                 .unwrap_or(0.0);
         }
-        let (j, t) = (angle.node, angle.t);
-        // Catmull–Rom through nodes j−1 … j+2 (mirrored at θ = 0: R is even in θ
-        // only approximately, so clamp instead; the end cells fall back to linear).
-        let (t2, t3) = (t * t, t * t * t);
+        let x = energy.clamped_kev * angle.sin_theta;
         let row = |i: usize| {
-            let r = &self.values[i * self.n_theta..(i + 1) * self.n_theta];
-            let (p1, p2) = (r[j] as f64, r[j + 1] as f64);
-            if j == 0 || j + 2 >= r.len() {
-                return p1 + (p2 - p1) * t;
-            }
-            let (p0, p3) = (r[j - 1] as f64, r[j + 2] as f64);
-            0.5 * (2.0 * p1
-                + (p2 - p0) * t
-                + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * t2
-                + (3.0 * p1 - p0 - 3.0 * p2 + p3) * t3)
+            let r = &self.values[self.row_starts[i]..self.row_starts[i + 1]];
+            Row::at(r, self.x_steps[i], x)
         };
         if self.energies.len() == 1 {
             return row(0);
@@ -212,121 +199,5 @@ impl ReflectivityTable {
 
     pub fn is_empty(&self) -> bool {
         self.values.is_empty()
-    }
-}
-
-/// The angle grid: `n_theta` angles from 0 to θ_max in equal steps, fine enough
-/// for the critical angle of the densest material (√(2δ), 60 steps, at whichever
-/// end of the energy range it is smaller: beyond it R falls as θ⁻⁴, and a grid
-/// made for 1 keV errs by 1 % of R per reflection on gold at 8 keV) and for the
-/// multilayer's angular fringes (λ_min / 2D, 40 steps).
-fn angle_grid(
-    coating: &Coating,
-    depth: f64,
-    e_min: f64,
-    e_max: f64,
-    theta_max: f64,
-) -> Result<(usize, f64), EnergyOutOfRange> {
-    let stack = &coating.stack;
-    let lambda_min = HC_KEV_NM / e_max;
-    let mut theta_c = f64::INFINITY;
-    for e in [e_min, e_max] {
-        let mut delta_max: f64 = 0.0;
-        for m in stack
-            .layers
-            .iter()
-            .map(|l| l.material.as_ref())
-            .chain([&stack.substrate])
-        {
-            delta_max = delta_max.max(m.delta_beta(e)?.0);
-        }
-        theta_c = theta_c.min((2.0 * delta_max).sqrt());
-    }
-    let mut theta_step = theta_c / 60.0;
-    if depth > 0.0 {
-        theta_step = theta_step.min(lambda_min / (2.0 * depth) / 40.0);
-    }
-    let n_theta = (theta_max / theta_step).ceil() as usize + 1;
-    Ok((n_theta, theta_max / (n_theta - 1) as f64))
-}
-
-/// The initial energy grid: equal steps of at most 1/16 of the multilayer's
-/// fringe period at θ_max and 1/4 of the range.
-fn energy_grid(depth: f64, e_min: f64, e_max: f64, theta_max: f64) -> Vec<f64> {
-    if e_max <= e_min {
-        return vec![e_min];
-    }
-    // Fringes in energy at θ_max have period ≈ hc / (2 D sin θ_max).
-    let fringe = if depth > 0.0 {
-        HC_KEV_NM / (2.0 * depth * theta_max.sin())
-    } else {
-        f64::INFINITY
-    };
-    let step = (fringe / 16.0).min((e_max - e_min) / 4.0);
-    let n = ((e_max - e_min) / step).ceil() as usize;
-    (0..=n)
-        .map(|i| e_min + (e_max - e_min) * i as f64 / n as f64)
-        .collect()
-}
-
-/// Inserts energies (and their rows, from `row`) where linear interpolation
-/// between the nodes would be too coarse.
-fn refine_in_energy(
-    energies: &mut Vec<f64>,
-    rows: &mut Vec<Vec<f32>>,
-    row: impl Fn(f64) -> Vec<f32> + Sync,
-) {
-    // Adaptive refinement in energy: near absorption edges (e.g. the Pt M
-    // edges at 2.1–2.2 keV) R(E) bends within a few eV. Linear interpolation
-    // over a cell of width h errs by ≈ h²|R''|/8 at its middle; R'' is
-    // estimated from the neighbouring nodes, and cells above REFINE_TOL are
-    // halved (no extra evaluations where R(E) is smooth).
-    const REFINE_TOL: f64 = 1e-4;
-    for _ in 0..14 {
-        let n = energies.len();
-        if n < 3 {
-            break;
-        }
-        // Largest |R''| over angles at each interior node.
-        let curvature: Vec<f64> = (1..n - 1)
-            .into_par_iter()
-            .map(|i| {
-                let (h0, h1) = (energies[i] - energies[i - 1], energies[i + 1] - energies[i]);
-                rows[i]
-                    .iter()
-                    .zip(rows[i - 1].iter().zip(&rows[i + 1]))
-                    .map(|(&m, (&l, &r))| {
-                        let d = ((r - m) as f64 / h1 - (m - l) as f64 / h0) * 2.0 / (h0 + h1);
-                        d.abs()
-                    })
-                    .fold(0.0, f64::max)
-            })
-            .collect();
-        let split: Vec<usize> = (0..n - 1)
-            .filter(|&i| {
-                let h = energies[i + 1] - energies[i];
-                // 0.1 eV: finer than the Henke tables themselves.
-                let c = curvature
-                    .get(i.wrapping_sub(1))
-                    .copied()
-                    .unwrap_or(0.0)
-                    .max(curvature.get(i).copied().unwrap_or(0.0));
-                h > 1e-4 && h * h * c / 8.0 > REFINE_TOL
-            })
-            .collect();
-        if split.is_empty() {
-            break;
-        }
-        let new_rows: Vec<(f64, Vec<f32>)> = split
-            .par_iter()
-            .map(|&i| {
-                let e = 0.5 * (energies[i] + energies[i + 1]);
-                (e, row(e))
-            })
-            .collect();
-        for (k, (&i, (e, r))) in split.iter().zip(new_rows).enumerate() {
-            energies.insert(i + 1 + k, e);
-            rows.insert(i + 1 + k, r);
-        }
     }
 }

@@ -30,16 +30,17 @@
 
 use super::coating::Coating;
 use super::optical::EnergyOutOfRange;
-use super::table::ReflectivityTable;
+use super::table::{ReflectivityTable, TableParts};
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};
 
 /// The first bytes of a table file; bump the number when the layout changes.
-const MAGIC: &[u8] = b"traxer reflectivity table 1\n";
+const MAGIC: &[u8] = b"traxer reflectivity table 2\n";
 
 /// The source of the modules whose code decides a table's values.
-const TABLE_SOURCES: [&str; 6] = [
+const TABLE_SOURCES: [&str; 7] = [
     include_str!("table.rs"),
+    include_str!("table_grid.rs"),
     include_str!("parratt.rs"),
     include_str!("coating.rs"),
     include_str!("optical.rs"),
@@ -225,17 +226,19 @@ pub fn clear_tables(dir: &Path) -> std::io::Result<(usize, u64)> {
 
 /// The table's file contents.
 fn encode(t: &ReflectivityTable) -> Vec<u8> {
-    let (energies, theta_step, theta_max, n_theta, values) = t.parts();
+    let p = t.parts();
     let mut b = MAGIC.to_vec();
-    b.extend((energies.len() as u64).to_le_bytes());
-    energies
+    b.extend((p.energies.len() as u64).to_le_bytes());
+    p.energies
         .iter()
         .for_each(|e| b.extend(e.to_bits().to_le_bytes()));
-    b.extend(theta_step.to_bits().to_le_bytes());
-    b.extend(theta_max.to_bits().to_le_bytes());
-    b.extend((n_theta as u64).to_le_bytes());
-    b.extend((values.len() as u64).to_le_bytes());
-    values
+    b.extend(p.theta_max.to_bits().to_le_bytes());
+    for (&step, &n) in p.x_steps.iter().zip(&p.row_lengths) {
+        b.extend(step.to_bits().to_le_bytes());
+        b.extend((n as u64).to_le_bytes());
+    }
+    b.extend((p.values.len() as u64).to_le_bytes());
+    p.values
         .iter()
         .for_each(|v| b.extend(v.to_bits().to_le_bytes()));
     let sum = Sha256::digest(&b);
@@ -251,16 +254,34 @@ fn read(path: &Path, coating: &Coating) -> Option<ReflectivityTable> {
         return None;
     }
     let mut r = Reader(body.strip_prefix(MAGIC)?);
-    let energies = (0..r.u64()?)
+    let n_energies = r.u64()? as usize;
+    if r.0.len() < 24 * n_energies {
+        return None;
+    }
+    let energies = (0..n_energies)
         .map(|_| r.f64())
         .collect::<Option<Vec<f64>>>()?;
-    let (theta_step, theta_max, n_theta) = (r.f64()?, r.f64()?, r.u64()? as usize);
+    let theta_max = r.f64()?;
+    let (mut x_steps, mut row_lengths) = (Vec::new(), Vec::new());
+    for _ in 0..n_energies {
+        x_steps.push(r.f64()?);
+        row_lengths.push(r.u64()? as usize);
+    }
     let n = r.u64()? as usize;
-    if n != n_theta.checked_mul(energies.len())? || r.0.len() != 4 * n {
+    if r.0.len() != 4usize.checked_mul(n)? {
         return None;
     }
     let values = (0..n).map(|_| r.f32()).collect::<Option<Vec<f32>>>()?;
-    ReflectivityTable::from_parts(coating, energies, theta_step, theta_max, n_theta, values)
+    ReflectivityTable::from_parts(
+        coating,
+        TableParts {
+            energies,
+            x_steps,
+            theta_max,
+            row_lengths,
+            values,
+        },
+    )
 }
 
 /// Little-endian numbers off the front of a byte slice.
