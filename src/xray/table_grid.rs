@@ -242,8 +242,8 @@ fn energy_error(a: &Row, b: &Row, w: f64, exact: &Row) -> f64 {
         .map(|(j, &r)| (j as f64 * exact.x_step, r as f64))
         .take_while(|&(x, _)| x <= reach)
         .map(|(x, r)| {
-            let lerp = Row::at(&a.values, a.x_step, x) * (1.0 - w)
-                + Row::at(&b.values, b.x_step, x) * w;
+            let lerp =
+                Row::at(&a.values, a.x_step, x) * (1.0 - w) + Row::at(&b.values, b.x_step, x) * w;
             (lerp - r).abs()
         })
         .fold(0.0, f64::max)

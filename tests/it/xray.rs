@@ -226,7 +226,10 @@ fn reflectivity_tables_interpolate_within_1e_4() {
             worst.1,
             worst.2
         );
-        assert!(worst.0 <= 1e-4, "{name}: worst interpolation error {worst:?}");
+        assert!(
+            worst.0 <= 1e-4,
+            "{name}: worst interpolation error {worst:?}"
+        );
         // A table is sized to its coating: 20 MB each at most here (the gold
         // layers' tables, 2–3 MB, were 470 MB on the old grid).
         assert!(mb < 20.0, "{name}: {mb} MB");
