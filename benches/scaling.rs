@@ -76,10 +76,12 @@ fn sweep_check(n: usize) -> f64 {
     let s = AreaSweep {
         energies: vec![1.5],
         angles_arcmin: (0..n).map(|k| k as f64 * 1e-3).collect(),
-        photons: 100,
-        seed: 1,
-        threads: 1,
-        sensor: None,
+        sampling: traxer::studies::Sampling {
+            photons: 100,
+            seed: 1,
+            threads: 1,
+            sensor: None,
+        },
         radius_mm: None,
     };
     seconds(|| {

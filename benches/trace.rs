@@ -78,10 +78,12 @@ fn main() {
     let sweep = traxer::studies::effective_area::AreaSweep {
         energies: (0..91).map(|i| 1.0 + 0.1 * i as f64).collect(),
         angles_arcmin: vec![0.0, 2.5, 5.0, 7.5, 10.0],
-        photons: 200_000,
-        seed: 1,
-        threads: 0,
-        sensor: None,
+        sampling: traxer::studies::Sampling {
+            photons: 200_000,
+            seed: 1,
+            threads: 0,
+            sensor: None,
+        },
         radius_mm: None,
     };
     let r = traxer::studies::effective_area::sweep(&scene, &sweep, &[], &(), |_| {})

@@ -120,6 +120,8 @@ class Scene:
         sensor: Optional[str] = None,
         radius_mm: Optional[_Number] = None,
         progress: bool = False,
+        out: Optional[_Path] = None,
+        resume: bool = False,
     ) -> EffectiveArea:
         """The telescope's effective area A_eff(E, θ), as ``traxer effective-area``.
 
@@ -127,7 +129,10 @@ class Scene:
         entrance; it is tilted to each of ``angles_arcmin`` (None: on axis only).
         Each angle traces ``photons`` photons (default 200 000) once and
         evaluates every photon's weight at every energy. Energies, angles and
-        ``radius_mm`` may be astropy Quantities.
+        ``radius_mm`` may be astropy Quantities. With ``out`` the sweep writes
+        the files of ``traxer effective-area --out`` there and records each
+        angle: Ctrl-C stops it after the current angle, and ``resume=True``
+        takes up the recorded angles.
         """
     def psf_library(
         self,
@@ -140,6 +145,8 @@ class Scene:
         sensor: Optional[str] = None,
         window: int = 101,
         progress: bool = False,
+        out: Optional[_Path] = None,
+        resume: bool = False,
     ) -> PsfLibrary:
         """The PSF library, as ``traxer psf``: the scene's parallel beam (its
         only source) tilted to each of ``angles_arcmin`` towards each of
@@ -147,7 +154,10 @@ class Scene:
         photons per point (default 200 000) with the trace's random streams, so
         that a point equals a trace of the scene set to that angle and energy;
         a window of ``window`` pixels around each image's centroid, normalised
-        to 1. Energies and angles may be astropy Quantities.
+        to 1. Energies and angles may be astropy Quantities. With ``out`` the
+        library writes the files of ``traxer psf --out`` there and records each
+        point: Ctrl-C stops it after the current point, and ``resume=True``
+        takes up the recorded points.
         """
     def systematics(
         self,
@@ -168,6 +178,8 @@ class Scene:
         central_mm: float = 5.0,
         central_radius_mm: Optional[float] = None,
         progress: bool = False,
+        out: Optional[_Path] = None,
+        resume: bool = False,
     ) -> Systematics:
         """The image's systematic uncertainty, as ``traxer systematics``: the
         scene traced under each source of uncertainty with the same photons
@@ -182,6 +194,9 @@ class Scene:
         dict of other scene variables and their (low, high). The table's
         "central" flux is in the ``central_mm`` square about the sensor's
         centre, or with ``central_radius_mm`` in that circle (a signal region).
+        With ``out`` the study writes the files of ``traxer systematics --out``
+        there and records each variation: Ctrl-C stops it after the current
+        variation, and ``resume=True`` takes up the recorded ones.
         """
 
 class SensorImage:

@@ -2,9 +2,11 @@
 # Fingerprints of every image the shipped scenes produce at a fixed seed: each
 # scene in scenes/ is traced (seed 7, $PHOTONS photons, 2 threads) and each of its
 # cameras rendered (160×100, 8 spp, seed 3; with the traced image on the sensors
-# too); prints the SHA-256 of every image
-# and table written (.npy, .png, .csv), one per line, sorted. Provenance JSON is
-# left out: it holds times and the command line.
+# too); then the studies run at fixed seeds (effective area with its ARFs, PSF
+# library, systematics, focus scan: studies/ in the listing); prints the SHA-256 of
+# every image and table written (.npy, .png, .csv, .arf, .fits; FITS with their
+# DATE cards blanked), one per line, sorted. Provenance JSON is left out: it holds
+# times and the command line.
 #
 # Used to check that a change which must not alter results does not:
 #   scripts/output_hashes.sh ./before-binary > before.txt
@@ -32,6 +34,22 @@ for scene in scenes/*.toml; do
     fi
   done
 done
+st="$work/studies"
+"$bin" effective-area scenes/llnl_effective_area.toml --energies 1:8:0.5 --angles 0,3,6 \
+  -n "$((photons / 4))" -s 3 -j 2 -q --out "$st/effective_area" >/dev/null
+"$bin" psf scenes/xmm_effective_area.toml --energies 1.5,6.4 --angles 0,5 --window 41 \
+  -n "$((photons / 10))" -s 3 -j 2 -q --out "$st/psf" >/dev/null
+"$bin" systematics scenes/panter_al_ka.toml --sources figure --figure-draws 3 \
+  --vary sensor_z=-1539:-1499 -n "$((photons / 10))" -s 2 -j 2 -q --out "$st/systematics" >/dev/null
+"$bin" focus scenes/panter_al_ka.toml --from -1534 --to -1504 --steps 4 \
+  -n "$((photons / 10))" -s 2 -j 2 -q --out "$st/focus" >/dev/null
 cd "$work"
-find . -type f \( -name '*.npy' -o -name '*.png' -o -name '*.csv' \) -print0 |
-  sort -z | xargs -0 sha256sum
+find . -type f \( -name '*.npy' -o -name '*.png' -o -name '*.csv' -o -name '*.arf' -o -name '*.fits' \) -print0 |
+  sort -z | while IFS= read -r -d '' f; do
+    case "$f" in
+    *.fits | *.arf) # the DATE cards say when the file was written: blanked
+      sum=$(perl -0777 -pe 's/DATE    = .{70}/"DATE    = " . ("-" x 70)/ges' "$f" | sha256sum) ;;
+    *) sum=$(sha256sum <"$f") ;;
+    esac
+    echo "${sum%% *}  $f"
+  done

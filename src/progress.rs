@@ -10,6 +10,11 @@
 pub trait Progress: Sync {
     /// `done` more units (photons, rows, ...) are finished.
     fn advance(&self, done: u64);
+    /// Whether the work should stop at its next point (a study checks between
+    /// its points; Python's Ctrl-C).
+    fn stop_requested(&self) -> bool {
+        false
+    }
 }
 
 /// Where notices go: one line each about slow work the user should know is

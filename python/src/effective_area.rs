@@ -2,55 +2,26 @@
 //! effective-area` (same photons, same numbers) as numpy arrays over
 //! [angle, energy], and `EffectiveArea.save`, which writes the CLI's files.
 
-use crate::convert::{array, progress_bar, to_json};
-use crate::errors::{lib, to_py};
+use crate::convert::{array, to_json};
+use crate::errors::to_py;
 use crate::scene::Loaded;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::history::PathClass;
 use traxer::output::{effective_area_files, write_effective_area, Provenance};
-use traxer::run::Invocation;
-use traxer::studies::effective_area::{sweep, AreaResult, AreaSweep};
+use traxer::studies::effective_area::{AreaResult, AreaSweep};
 
-/// Runs the sweep with the GIL released.
+/// Runs the sweep with the GIL released (into `out` when given, as the CLI).
 pub fn run(
     py: Python<'_>,
     loaded: Arc<Loaded>,
     s: AreaSweep,
+    place: (Option<PathBuf>, bool),
     progress: bool,
 ) -> PyResult<EffectiveArea> {
-    let scene = &loaded.scene;
-    traxer::studies::require_sources(scene).map_err(lib)?;
-    let bar = progress_bar(
-        traxer::studies::effective_area::photons_per_angle(scene, &s)
-            .saturating_mul(s.angles_arcmin.len() as u64),
-        progress,
-    );
-    let result = py.detach(|| sweep(scene, &s, &[], &|n| bar.inc(n), |_| {}));
-    bar.finish_and_clear();
-    let result = result.map_err(lib)?;
-    let invocation = Invocation::new([
-        "python".into(),
-        format!(
-            "traxer.Scene({:?}, defines={:?}).effective_area({:?}, angles_arcmin={:?}, photons={}, seed={}, sensor={:?}, radius_mm={:?})",
-            scene.path.display().to_string(),
-            scene.overrides,
-            s.energies,
-            s.angles_arcmin,
-            s.photons,
-            s.seed,
-            s.sensor,
-            s.radius_mm
-        ),
-    ]);
-    let provenance = Provenance::of_study(
-        &invocation,
-        loaded.device.info().version,
-        scene,
-        (s.photons, s.seed),
-        result.threads,
-    );
+    let (result, provenance) =
+        crate::run::run_study(py, &loaded, (&s, "effective_area"), place, progress)?;
     EffectiveArea::new(py, result, s, provenance)
 }
 

@@ -2,52 +2,26 @@
 //! (same photons, same images) as a numpy array over [angle, azimuth, energy,
 //! iy, ix], and `PsfLibrary.save`, which writes the CLI's files.
 
-use crate::convert::{array, progress_bar, to_json};
-use crate::errors::{lib, to_py};
+use crate::convert::{array, to_json};
+use crate::errors::to_py;
 use crate::scene::Loaded;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::output::{write_psf_library, Provenance, PSF_FILES};
-use traxer::run::Invocation;
-use traxer::studies::psf::{library, points, PsfGrid, PsfLibrary as Library};
+use traxer::studies::psf::{PsfGrid, PsfLibrary as Library};
 
-/// Traces the library with the GIL released.
+/// Traces the library with the GIL released (into `out` when given, as the
+/// CLI).
 pub fn run(
     py: Python<'_>,
     loaded: Arc<Loaded>,
     g: PsfGrid,
+    place: (Option<PathBuf>, bool),
     progress: bool,
 ) -> PyResult<PsfLibrary> {
-    let scene = &loaded.scene;
-    traxer::studies::require_sources(scene).map_err(lib)?;
-    traxer::studies::psf::check(&g).map_err(lib)?;
-    let bar = progress_bar(g.photons.saturating_mul(points(&g).len() as u64), progress);
-    let result = py.detach(|| library(scene, &g, &[], &|n| bar.inc(n), |_| {}));
-    bar.finish_and_clear();
-    let result = result.map_err(lib)?;
-    let invocation = Invocation::new([
-        "python".into(),
-        format!(
-            "traxer.Scene({:?}, defines={:?}).psf_library({:?}, angles_arcmin={:?}, azimuths_deg={:?}, photons={}, seed={}, sensor={:?}, window={})",
-            scene.path.display().to_string(),
-            scene.overrides,
-            g.energies,
-            g.angles_arcmin,
-            g.azimuths_deg,
-            g.photons,
-            g.seed,
-            g.sensor,
-            g.window
-        ),
-    ]);
-    let provenance = Provenance::of_study(
-        &invocation,
-        loaded.device.info().version,
-        scene,
-        (g.photons, g.seed),
-        result.threads,
-    );
+    let (result, provenance) =
+        crate::run::run_study(py, &loaded, (&g, "psf_library"), place, progress)?;
     PsfLibrary::new(py, result, g, provenance)
 }
 

@@ -69,6 +69,76 @@ impl RunControl for PyControl {
     }
 }
 
+/// A study (`traxer::run::run_study`) reports its photons to the bar and asks
+/// between its points whether Ctrl-C was pressed.
+impl traxer::progress::Progress for PyControl {
+    fn advance(&self, done: u64) {
+        self.bar.inc(done);
+    }
+
+    fn stop_requested(&self) -> bool {
+        RunControl::stop_requested(self)
+    }
+}
+
+impl traxer::run::StudyControl for PyControl {
+    fn warn(&self, warning: &str) {
+        Python::attach(|py| {
+            let category = py.get_type::<pyo3::exceptions::PyRuntimeWarning>();
+            // A warning that cannot be shown is not worth failing the study.
+            let _ = PyErr::warn(
+                py,
+                &category,
+                &std::ffi::CString::new(warning).unwrap_or_default(),
+                1,
+            );
+        });
+    }
+}
+
+/// Runs study `kind` on `loaded`'s scene with the GIL released: into the
+/// results folder `out` (resuming with `resume`) when given, as the CLI does;
+/// Ctrl-C stops it between points with a KeyboardInterrupt whose note says how
+/// to continue. Returns its output and provenance.
+pub fn run_study<K: traxer::output::StudyFiles + Send>(
+    py: Python<'_>,
+    loaded: &Loaded,
+    (kind, method): (&K, &str),
+    (out, resume): (Option<PathBuf>, bool),
+    progress: bool,
+) -> PyResult<(K::Output, Provenance)>
+where
+    K::Output: Send,
+{
+    if resume && out.is_none() {
+        return Err(crate::errors::input(
+            "resume=True needs out=: the folder of the stopped study".to_string(),
+        ));
+    }
+    kind.check().map_err(lib)?;
+    let scene = &loaded.scene;
+    // The call and the study's settings (the provenance's command).
+    let invocation = Invocation::new([
+        "python".into(),
+        format!(
+            "traxer.Scene({:?}, defines={:?}).{method}(…) with settings {}",
+            scene.path.display().to_string(),
+            scene.overrides,
+            serde_json::to_string(kind).unwrap_or_default()
+        ),
+    ]);
+    let control = PyControl::new(kind.photons_total(scene), progress);
+    let place = traxer::run::StudyPlace {
+        out: out.as_deref(),
+        resume,
+    };
+    let version = loaded.device.info().version;
+    let result =
+        py.detach(|| traxer::run::run_study(kind, scene, (version, &invocation), place, &control));
+    control.bar.finish_and_clear();
+    result.map_err(|e| control.error(e))
+}
+
 /// `checkpoint_every` (seconds) checked.
 pub fn checkpoint_interval(seconds: Option<f64>) -> PyResult<Option<Duration>> {
     match seconds {

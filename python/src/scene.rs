@@ -224,8 +224,12 @@ impl Scene {
     /// every energy of `energies_keV`. Energies, angles and `radius_mm` may be
     /// astropy Quantities (a wavelength converts to its energy). `sensor`: the sensor to count on (default: the
     /// only one); `radius_mm`: count only within this radius of the image
-    /// centroid. Returns a `traxer.EffectiveArea`.
-    #[pyo3(signature = (energies_keV, angles_arcmin = None, photons = None, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false))]
+    /// centroid. With `out` (a folder) the sweep writes the files of `traxer
+    /// effective-area --out` there and records each angle as it finishes: Ctrl-C
+    /// stops it after the current angle (KeyboardInterrupt, with a note), and
+    /// the same call with `resume=True` takes up the recorded angles. Returns a
+    /// `traxer.EffectiveArea`.
+    #[pyo3(signature = (energies_keV, angles_arcmin = None, photons = None, seed = 1, threads = 0, sensor = None, radius_mm = None, progress = false, out = None, resume = false))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn effective_area(
         &self,
@@ -238,6 +242,8 @@ impl Scene {
         sensor: Option<String>,
         radius_mm: Option<&Bound<'_, PyAny>>,
         progress: bool,
+        out: Option<PathBuf>,
+        resume: bool,
     ) -> PyResult<crate::effective_area::EffectiveArea> {
         let sweep = traxer::studies::effective_area::AreaSweep {
             energies: numbers("energies_keV", energies_keV, Unit::KeV)?,
@@ -245,16 +251,11 @@ impl Scene {
                 Some(a) => numbers("angles_arcmin", a, Unit::Arcmin)?,
                 None => vec![0.0],
             },
-            photons: match photons {
-                Some(p) => crate::convert::count("photons", p, 2)?,
-                None => 200_000,
-            },
-            seed,
-            threads: self::threads(threads)?,
-            sensor,
+            sampling: sampling(photons, seed, threads, sensor)?,
             radius_mm: optional("radius_mm", radius_mm, Unit::Mm)?,
         };
-        crate::effective_area::run(py, self.loaded.clone(), sweep, progress)
+        let place = (out, resume);
+        crate::effective_area::run(py, self.loaded.clone(), sweep, place, progress)
     }
 
     /// The PSF library, as `traxer psf`: the scene's parallel beam (its only
@@ -263,8 +264,12 @@ impl Scene {
     /// with the trace's random streams, so that a point equals a trace of the
     /// scene set to that angle and energy; a window of `window` pixels around
     /// each image's centroid, normalised to 1. Energies and angles may be
-    /// astropy Quantities. Returns a `traxer.PsfLibrary`.
-    #[pyo3(signature = (energies_keV, angles_arcmin = None, azimuths_deg = None, photons = None, seed = 1, threads = 0, sensor = None, window = 101, progress = false))]
+    /// astropy Quantities. With `out` (a folder) the library writes the files
+    /// of `traxer psf --out` there and records each point as it finishes:
+    /// Ctrl-C stops it after the current point (KeyboardInterrupt, with a
+    /// note), and the same call with `resume=True` takes up the recorded
+    /// points. Returns a `traxer.PsfLibrary`.
+    #[pyo3(signature = (energies_keV, angles_arcmin = None, azimuths_deg = None, photons = None, seed = 1, threads = 0, sensor = None, window = 101, progress = false, out = None, resume = false))]
     #[allow(non_snake_case, clippy::too_many_arguments)]
     fn psf_library(
         &self,
@@ -278,6 +283,8 @@ impl Scene {
         sensor: Option<String>,
         window: u32,
         progress: bool,
+        out: Option<PathBuf>,
+        resume: bool,
     ) -> PyResult<crate::psf::PsfLibrary> {
         let listed = |name: &str, v: Option<&Bound<'_, PyAny>>, unit: Unit| match v
             .filter(|a| !a.is_none())
@@ -289,16 +296,10 @@ impl Scene {
             energies: numbers("energies_keV", energies_keV, Unit::KeV)?,
             angles_arcmin: listed("angles_arcmin", angles_arcmin, Unit::Arcmin)?,
             azimuths_deg: listed("azimuths_deg", azimuths_deg, Unit::Degree)?,
-            photons: match photons {
-                Some(p) => crate::convert::count("photons", p, 2)?,
-                None => 200_000,
-            },
-            seed,
-            threads: self::threads(threads)?,
-            sensor,
+            sampling: sampling(photons, seed, threads, sensor)?,
             window,
         };
-        crate::psf::run(py, self.loaded.clone(), grid, progress)
+        crate::psf::run(py, self.loaded.clone(), grid, (out, resume), progress)
     }
 
     /// The image's systematic uncertainty, as `traxer systematics`: the scene
@@ -311,9 +312,12 @@ impl Scene {
     /// (ranges (low, high), default the scene's ± 50 mbar, ± 10 K); `vary`: a
     /// dict of other scene variables and their (low, high). The table's
     /// "central" flux is in the `central_mm` square about the sensor's centre,
-    /// or with `central_radius_mm` in that circle (a signal region). Returns a
-    /// `traxer.Systematics`.
-    #[pyo3(signature = (photons = None, seed = 1, threads = 0, sensor = None, sources = None, figure_draws = 20, figure_preset = None, figure_hold = None, pointing_arcmin = 1.0, tilt_arcmin = 1.0, solar_model = "b16_gs98", gas_pressure_mbar = None, gas_temperature_k = None, vary = None, central_mm = 5.0, central_radius_mm = None, progress = false))]
+    /// or with `central_radius_mm` in that circle (a signal region). With
+    /// `out` (a folder) the study writes the files of `traxer systematics
+    /// --out` there and records each variation: Ctrl-C stops it after the
+    /// current variation, and `resume=True` takes up the recorded ones. Returns
+    /// a `traxer.Systematics`.
+    #[pyo3(signature = (photons = None, seed = 1, threads = 0, sensor = None, sources = None, figure_draws = 20, figure_preset = None, figure_hold = None, pointing_arcmin = 1.0, tilt_arcmin = 1.0, solar_model = "b16_gs98", gas_pressure_mbar = None, gas_temperature_k = None, vary = None, central_mm = 5.0, central_radius_mm = None, progress = false, out = None, resume = false))]
     #[allow(clippy::too_many_arguments)]
     fn systematics(
         &self,
@@ -335,6 +339,8 @@ impl Scene {
         central_mm: f64,
         central_radius_mm: Option<f64>,
         progress: bool,
+        out: Option<PathBuf>,
+        resume: bool,
     ) -> PyResult<crate::systematics::Systematics> {
         let pair = |p: (f64, f64)| [p.0, p.1];
         for (what, x) in [
@@ -377,17 +383,20 @@ impl Scene {
             seed,
         };
         let settings = traxer::studies::systematics::Settings {
-            photons: match photons {
-                Some(p) => crate::convert::count("photons", p, 1)?,
-                None => 1_000_000,
+            sampling: traxer::studies::Sampling {
+                photons: match photons {
+                    Some(p) => crate::convert::count("photons", p, 1)?,
+                    None => 1_000_000,
+                },
+                seed,
+                threads: self::threads(threads)?,
+                sensor,
             },
-            seed,
-            threads: self::threads(threads)?,
-            sensor,
             central_mm: central_radius_mm.unwrap_or(central_mm),
             central_circle: central_radius_mm.is_some(),
         };
-        crate::systematics::run(py, self.loaded.clone(), (req, settings), progress)
+        let place = (out, resume);
+        crate::systematics::run(py, self.loaded.clone(), (req, settings), place, progress)
     }
 }
 
@@ -422,4 +431,23 @@ impl Scene {
         let threads = finished.result.threads;
         finished_result(py, self.loaded.clone(), out, invocation, threads)
     }
+}
+
+/// A study's sampling block from its keyword arguments (photons default
+/// 200 000, an int or a whole float).
+fn sampling(
+    photons: Option<&Bound<'_, PyAny>>,
+    seed: u64,
+    threads: usize,
+    sensor: Option<String>,
+) -> PyResult<traxer::studies::Sampling> {
+    Ok(traxer::studies::Sampling {
+        photons: match photons {
+            Some(p) => crate::convert::count("photons", p, 2)?,
+            None => 200_000,
+        },
+        seed,
+        threads: self::threads(threads)?,
+        sensor,
+    })
 }

@@ -3,7 +3,7 @@
 //! as a dict, its maps as numpy arrays, and `Systematics.save`, which writes
 //! the CLI's files.
 
-use crate::convert::{array, json, progress_bar};
+use crate::convert::{array, json};
 use crate::errors::{lib, to_py};
 use crate::scene::Loaded;
 use pyo3::prelude::*;
@@ -11,18 +11,20 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::output::{systematics_description, write_systematics, Provenance, SYSTEMATICS_FILES};
-use traxer::run::Invocation;
 use traxer::scene::Scene;
-use traxer::studies::systematics::{self, Request, Settings, Systematics as Study};
+use traxer::studies::systematics::{
+    self, Request, Settings, Systematics as Study, SystematicsStudy,
+};
 use traxer::studies::StudyError;
 
-/// Plans and traces the study with the GIL released: the scene is loaded
-/// again for each variation that sets variables (and once, to vary its
-/// mirrors, for the figure draws).
+/// Plans and traces the study with the GIL released (into `out` when given,
+/// as the CLI): the scene is loaded again for each variation that sets
+/// variables (and once, to vary its mirrors, for the figure draws).
 pub fn run(
     py: Python<'_>,
     loaded: Arc<Loaded>,
     (req, settings): (Request, Settings),
+    place: (Option<PathBuf>, bool),
     progress: bool,
 ) -> PyResult<Systematics> {
     let shown = &loaded.scene;
@@ -33,55 +35,15 @@ pub fn run(
         let defines = traxer::scene::merged_overrides(&shown.overrides, extra);
         Ok(Scene::load(&loaded.device, &shown.path, &defines)?)
     };
-    let bar = progress_bar(
-        settings
-            .photons
-            .saturating_mul(plan.variations.len() as u64),
-        progress,
-    );
-    let result = py.detach(|| -> Result<Study, StudyError> {
-        let mut scene = load(&[])?;
-        systematics::run(
-            &mut scene,
-            &load,
-            &plan,
-            &settings,
-            &[],
-            &|n| bar.inc(n),
-            |_| {},
-        )
-    });
-    bar.finish_and_clear();
-    let study = result.map_err(lib)?;
-    let invocation = Invocation::new([
-        "python".into(),
-        format!(
-            "traxer.Scene({:?}, defines={:?}).systematics(photons={}, seed={}, sensor={:?}, sources={:?}, figure_draws={}, pointing_arcmin={}, tilt_arcmin={}, solar_model={:?}, gas_pressure_mbar={:?}, gas_temperature_k={:?}, vary={:?}, central_mm={}, central_circle={})",
-            shown.path.display().to_string(),
-            shown.overrides,
-            settings.photons,
-            settings.seed,
-            settings.sensor,
-            req.sources,
-            req.figure_draws,
-            req.pointing_arcmin,
-            req.tilt_arcmin,
-            req.solar_model,
-            req.gas_pressure_mbar,
-            req.gas_temperature_k,
-            req.vary,
-            settings.central_mm,
-            settings.central_circle
-        ),
-    ]);
-    let provenance = Provenance::of_study(
-        &invocation,
-        loaded.device.info().version,
-        shown,
-        (settings.photons, settings.seed),
-        study.facts.threads,
-    );
-    Systematics::new(py, study, provenance, shown.name_for_people())
+    let study = SystematicsStudy {
+        settings,
+        plan: &plan,
+        load: &load,
+        scene_name: shown.name_for_people(),
+    };
+    let (result, provenance) =
+        crate::run::run_study(py, &loaded, (&study, "systematics"), place, progress)?;
+    Systematics::new(py, result, provenance, shown.name_for_people())
 }
 
 /// The image's systematic uncertainty: the scene traced under each source of

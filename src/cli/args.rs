@@ -59,6 +59,18 @@ pub struct SamplingArgs {
     pub threads: usize,
 }
 
+impl SamplingArgs {
+    /// A study's sampling block: these with its `photons` per point and `sensor`.
+    pub fn block(&self, photons: u64, sensor: &Option<String>) -> traxer::studies::Sampling {
+        traxer::studies::Sampling {
+            photons,
+            seed: self.seed,
+            threads: self.threads,
+            sensor: sensor.clone(),
+        }
+    }
+}
+
 /// How many photons, with which random numbers, on how many threads.
 #[derive(clap::Args, Clone, Debug)]
 pub struct RunArgs {

@@ -3,16 +3,8 @@
 //! (`traxer::studies::effective_area`).
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
-use super::{load_xray_scene, progress};
-use traxer::output::{
-    effective_area_files, sixte_vignetting_refused, write_effective_area, Provenance,
-    SIXTE_VIGNETTING,
-};
-use traxer::run::record::base_identity;
-use traxer::run::Study;
-use traxer::studies::effective_area::{
-    photons_per_angle, sweep, AngleResult, AreaResult, AreaSweep,
-};
+use traxer::output::{effective_area_files, sixte_vignetting_refused, SIXTE_VIGNETTING};
+use traxer::studies::effective_area::{AreaResult, AreaSweep};
 
 /// Effective area A_eff(E, θ) in cm² and off-axis image quality.
 ///
@@ -66,55 +58,12 @@ pub fn run(a: EffectiveAreaArgs) -> anyhow::Result<()> {
     let s = AreaSweep {
         energies: parse_values("energies", &a.energies)?,
         angles_arcmin: parse_values("angles", &a.angles)?,
-        photons: a.photons,
-        seed: a.sampling.seed,
-        threads: a.sampling.threads,
-        sensor: a.sensor.clone(),
+        sampling: a.sampling.block(a.photons, &a.sensor),
         radius_mm: a.radius,
     };
-    traxer::studies::effective_area::check(&s)?;
-    let (device, scene) = load_xray_scene(&a.scene)?;
-    let mut id = base_identity(&scene);
-    id.extend([
-        ("energies_kev".into(), serde_json::json!(s.energies)),
-        ("angles_arcmin".into(), serde_json::json!(s.angles_arcmin)),
-        ("photons".into(), s.photons.into()),
-        ("seed".into(), s.seed.into()),
-        ("sensor".into(), serde_json::json!(s.sensor)),
-        ("radius_mm".into(), serde_json::json!(s.radius_mm)),
-    ]);
-    let files = effective_area_files(&s.angles_arcmin, &s.energies);
-    let files: Vec<&str> = files.iter().map(String::as_str).collect();
-    let study: Study<AngleResult> = Study::open(
-        &a.output.scene_folder(&a.scene, "effective_area"),
-        "effective_area",
-        &files,
-        id.into(),
-        a.resume,
-    )?;
-    let replay = study.replay();
-    super::signals::set_stop_message(study.stop_message("angles"));
-    let quiet = a.output.quiet.quiet;
-    let total = photons_per_angle(&scene, &s).saturating_mul(s.angles_arcmin.len() as u64);
-    let bar = progress::bar(total, "photons", quiet);
-    let result = sweep(&scene, &s, &replay, &|n| bar.inc(n), |angle| {
-        if let Some(w) = study.point_done(angle) {
-            tell!("warning: {w}");
-        }
-    });
-    bar.finish_and_clear();
-    let result = result?;
-    let provenance = Provenance::of_study(
-        &super::invocation(),
-        device.info().version,
-        &scene,
-        (a.photons, a.sampling.seed),
-        result.threads,
-    );
-    let out = &a.output.scene_folder(&a.scene, "effective_area");
-    study.finish(|dir| write_effective_area(dir, &result, a.radius, &provenance))?;
-    if !quiet {
-        print_sweep(&s, &result, out);
+    let (result, out) = super::study::run(&s, &a.scene, &a.output, a.resume, |_| {})?;
+    if !a.output.quiet.quiet {
+        print_sweep(&s, &result, &out);
     }
     Ok(())
 }
@@ -126,7 +75,7 @@ fn print_sweep(s: &AreaSweep, result: &AreaResult, out: &std::path::Path) {
         "{} energies × {} angles, {} photons per angle, in {:.2} s with {} threads",
         s.energies.len(),
         s.angles_arcmin.len(),
-        s.photons,
+        s.sampling.photons,
         result.seconds,
         result.threads
     );

@@ -42,6 +42,7 @@ pub mod resume;
 pub mod signal;
 pub mod signals;
 pub mod solar_flux;
+pub mod study;
 pub mod synopsis;
 pub mod systematics;
 pub mod tessellate;

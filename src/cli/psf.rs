@@ -2,11 +2,7 @@
 //! energies, off-axis angles and azimuths (`traxer::studies::psf`).
 
 use super::args::{parse_values, OutputArgs, SamplingArgs, SceneArgs};
-use super::{load_xray_scene, progress};
-use traxer::output::{write_psf_library, Provenance, PSF_FILES};
-use traxer::run::record::base_identity;
-use traxer::run::Study;
-use traxer::studies::psf::{check, library, points, PsfGrid, PsfImage};
+use traxer::studies::psf::PsfGrid;
 
 /// PSF library: images of a source at infinity over energies × off-axis angles ×
 /// azimuths, for X-ray simulators.
@@ -71,52 +67,17 @@ pub fn run(a: PsfArgs) -> anyhow::Result<()> {
         energies: parse_values("energies", &a.energies)?,
         angles_arcmin: parse_values("angles", &a.angles)?,
         azimuths_deg: parse_values("azimuths", &a.azimuths)?,
-        photons: a.photons,
-        seed: a.sampling.seed,
-        threads: a.sampling.threads,
-        sensor: a.sensor.clone(),
+        sampling: a.sampling.block(a.photons, &a.sensor),
         window: a.window,
     };
-    check(&g)?;
-    let (device, scene) = load_xray_scene(&a.scene)?;
-    let mut id = base_identity(&scene);
-    id.extend([
-        ("energies_kev".into(), serde_json::json!(g.energies)),
-        ("angles_arcmin".into(), serde_json::json!(g.angles_arcmin)),
-        ("azimuths_deg".into(), serde_json::json!(g.azimuths_deg)),
-        ("photons".into(), g.photons.into()),
-        ("seed".into(), g.seed.into()),
-        ("sensor".into(), serde_json::json!(g.sensor)),
-        ("window".into(), g.window.into()),
-    ]);
-    if perfect_mirrors(&scene) {
-        tell!(
-            "note: the scene's mirrors have a perfect figure and no roughness: these are the ideal optic's PSFs, far sharper than a real module's (give the scene its figure error, e.g. -D figure_error=xmm_newton for XMM-Newton's fitted 15″ HPD)"
-        );
-    }
-    let out = a.output.scene_folder(&a.scene, "psf");
-    let study: Study<PsfImage> = Study::open(&out, "psf", &PSF_FILES, id.into(), a.resume)?;
-    let replay = study.replay();
-    super::signals::set_stop_message(study.stop_message("points"));
-    let quiet = a.output.quiet.quiet;
-    let n_points = points(&g).len() as u64;
-    let bar = progress::bar(g.photons.saturating_mul(n_points), "photons", quiet);
-    let result = library(&scene, &g, &replay, &|n| bar.inc(n), |p| {
-        if let Some(w) = study.point_done(p) {
-            tell!("warning: {w}");
+    let (lib, out) = super::study::run(&g, &a.scene, &a.output, a.resume, |scene| {
+        if perfect_mirrors(scene) {
+            tell!(
+                "note: the scene's mirrors have a perfect figure and no roughness: these are the ideal optic's PSFs, far sharper than a real module's (give the scene its figure error, e.g. -D figure_error=xmm_newton for XMM-Newton's fitted 15″ HPD)"
+            );
         }
-    });
-    bar.finish_and_clear();
-    let lib = result?;
-    let provenance = Provenance::of_study(
-        &super::invocation(),
-        device.info().version,
-        &scene,
-        (a.photons, a.sampling.seed),
-        lib.threads,
-    );
-    study.finish(|dir| write_psf_library(dir, &lib, &g, &provenance))?;
-    if !quiet {
+    })?;
+    if !a.output.quiet.quiet {
         print_library(&g, &lib, &out);
     }
     Ok(())
@@ -147,7 +108,7 @@ fn print_library(g: &PsfGrid, lib: &traxer::studies::psf::PsfLibrary, out: &std:
         g.energies.len(),
         g.angles_arcmin.len(),
         g.azimuths_deg.len(),
-        g.photons,
+        g.sampling.photons,
         lib.seconds,
         lib.threads
     );

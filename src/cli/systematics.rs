@@ -3,13 +3,13 @@
 //! (`traxer::studies::systematics`).
 
 use super::args::{OutputArgs, SamplingArgs, SceneArgs};
-use super::{load_xray_scene, progress, InputError, Warnings};
-use std::cell::RefCell;
-use traxer::output::{write_systematics, Provenance, SYSTEMATICS_FILES};
-use traxer::run::record::base_identity;
-use traxer::run::Study;
+use super::{load_xray_scene, InputError, Warnings};
+use std::sync::Mutex;
+use traxer::output::SYSTEMATICS_FILES;
 use traxer::scene::Scene;
-use traxer::studies::systematics::{self, Outcome, Request, Settings, Systematics, METRICS};
+use traxer::studies::systematics::{
+    self, Request, Settings, Systematics, SystematicsStudy, METRICS,
+};
 use traxer::studies::StudyError;
 
 /// The image's systematic uncertainty: the scene traced under each source of
@@ -162,55 +162,27 @@ fn request(a: &SystematicsArgs) -> Result<Request, InputError> {
 pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
     let (req, settings) = (request(&a)?, settings(&a));
     systematics::check(&settings)?;
-    let (device, mut scene) = load_xray_scene(&a.scene)?;
+    let (device, scene) = load_xray_scene(&a.scene)?;
     let plan = systematics::plan(&scene, &req)?;
-    let out = a.output.scene_folder(&a.scene, "systematics");
-    let study: Study<Outcome> = Study::open(
-        &out,
-        "systematics",
-        &SYSTEMATICS_FILES,
-        identity(&a, &scene, &plan),
-        a.resume,
-    )?;
-    study.check_scene(&scene)?;
-    super::signals::set_stop_message(study.stop_message("variations"));
     let quiet = a.output.quiet.quiet;
     if !quiet {
         print_plan(&plan);
     }
-    let warnings = RefCell::new(Warnings::default());
+    let warnings = Mutex::new(Warnings::default());
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
         let defines = traxer::scene::merged_overrides(&a.scene.vars.define, extra);
         let s = Scene::load(&device, &a.scene.scene, &defines)?;
-        warnings.borrow_mut().show(&s);
+        warnings.lock().expect("not poisoned").show(&s);
         Ok(s)
     };
-    let n = plan.variations.len() as u64;
-    let bar = progress::bar(a.photons.saturating_mul(n), "photons", quiet);
-    let replay = study.replay();
-    let result = systematics::run(
-        &mut scene,
-        &load,
-        &plan,
-        &settings,
-        &replay,
-        &|k| bar.inc(k),
-        |o| {
-            if let Some(w) = study.point_done(o) {
-                tell!("warning: {w}");
-            }
-        },
-    );
-    bar.finish_and_clear();
-    let s = result?;
-    let provenance = Provenance::of_study(
-        &super::invocation(),
-        device.info().version,
-        &scene,
-        (a.photons, a.sampling.seed),
-        s.facts.threads,
-    );
-    study.finish(|dir| write_systematics(dir, &s, &scene.name_for_people(), &provenance))?;
+    let study = SystematicsStudy {
+        settings,
+        plan: &plan,
+        load: &load,
+        scene_name: scene.name_for_people(),
+    };
+    let scene_args = (&a.scene, &a.output);
+    let (s, out) = super::study::run_loaded(&study, (&device, &scene), scene_args, a.resume)?;
     if !quiet {
         print_table(&s);
         say!(
@@ -225,30 +197,10 @@ pub fn run(a: SystematicsArgs) -> anyhow::Result<()> {
 /// How each variation is traced.
 fn settings(a: &SystematicsArgs) -> Settings {
     Settings {
-        photons: a.photons,
-        seed: a.sampling.seed,
-        threads: a.sampling.threads,
-        sensor: a.sensor.clone(),
+        sampling: a.sampling.block(a.photons, &a.sensor),
         central_mm: a.central_radius.unwrap_or(a.central),
         central_circle: a.central_radius.is_some(),
     }
-}
-
-/// What must be equal for a recorded variation to be this study's.
-fn identity(a: &SystematicsArgs, scene: &Scene, plan: &systematics::Plan) -> serde_json::Value {
-    let mut id = base_identity(scene);
-    id.extend([
-        ("photons".into(), a.photons.into()),
-        ("seed".into(), a.sampling.seed.into()),
-        ("sensor".into(), serde_json::json!(a.sensor)),
-        (
-            "central_mm".into(),
-            a.central_radius.unwrap_or(a.central).into(),
-        ),
-        ("central_circle".into(), a.central_radius.is_some().into()),
-        ("variations".into(), serde_json::json!(plan.variations)),
-    ]);
-    id.into()
 }
 
 /// What will be traced.

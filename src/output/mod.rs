@@ -35,6 +35,8 @@ pub use psf::{normalised as normalised_psf, write_psf_library, PSF_FILES};
 pub use sensor_figure::stopped_by_part;
 mod provenance;
 mod reach;
+mod study_files;
+pub use study_files::StudyFiles;
 mod run_files;
 pub mod run_read;
 pub use reach::{write_reach, REACH_FILES};

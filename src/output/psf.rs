@@ -87,8 +87,8 @@ fn description(lib: &PsfLibrary, grid: &PsfGrid, provenance: &Provenance) -> ser
         "energies_keV": grid.energies,
         "angles_arcmin": grid.angles_arcmin,
         "azimuths_deg": grid.azimuths_deg,
-        "photons_per_point": grid.photons,
-        "seed": grid.seed,
+        "photons_per_point": grid.sampling.photons,
+        "seed": grid.sampling.seed,
         "seconds": lib.seconds,
         "threads": lib.threads,
         "points": lib.images.iter().map(|i| json!({

@@ -67,15 +67,20 @@ pub enum RunError {
     Threads(#[from] rayon::ThreadPoolBuildError),
     #[error(transparent)]
     Io(#[from] std::io::Error),
+    #[error(transparent)]
+    Study(#[from] crate::studies::StudyError),
 }
 
 impl RunError {
     /// Whether the user's input is at fault (exit code 2) rather than the machine.
     pub fn is_bad_input(&self) -> bool {
-        !matches!(
-            self,
-            RunError::Stopped(_) | RunError::Threads(_) | RunError::Io(_) | RunError::Embree(_)
-        )
+        match self {
+            RunError::Study(e) => e.is_bad_input(),
+            _ => !matches!(
+                self,
+                RunError::Stopped(_) | RunError::Threads(_) | RunError::Io(_) | RunError::Embree(_)
+            ),
+        }
     }
 }
 

@@ -32,6 +32,7 @@ pub mod record;
 mod shard;
 pub mod state_file;
 pub mod study;
+mod study_job;
 
 pub use finished::{results_file_names, results_folder, save_results, write_results};
 pub use job::{
@@ -44,6 +45,7 @@ pub use provenance::{git_hash, Build, Invocation, BUILD};
 pub use shard::Shard;
 pub use state_file::{read_header, read_state, state_bytes, write_state, RunStateError};
 pub use study::Study;
+pub use study_job::{run_study, StudyControl, StudyPlace};
 
 use crate::scene::{input_difference, InputHashes, Scene};
 use crate::trace::{RunConfig, Tally};

@@ -2,23 +2,22 @@
 //! which front ends run before loading the scene and
 //! [`super::effective_area::sweep`] runs again.
 
-use super::StudyError;
+use super::{Sampling, StudyError};
+use serde::Serialize;
 
-/// What to sweep.
-#[derive(Clone, Debug)]
+/// What to sweep. Serialised, it is the sweep's identity (the keys its record
+/// has always had).
+#[derive(Clone, Debug, Serialize)]
 pub struct AreaSweep {
     /// Energies (keV).
+    #[serde(rename = "energies_kev")]
     pub energies: Vec<f64>,
     /// Off-axis angles (arcminutes), tilting the beam in the source's
     /// `off_axis_azimuth` direction.
     pub angles_arcmin: Vec<f64>,
-    /// Photons per angle.
-    pub photons: u64,
-    pub seed: u64,
-    /// Worker threads (0 = one per core).
-    pub threads: usize,
-    /// The sensor to count on (default: the scene's only one).
-    pub sensor: Option<String>,
+    /// Photons per angle, seed, threads, and the sensor to count on.
+    #[serde(flatten)]
+    pub sampling: Sampling,
     /// Count only within this radius (mm) of the image centre (the centroid of
     /// the photons on the sensor at that angle).
     pub radius_mm: Option<f64>,
@@ -68,7 +67,7 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     {
         return bad("angles are off-axis angles in arcminutes, below 90°".into());
     }
-    if s.photons < 2 {
+    if s.sampling.photons < 2 {
         return bad("photons must be at least 2 per angle".into());
     }
     if s.radius_mm.is_some_and(|r| !(r.is_finite() && r > 0.0)) {

@@ -24,14 +24,14 @@
 //! [`AreaResult`] that `output::write_effective_area` writes.
 
 pub use super::area_sweep::{check, AreaSweep, MAX_SWEEP_POINTS};
+use super::parallel_beam::{beam, image_stays_on_the_sensor};
 use super::{pick_sensor, StudyError};
 use crate::analysis::{analyse, ImageGeometry, ImageQuality};
 use crate::history::PathClass;
 use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::scene::{Scene, TABLE_THETA_MAX};
-use crate::sensor::SensorSpec;
-use crate::source::{ParallelBeam, Photon, Source};
+use crate::source::{ParallelBeam, Photon};
 use crate::trace::{chunk_range, trace_photon, Attenuation, Statistics, CHUNK};
 use crate::xray::{AngleCell, EnergyCell, ReflectivityTable};
 use rayon::prelude::*;
@@ -126,59 +126,11 @@ struct Hits {
     steps: Vec<Step>,
 }
 
-/// The beam of the scene, checked: the only source, parallel.
-pub(super) fn beam<'a>(scene: &'a Scene, study: &str) -> Result<&'a ParallelBeam, StudyError> {
-    match scene.sources.as_slice() {
-        [Source::Parallel(b)] => Ok(b),
-        _ => Err(StudyError::Input(format!(
-            "{}: {study} needs exactly one source, of type \"parallel\", whose aperture covers the telescope's entrance (the beam is tilted to each off-axis angle)",
-            scene.path.display()
-        ))),
-    }
-}
-
 /// Traces the sweep. `progress` hears of every chunk of photons.
 ///
 /// `replay`: the angles a stopped sweep of the same settings finished; they are
 /// taken instead of traced (each angle depends only on the settings and the
 /// seed). `on_angle` sees every finished angle.
-/// Refuses off-axis angles whose image lands beyond the sensor's edge: f·tan θ
-/// (f the sensor's `focal_length`) farther from the axis than half the sensor's
-/// shorter side, for a sensor centred on the beam's axis. The area there would
-/// count only the X-rays that stray onto the sensor, a plausible but wrong
-/// small number.
-pub(super) fn image_stays_on_the_sensor(
-    scene: &Scene,
-    beam: &ParallelBeam,
-    spec: &SensorSpec,
-    angles_arcmin: &[f64],
-) -> Result<(), StudyError> {
-    let Some(f) = spec.focal_length else {
-        return Ok(());
-    };
-    // A sensor placed off the axis (to catch an off-axis image) is left alone.
-    let centre = scene.objects[spec.object]
-        .transform
-        .to_world
-        .transform_point3(glam::DVec3::ZERO);
-    let from_axis = centre - beam.aperture.center;
-    if from_axis.reject_from_normalized(beam.axis).length() > 1.0 {
-        return Ok(());
-    }
-    let half = 0.5 * spec.size[0].min(spec.size[1]);
-    for &a in angles_arcmin {
-        let offset = f * (a / 60.0).to_radians().tan().abs();
-        if offset > half {
-            return Err(StudyError::Input(format!(
-                "at {a}′ off axis the image lies {offset:.1} mm from the axis (f · tan θ with the sensor's focal_length {f} mm), beyond the edge of sensor `{}` ({half} mm from its centre): the area would count only what strays onto the sensor. Give a larger sensor or smaller --angles (up to {:.1}′)",
-                spec.name,
-                (half / f).atan().to_degrees() * 60.0
-            )));
-        }
-    }
-    Ok(())
-}
-
 pub fn sweep(
     scene: &Scene,
     s: &AreaSweep,
@@ -188,7 +140,7 @@ pub fn sweep(
 ) -> Result<AreaResult, StudyError> {
     check(s)?;
     let base = beam(scene, "effective-area")?;
-    let sensor = pick_sensor(scene, s.sensor.as_deref())?;
+    let sensor = pick_sensor(scene, s.sampling.sensor.as_deref())?;
     let spec = &scene.sensors[sensor];
     if spec.energy_bins.is_some() {
         return Err(StudyError::Input(format!(
@@ -209,7 +161,7 @@ pub fn sweep(
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| StudyError::Input(format!("energies: {e}")))?;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(s.threads)
+        .num_threads(s.sampling.threads)
         .build()?;
     let start = Instant::now();
     let mut angles = Vec::new();
@@ -237,6 +189,9 @@ pub fn sweep(
         };
         on_angle(&result);
         angles.push(result);
+        if progress.stop_requested() && angles.len() < s.angles_arcmin.len() {
+            return Err(StudyError::Stopped);
+        }
     }
     let counts = match &spec.gas {
         None => format!("X-rays reaching sensor `{}`", spec.name),
@@ -267,10 +222,10 @@ fn trace_angle(
     energy: Option<f64>,
     progress: &dyn Progress,
 ) -> Hits {
-    let chunks: Vec<Hits> = (0..s.photons.div_ceil(CHUNK))
+    let chunks: Vec<Hits> = (0..s.sampling.photons.div_ceil(CHUNK))
         .into_par_iter()
         .map(|c| {
-            let photons = chunk_range(0, c, s.photons);
+            let photons = chunk_range(0, c, s.sampling.photons);
             let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
             let mut out = Hits {
                 hits: Vec::new(),
@@ -278,7 +233,7 @@ fn trace_angle(
             };
             let mut rec = Recorder(Vec::new());
             for i in photons.clone() {
-                let mut rng = PhotonRng::new(s.seed, i);
+                let mut rng = PhotonRng::new(s.sampling.seed, i);
                 let mut photon = beam.emit(&mut rng);
                 if let Some(e) = energy {
                     photon.energy = e;
@@ -455,7 +410,7 @@ fn evaluate(
     for g in &groups {
         total.add(g, &mut image);
     }
-    let n = s.photons as f64;
+    let n = s.sampling.photons as f64;
     let a_beam = beam.cross_section() / 100.0;
     let points = s
         .energies
@@ -522,10 +477,10 @@ pub fn per_energy_paths(scene: &Scene, sensor: usize) -> bool {
 /// How many photons a sweep traces per off-axis angle (for progress bars):
 /// `photons`, or `photons` at each energy with rough mirrors or a gas detector.
 pub fn photons_per_angle(scene: &Scene, s: &AreaSweep) -> u64 {
-    let sensor = pick_sensor(scene, s.sensor.as_deref()).unwrap_or(0);
+    let sensor = pick_sensor(scene, s.sampling.sensor.as_deref()).unwrap_or(0);
     match scene.sensors.get(sensor).is_some() && per_energy_paths(scene, sensor) {
-        false => s.photons,
-        true => s.photons.saturating_mul(s.energies.len() as u64),
+        false => s.sampling.photons,
+        true => s.sampling.photons.saturating_mul(s.energies.len() as u64),
     }
 }
 
@@ -577,4 +532,37 @@ fn per_energy(
         geometric_area_cm2: geometric,
     };
     finish(scene, sensor, result, &image)
+}
+
+impl super::StudyKind for AreaSweep {
+    type Point = AngleResult;
+    type Output = AreaResult;
+    const NAME: &'static str = "effective_area";
+    const POINTS: &'static str = "angles";
+
+    fn sampling(&self) -> &super::Sampling {
+        &self.sampling
+    }
+
+    fn check(&self) -> Result<(), StudyError> {
+        check(self)
+    }
+
+    fn photons_total(&self, scene: &Scene) -> u64 {
+        photons_per_angle(scene, self).saturating_mul(self.angles_arcmin.len() as u64)
+    }
+
+    fn run(
+        &self,
+        scene: &Scene,
+        replay: &[AngleResult],
+        progress: &dyn Progress,
+        on_point: &mut dyn FnMut(&AngleResult),
+    ) -> Result<AreaResult, StudyError> {
+        sweep(scene, self, replay, progress, on_point)
+    }
+
+    fn threads_used(output: &AreaResult) -> usize {
+        output.threads
+    }
 }

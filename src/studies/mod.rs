@@ -11,12 +11,15 @@ pub mod effective_area;
 pub mod fit;
 pub mod fit_errors;
 pub mod focus;
+pub mod kind;
 mod measure;
+mod parallel_beam;
 pub mod psf;
 pub mod reach;
 pub mod sky;
 pub mod systematics;
 
+pub use kind::{Sampling, StudyKind};
 pub use measure::{measure_arcsec, pick_sensor, trace_and_measure, Diameters, Measured};
 
 use crate::scene::{Scene, SceneError};
@@ -34,6 +37,9 @@ pub enum StudyError {
     Optimiser(String),
     #[error("cannot start the worker threads: {0}")]
     Threads(#[from] rayon::ThreadPoolBuildError),
+    /// Stopped between points on request ([`crate::progress::Progress::stop_requested`]).
+    #[error("stopped")]
+    Stopped,
 }
 
 impl StudyError {

@@ -12,7 +12,8 @@
 //! writes the FITS file, the npy stack and the JSON description.
 
 use super::area_sweep::{check as check_sweep, first_repeat, AreaSweep, MAX_SWEEP_POINTS};
-use super::effective_area::{beam, image_stays_on_the_sensor};
+use super::parallel_beam::{beam, image_stays_on_the_sensor};
+use super::Sampling;
 use super::{pick_sensor, StudyError};
 use crate::analysis::{analyse, ImageGeometry};
 use crate::progress::Progress;
@@ -25,23 +26,21 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
-/// What to trace.
-#[derive(Clone, Debug)]
+/// What to trace. Serialised, it is the library's identity (the keys its
+/// record has always had).
+#[derive(Clone, Debug, Serialize)]
 pub struct PsfGrid {
     /// Energies (keV), increasing.
+    #[serde(rename = "energies_kev")]
     pub energies: Vec<f64>,
     /// Off-axis angles (arcmin), each once.
     pub angles_arcmin: Vec<f64>,
     /// Azimuths of the tilt (degrees, from the beam frame's e1 towards e2, as
     /// the source's `off_axis_azimuth`), each once.
     pub azimuths_deg: Vec<f64>,
-    /// Photons per point.
-    pub photons: u64,
-    pub seed: u64,
-    /// Worker threads (0 = one per core).
-    pub threads: usize,
-    /// The sensor (default: the scene's only one).
-    pub sensor: Option<String>,
+    /// Photons per point, seed, threads, and the sensor.
+    #[serde(flatten)]
+    pub sampling: Sampling,
     /// Pixels per side of each image's window.
     pub window: u32,
 }
@@ -105,10 +104,10 @@ pub fn check(g: &PsfGrid) -> Result<(), StudyError> {
     check_sweep(&AreaSweep {
         energies: g.energies.clone(),
         angles_arcmin: g.angles_arcmin.clone(),
-        photons: g.photons,
-        seed: g.seed,
-        threads: g.threads,
-        sensor: None,
+        sampling: Sampling {
+            sensor: None,
+            ..g.sampling.clone()
+        },
         radius_mm: None,
     })?;
     let bad = |m: String| Err(StudyError::Input(m));
@@ -167,7 +166,7 @@ pub fn library(
 ) -> Result<PsfLibrary, StudyError> {
     check(g)?;
     let base = beam(scene, "psf")?;
-    let sensor = pick_sensor(scene, g.sensor.as_deref())?;
+    let sensor = pick_sensor(scene, g.sampling.sensor.as_deref())?;
     let spec = &scene.sensors[sensor];
     let Some(f) = spec.focal_length else {
         return Err(StudyError::Input(format!(
@@ -186,7 +185,7 @@ pub fn library(
     }
     image_stays_on_the_sensor(scene, base, spec, &g.angles_arcmin)?;
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(g.threads)
+        .num_threads(g.sampling.threads)
         .build()?;
     let start = Instant::now();
     let mut images: Vec<PsfImage> = Vec::new();
@@ -214,6 +213,9 @@ pub fn library(
         };
         on_point(&image);
         images.push(image);
+        if progress.stop_requested() && images.len() < points(g).len() {
+            return Err(StudyError::Stopped);
+        }
     }
     Ok(PsfLibrary {
         sensor: spec.name.clone(),
@@ -261,14 +263,14 @@ fn trace_point(
     progress: &dyn Progress,
 ) -> Tally {
     let shared = std::sync::Mutex::new(Tally::new(scene));
-    (0..g.photons.div_ceil(CHUNK))
+    (0..g.sampling.photons.div_ceil(CHUNK))
         .into_par_iter()
         .for_each(|c| {
-            let range = chunk_range(0, c, g.photons);
+            let range = chunk_range(0, c, g.sampling.photons);
             let n = range.end - range.start;
             let sources = std::slice::from_ref(source);
             let att = &mut WithTables(tables);
-            let chunk = trace_chunk_from(scene, (sources, att), g.seed, range, 0, &mut ());
+            let chunk = trace_chunk_from(scene, (sources, att), g.sampling.seed, range, 0, &mut ());
             shared
                 .lock()
                 .expect("no worker panics while holding the tally")
@@ -321,4 +323,39 @@ fn windowed(
         photons_recorded: counts,
         centroid_mm: q.centroid_mm,
     })
+}
+
+impl super::StudyKind for PsfGrid {
+    type Point = PsfImage;
+    type Output = PsfLibrary;
+    const NAME: &'static str = "psf";
+    const POINTS: &'static str = "points";
+
+    fn sampling(&self) -> &Sampling {
+        &self.sampling
+    }
+
+    fn check(&self) -> Result<(), StudyError> {
+        check(self)
+    }
+
+    fn photons_total(&self, _scene: &Scene) -> u64 {
+        self.sampling
+            .photons
+            .saturating_mul(points(self).len() as u64)
+    }
+
+    fn run(
+        &self,
+        scene: &Scene,
+        replay: &[PsfImage],
+        progress: &dyn Progress,
+        on_point: &mut dyn FnMut(&PsfImage),
+    ) -> Result<PsfLibrary, StudyError> {
+        library(scene, self, replay, progress, on_point)
+    }
+
+    fn threads_used(output: &PsfLibrary) -> usize {
+        output.threads
+    }
 }

@@ -28,10 +28,12 @@ fn area(scene: &Scene, energies: &[f64], photons: u64, seed: u64) -> AreaResult 
     let s = AreaSweep {
         energies: energies.to_vec(),
         angles_arcmin: vec![0.0],
-        photons,
-        seed,
-        threads: 0,
-        sensor: None,
+        sampling: traxer::studies::Sampling {
+            photons,
+            seed,
+            threads: 0,
+            sensor: None,
+        },
         radius_mm: None,
     };
     sweep(scene, &s, &[], &(), |_| {}).unwrap()

@@ -165,10 +165,12 @@ fn effective_area_traces_rough_mirrors_at_each_energy() {
         let sweep = traxer::studies::effective_area::AreaSweep {
             energies: vec![1.0, 8.0],
             angles_arcmin: vec![0.0],
-            photons: 200_000,
-            seed: 1,
-            threads: 0,
-            sensor: None,
+            sampling: traxer::studies::Sampling {
+                photons: 200_000,
+                seed: 1,
+                threads: 0,
+                sensor: None,
+            },
             radius_mm: Some(0.3),
         };
         traxer::studies::effective_area::sweep(&s, &sweep, &[], &(), |_| {})

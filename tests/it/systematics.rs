@@ -54,10 +54,12 @@ fn the_figure_draws_spread_the_hpd_as_the_fits_error_propagation_predicts() {
     assert_eq!(plan.variations.len(), 41);
     assert_eq!(plan.sources[0].kind, Kind::Draws);
     let settings = Settings {
-        photons: 200_000,
-        seed: 5,
-        threads: 0,
-        sensor: None,
+        sampling: traxer::studies::Sampling {
+            photons: 200_000,
+            seed: 5,
+            threads: 0,
+            sensor: None,
+        },
         central_mm: 5.0,
         central_circle: false,
     };

@@ -90,10 +90,12 @@ fn xmm_area(defines: &[&str], photons: u64) -> (f64, f64, f64) {
     let s = AreaSweep {
         energies: vec![1.5],
         angles_arcmin: vec![0.0],
-        photons,
-        seed: 5,
-        threads: 0,
-        sensor: None,
+        sampling: traxer::studies::Sampling {
+            photons,
+            seed: 5,
+            threads: 0,
+            sensor: None,
+        },
         radius_mm: None,
     };
     let r = sweep(&xmm_scene(defines), &s, &[], &(), |_| {}).unwrap();

@@ -875,6 +875,14 @@ def test_systematics_in_python_equals_the_cli(tmp_path):
     s.save(tmp_path / "py")
     for f in ("systematics.csv", "map_sigma.npy", "map_mean.npy"):
         assert (tmp_path / "py" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
+    # With out=, the study writes the CLI's folder itself (record included).
+    traxer.Scene(scene).systematics(photons=20_000, sources=["figure"], figure_draws=3,
+                                    vary={"sensor_z": (-1539.0, -1499.0)}, seed=2,
+                                    out=tmp_path / "py_out")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert sorted(p.name for p in (tmp_path / "py_out").iterdir()) == names
+    for f in ("systematics.csv", "map_sigma.npy", "map_variations.npy"):
+        assert (tmp_path / "py_out" / f).read_bytes() == (tmp_path / "cli" / f).read_bytes(), f
     summary = json.loads((tmp_path / "cli" / "systematics.json").read_text())
     assert s.summary["sources"] == summary["sources"]
     with pytest.raises(traxer.InputError, match="cannot vary pointing_x"):
@@ -953,3 +961,52 @@ def test_conversion_probability_equals_the_cli():
         traxer.conversion_probability(4.0)
     with pytest.raises(traxer.InputError, match="pressure_mbar"):
         traxer.conversion_probability(4.0, field_t=9.0, length_m=9.26, gas="He")
+
+
+def test_a_python_sweep_into_a_folder_stops_on_ctrl_c_and_resumes(tmp_path):
+    """Scene.effective_area(out=...) keeps the record `traxer effective-area`
+    keeps: Ctrl-C stops it after the current angle (a KeyboardInterrupt whose
+    note says how to continue), and resume=True takes up the recorded angles and
+    writes the files of one uninterrupted CLI run, bit for bit."""
+    angles = [0.1 * k for k in range(60)]
+    energies = [1.5, 4.5]
+    s = traxer.Scene(LLNL_AREA)
+    out = tmp_path / "py"
+    timer = threading.Timer(1.0, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        s.effective_area(energies, angles, photons=100_000, seed=4, out=out)
+    timer.cancel()
+    assert "--resume" in " ".join(getattr(stopped.value, "__notes__", []))
+    record = (out / "effective_area_checkpoint.jsonl").read_text()
+    done = record.count('"off_axis_arcmin"')
+    assert 0 < done < len(angles), done
+    assert not (out / "effective_area.csv").exists()  # nothing but the record yet
+    with pytest.raises(traxer.InputError, match="resume"):
+        s.effective_area(energies, angles, photons=100_000, seed=4, out=out)
+    a = s.effective_area(energies, angles, photons=100_000, seed=4, out=out, resume=True)
+    assert a.area_cm2.shape == (len(angles), len(energies))
+    cli("effective-area", LLNL_AREA, "--energies", "1.5,4.5",
+        "--angles", ",".join(map(repr, angles)), "-n", 100_000, "--seed", 4,
+        "--out", tmp_path / "cli", "-q")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert sorted(p.name for p in out.iterdir()) == names
+    for name in names:
+        if name.endswith(".csv"):
+            assert (out / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    with pytest.raises(traxer.InputError, match="needs out"):
+        s.effective_area(energies, [0.0], photons=1000, resume=True)
+
+
+def test_a_python_psf_library_into_a_folder_writes_the_cli_files(tmp_path):
+    """Scene.psf_library(out=...) writes the folder `traxer psf --out` writes
+    (psf.npy bit for bit, the same file names)."""
+    scene = REPO / "scenes" / "xmm_effective_area.toml"
+    args = dict(angles_arcmin=[0, 5], photons=5_000, window=31, seed=2)
+    lib = traxer.Scene(scene).psf_library([1.5], out=tmp_path / "py", **args)
+    cli("psf", scene, "--energies", "1.5", "--angles", "0,5", "-n", 5_000,
+        "--window", 31, "--seed", 2, "--out", tmp_path / "cli", "-q")
+    names = sorted(p.name for p in (tmp_path / "cli").iterdir())
+    assert sorted(p.name for p in (tmp_path / "py").iterdir()) == names
+    assert (tmp_path / "py" / "psf.npy").read_bytes() == (tmp_path / "cli" / "psf.npy").read_bytes()
+    assert np.load(tmp_path / "py" / "psf.npy").tobytes() == lib.images.tobytes()

@@ -12,6 +12,8 @@
 //! source's standard deviation; `output::systematics` writes the files.
 
 mod figure;
+mod kind;
+pub use kind::SystematicsStudy;
 pub mod plan;
 pub mod summary;
 
@@ -32,15 +34,13 @@ use std::time::Instant;
 /// without a detector pixel grid is binned down to it.
 pub const MAP_SIDE: usize = 256;
 
-/// How every variation is traced and measured.
-#[derive(Clone, Debug)]
+/// How every variation is traced and measured. Serialised, part of the
+/// study's identity (the keys its record has always had).
+#[derive(Clone, Debug, serde::Serialize)]
 pub struct Settings {
-    pub photons: u64,
-    pub seed: u64,
-    /// Worker threads (0 = one per core).
-    pub threads: usize,
-    /// The sensor (default: the scene's only one).
-    pub sensor: Option<String>,
+    /// Photons per variation, seed, threads, and the sensor.
+    #[serde(flatten)]
+    pub sampling: crate::studies::Sampling,
     /// The side (mm) of the central square whose flux the table gives,
     /// centred on the sensor's centre; with `central_circle`, the radius of a
     /// circle there instead (a signal region).
@@ -172,7 +172,7 @@ fn central_flux(f: &FinishedImage, side: f64, circle: bool) -> f64 {
 
 /// Checks the settings (front ends call it before loading the scene).
 pub fn check(s: &Settings) -> Result<(), StudyError> {
-    if s.photons < 2 {
+    if s.sampling.photons < 2 {
         return Err(StudyError::Input(
             "photons: at least 2 per variation (each is traced as two halves, for the Monte Carlo noise)".into(),
         ));
@@ -200,12 +200,12 @@ pub fn run(
     mut on_point: impl FnMut(&Outcome),
 ) -> Result<Systematics, StudyError> {
     check(s)?;
-    let sensor = pick_sensor(nominal, s.sensor.as_deref())?;
+    let sensor = pick_sensor(nominal, s.sampling.sensor.as_deref())?;
     let spec = nominal.sensors[sensor].clone();
     let frame = MapFrame::of(&spec);
     let cfg = RunConfig {
-        threads: s.threads,
-        ..RunConfig::new(s.photons, s.seed)
+        threads: s.sampling.threads,
+        ..RunConfig::new(s.sampling.photons, s.sampling.seed)
     };
     check_variations(load, plan, replay, &spec)?;
     let start = Instant::now();
@@ -241,6 +241,9 @@ pub fn run(
         };
         on_point(&outcome);
         outcomes.push(outcome);
+        if progress.stop_requested() && outcomes.len() < plan.variations.len() {
+            return Err(StudyError::Stopped);
+        }
     }
     Ok(summarise(
         plan,
@@ -250,7 +253,7 @@ pub fn run(
             sensor: spec.name.clone(),
             central_mm: s.central_mm,
             central_circle: s.central_circle,
-            absolute: nominal.rate_per_unit_weight(s.photons).is_some(),
+            absolute: nominal.rate_per_unit_weight(s.sampling.photons).is_some(),
             counted: nominal.counted(),
             seconds: start.elapsed().as_secs_f64(),
             threads,

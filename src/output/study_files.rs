@@ -1,0 +1,72 @@
+//! The files of a study (`studies::StudyKind`): which, by name, and how its
+//! output is written into them. The study job (`run::study_job`) stages the
+//! folder with these names and calls [`StudyFiles::write`] at the end.
+
+use super::Provenance;
+use crate::studies::effective_area::AreaResult;
+use crate::studies::psf::{PsfGrid, PsfLibrary};
+use crate::studies::systematics::{Systematics, SystematicsStudy};
+use crate::studies::{effective_area::AreaSweep, StudyKind};
+use std::path::Path;
+
+/// A study's files.
+pub trait StudyFiles: StudyKind {
+    /// The files it writes, besides its record.
+    fn files(&self) -> Vec<String>;
+
+    /// Writes `output` into `dir`.
+    fn write(
+        &self,
+        dir: &Path,
+        output: &Self::Output,
+        provenance: &Provenance,
+    ) -> std::io::Result<()>;
+}
+
+impl StudyFiles for AreaSweep {
+    fn files(&self) -> Vec<String> {
+        super::effective_area_files(&self.angles_arcmin, &self.energies)
+    }
+
+    fn write(
+        &self,
+        dir: &Path,
+        output: &AreaResult,
+        provenance: &Provenance,
+    ) -> std::io::Result<()> {
+        super::write_effective_area(dir, output, self.radius_mm, provenance).map(|_| ())
+    }
+}
+
+impl StudyFiles for PsfGrid {
+    fn files(&self) -> Vec<String> {
+        super::PSF_FILES.iter().map(|f| f.to_string()).collect()
+    }
+
+    fn write(
+        &self,
+        dir: &Path,
+        output: &PsfLibrary,
+        provenance: &Provenance,
+    ) -> std::io::Result<()> {
+        super::write_psf_library(dir, output, self, provenance)
+    }
+}
+
+impl StudyFiles for SystematicsStudy<'_> {
+    fn files(&self) -> Vec<String> {
+        super::SYSTEMATICS_FILES
+            .iter()
+            .map(|f| f.to_string())
+            .collect()
+    }
+
+    fn write(
+        &self,
+        dir: &Path,
+        output: &Systematics,
+        provenance: &Provenance,
+    ) -> std::io::Result<()> {
+        super::write_systematics(dir, output, &self.scene_name, provenance)
+    }
+}

@@ -1,0 +1,104 @@
+//! A study's life, for every study and every front end: its settings checked,
+//! its identity (the scene's and the settings'), its results folder and record
+//! opened (resumed, or refused if a stopped study would be thrown away) when it
+//! has one, the stop message set, the points recorded as they finish, a stop
+//! between points on request, the provenance, and its files written together
+//! at the end. The CLI's study commands and Python's study methods only parse
+//! their arguments into a study's settings (`studies::StudyKind`) and show the
+//! output.
+
+use super::record::base_identity;
+use super::{Invocation, RunError, Stopped, Study};
+use crate::output::{Provenance, StudyFiles};
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::studies::StudyError;
+use std::path::Path;
+
+/// What a front end does for a running study: shows progress, says whether
+/// to stop, shows warnings, and learns what a stop would say.
+pub trait StudyControl: Progress {
+    /// A warning to show (a record that could not be written).
+    fn warn(&self, warning: &str);
+    /// From now on a stop leaves a record to resume: what the stop says (the
+    /// CLI hands it to its signal handler).
+    fn stoppable(&self, _message: &str) {}
+}
+
+/// Where a study's files go: a results folder (with its record, so that a
+/// stopped study resumes), or nowhere (the output is returned only).
+pub struct StudyPlace<'a> {
+    pub out: Option<&'a Path>,
+    /// Take up the points a stopped study recorded in `out`.
+    pub resume: bool,
+}
+
+/// Runs study `kind` on `scene` (loaded by the front end) and returns its
+/// output and provenance; with a folder, writes its files there.
+pub fn run_study<K: StudyFiles>(
+    kind: &K,
+    scene: &Scene,
+    (embree_version, invocation): (String, &Invocation),
+    place: StudyPlace,
+    control: &dyn StudyControl,
+) -> Result<(K::Output, Provenance), RunError> {
+    kind.check()?;
+    crate::studies::require_sources(scene)?;
+    let study = match place.out {
+        Some(out) => {
+            let mut id = base_identity(scene);
+            if let serde_json::Value::Object(settings) =
+                serde_json::to_value(kind).map_err(|e| RunError::Io(std::io::Error::other(e)))?
+            {
+                id.extend(settings);
+            }
+            let files = kind.files();
+            let files: Vec<&str> = files.iter().map(String::as_str).collect();
+            Some(Study::<K::Point>::open(
+                out,
+                K::NAME,
+                &files,
+                id.into(),
+                place.resume,
+            )?)
+        }
+        None => None,
+    };
+    if let Some(s) = &study {
+        // A resumed study's scene must read the files the stopped one read.
+        s.check_scene(scene)?;
+    }
+    let replay = study.as_ref().map(Study::replay).unwrap_or_default();
+    let stop_message = match &study {
+        Some(s) => {
+            let m = s.stop_message(K::POINTS);
+            control.stoppable(&m);
+            m
+        }
+        None => format!(
+            "stopped; the {} so far are lost (give the study a results folder to resume it)",
+            K::POINTS
+        ),
+    };
+    let mut on_point = |p: &K::Point| {
+        if let Some(w) = study.as_ref().and_then(|s| s.point_done(p)) {
+            control.warn(&w);
+        }
+    };
+    let output = match kind.run(scene, &replay, control, &mut on_point) {
+        Err(StudyError::Stopped) => return Err(RunError::Stopped(Stopped(stop_message))),
+        other => other?,
+    };
+    let sampling = kind.sampling();
+    let provenance = Provenance::of_study(
+        invocation,
+        embree_version,
+        scene,
+        (sampling.photons, sampling.seed),
+        K::threads_used(&output),
+    );
+    if let Some(study) = study {
+        study.finish(|dir| kind.write(dir, &output, &provenance))?;
+    }
+    Ok((output, provenance))
+}
