@@ -39,6 +39,7 @@ pub mod bench;
 pub mod colormap;
 pub mod constants;
 pub mod embree;
+pub mod environment;
 pub mod files;
 pub mod geometry;
 pub mod history;

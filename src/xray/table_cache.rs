@@ -18,7 +18,8 @@
 //! one key write the same bytes. Values are stored as their bits: a table read
 //! back is the table built, and images are the same with or without the cache.
 //!
-//! The folder: `TRAXER_CACHE` if set (`off` disables the cache), else
+//! The folder (`crate::environment`, where the library reads the environment):
+//! `TRAXER_CACHE` if set (`off` disables the cache), else
 //! `$XDG_CACHE_HOME/traxer`, else `~/.cache/traxer`; tables go in its
 //! `reflectivity/`. A cache that cannot be written is skipped silently: it only
 //! saves time. Reading a table marks it used (its modification time), so that
@@ -48,20 +49,7 @@ const TABLE_SOURCES: [&str; 7] = [
     include_str!("elements.rs"),
 ];
 
-/// The cache's folder, or `None` when disabled or no home is known.
-pub fn cache_dir() -> Option<PathBuf> {
-    let root = match std::env::var_os("TRAXER_CACHE") {
-        Some(v) if v == "off" || v.is_empty() => return None,
-        Some(v) => PathBuf::from(v),
-        None => match std::env::var_os("XDG_CACHE_HOME").filter(|v| !v.is_empty()) {
-            Some(x) => PathBuf::from(x).join("traxer"),
-            None => PathBuf::from(std::env::var_os("HOME")?)
-                .join(".cache")
-                .join("traxer"),
-        },
-    };
-    Some(root.join("reflectivity"))
-}
+pub use crate::environment::reflectivity_cache_dir as cache_dir;
 
 /// The digest of the table-making sources and the scattering-factor tables
 /// (4 MB of text: hashed once per process, not once per table).
@@ -184,19 +172,9 @@ pub fn cached_tables(dir: &Path) -> std::io::Result<Vec<CachedTable>> {
     Ok(tables)
 }
 
-/// The default bound of the cache folder (MB).
-pub const DEFAULT_MAX_MB: f64 = 4000.0;
-
-/// The cache's bound in bytes: `TRAXER_CACHE_MAX_MB` if it is a number ≥ 0,
-/// else [`DEFAULT_MAX_MB`].
-pub fn size_limit_bytes() -> u64 {
-    let mb = std::env::var("TRAXER_CACHE_MAX_MB")
-        .ok()
-        .and_then(|v| v.trim().parse::<f64>().ok())
-        .filter(|v| v.is_finite() && *v >= 0.0)
-        .unwrap_or(DEFAULT_MAX_MB);
-    (mb * 1e6) as u64
-}
+pub use crate::environment::{
+    reflectivity_cache_bytes as size_limit_bytes, DEFAULT_CACHE_MAX_MB as DEFAULT_MAX_MB,
+};
 
 /// Removes the least recently used tables of `dir` other than `keep` until
 /// they take at most `limit` bytes.

@@ -334,3 +334,37 @@ fn studies_are_opened_and_recorded_only_by_the_study_job() {
         );
     }
 }
+
+#[test]
+fn the_library_reads_the_environment_only_in_environment_rs() {
+    // The physics reads its settings from its arguments; the few environment
+    // variables the library honours (the reflectivity cache's folder and
+    // bound) are read in src/environment.rs. The front ends (src/cli/,
+    // main.rs) read what they like.
+    let mut files = Vec::new();
+    rust_files(&repo().join("src"), &mut files);
+    let mut found = Vec::new();
+    for f in &files {
+        let rel = f
+            .strip_prefix(repo())
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
+        if rel.starts_with("src/cli/") || rel == "src/main.rs" || rel == "src/environment.rs" {
+            continue;
+        }
+        let code = code(&std::fs::read_to_string(f).unwrap());
+        if code.contains("env::var") {
+            found.push(rel);
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "environment read outside src/environment.rs: {found:?}"
+    );
+    let home = std::fs::read_to_string(repo().join("src/environment.rs")).unwrap();
+    assert!(
+        code(&home).contains("env::var"),
+        "the check sees a read where there is one"
+    );
+}
