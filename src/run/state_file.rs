@@ -1,4 +1,7 @@
-//! Reading and writing run-state files (see the module above for the layout).
+//! Reading and writing run-state files: a run's [`StateHeader`] and its exact
+//! [`Tally`], the layout described in `run/mod.rs` (a magic first line with the
+//! header's SHA-256, the header as JSON, the tally in postcard). `run` writes
+//! them at the end of a run and at checkpoints; `merge` and `resume` read them.
 
 use super::StateHeader;
 use crate::files::{atomic_write, sha256_hex};

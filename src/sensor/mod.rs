@@ -1,14 +1,15 @@
 //! Image sensors: a pixel grid in an object's local x–y plane that absorbs photons
 //! and accumulates their weights ("flux") and their number ("counts"), exactly
 //! ([`exact`]), with the tallies a physicist asks of it: by photon path
-//! ([`paths`]), by emission process, by conversion depth in a gas detector
-//! ([`conversion`]), and the image rebinned onto the detector's pixel grid
-//! ([`rebin`]). `files` names every file a sensor writes.
+//! ([`paths`]), by emission process, per axion mass of a magnet's mass scan
+//! ([`masses`]), by conversion depth in a gas detector ([`conversion`]), and
+//! the image rebinned onto the detector's pixel grid ([`rebin`]). `files` names
+//! every file a sensor writes.
 //!
 //! Data flow: the scene build checks each object's sensor material ([`SensorDesc`])
 //! and creates a [`SensorSpec`] for it; `trace` maps hits to pixels with
-//! [`SensorSpec::pixel`] and merges per-chunk records into a [`SensorImage`] in a
-//! fixed order; `analysis` measures it and `output` writes it. With energy
+//! [`SensorSpec::pixel`] and adds each chunk's records to a [`SensorImage`] in any
+//! order (the sums are exact); `analysis` measures it and `output` writes it. With energy
 //! binning the image has an energy axis: [band][iy][ix].
 
 pub mod conversion;

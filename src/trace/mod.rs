@@ -2,14 +2,17 @@
 //! scene ([`trace_photon`]: mirrors, absorbers, foils, sensors) and
 //! [`Statistics`] counts the photons' fates; this module holds the one chunk
 //! rule ([`chunk_range`]), the [`Tally`] a run accumulates, and [`run_part`],
-//! which traces a run or a part of one (a shard, a resumed sitting, a study's
-//! point) over rayon; [`live`] feeds the live window. The life of a run around
-//! it (results folder, checkpoints, shards, provenance) is `run`'s.
+//! which traces a run or a part of one (a shard, a resumed sitting, a
+//! systematics variation) over rayon; [`live`] feeds the live window. The
+//! effective area's and the PSF library's points and the sky calibration still
+//! run their own chunk loops (issue 51 asks for one driver). The life of a run
+//! around it (results folder, checkpoints, shards, provenance) is `run`'s.
 //!
 //! Data flow: photon indices are cut into fixed chunks; rayon traces chunks in
 //! parallel, photon i with the random stream (seed, i) ([`crate::random`]); each
-//! chunk returns its sensor records and statistics, and the chunks are merged in
-//! index order into a [`Tally`]. Sensors add weights exactly (see
+//! chunk's sensor records and statistics are added to the run's [`Tally`] by
+//! the worker that traced it, in whatever order the chunks finish, and only the
+//! photon list is joined in photon order. Sensors add weights exactly (see
 //! [`crate::sensor::exact`]), so the images are bit-identical for any thread
 //! count, and tallies of parts of a run (shards, a run resumed from a checkpoint)
 //! add up to the bit-identical tally of the whole.
