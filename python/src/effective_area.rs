@@ -9,7 +9,7 @@ use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::history::PathClass;
-use traxer::output::{effective_area_files, write_effective_area, Provenance};
+use traxer::output::Provenance;
 use traxer::studies::effective_area::{AreaResult, AreaSweep};
 
 /// Runs the sweep with the GIL released (into `out` when given, as the CLI).
@@ -86,6 +86,7 @@ pub struct EffectiveArea {
     #[pyo3(get)]
     pub threads: usize,
     result: AreaResult,
+    sweep: AreaSweep,
     provenance: Provenance,
 }
 
@@ -108,8 +109,8 @@ impl EffectiveArea {
             .collect::<PyResult<_>>()?;
         Ok(EffectiveArea {
             sensor: r.sensor.clone(),
-            energies_keV: array(py, &[ne], s.energies)?.unbind(),
-            angles_arcmin: array(py, &[na], s.angles_arcmin)?.unbind(),
+            energies_keV: array(py, &[ne], s.energies.clone())?.unbind(),
+            angles_arcmin: array(py, &[na], s.angles_arcmin.clone())?.unbind(),
             area_cm2: array(py, &[na, ne], area)?.unbind(),
             error_cm2: array(py, &[na, ne], error)?.unbind(),
             by_class_cm2: array(py, &[na, ne, PathClass::ALL.len()], by_class)?.unbind(),
@@ -129,6 +130,7 @@ impl EffectiveArea {
             seconds: r.seconds,
             threads: r.threads,
             result: r,
+            sweep: s,
             provenance,
         })
     }
@@ -147,26 +149,8 @@ impl EffectiveArea {
     /// effective_area.png, vignetting.png and off_axis.png, and (with two
     /// energies or more) one OGIP ARF per angle, all at once.
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
-        py.detach(|| -> anyhow::Result<()> {
-            let angles: Vec<f64> = self
-                .result
-                .angles
-                .iter()
-                .map(|a| a.off_axis_arcmin)
-                .collect();
-            let energies: Vec<f64> = self
-                .result
-                .angles
-                .first()
-                .map(|a| a.points.iter().map(|p| p.energy_kev).collect())
-                .unwrap_or_default();
-            let names = effective_area_files(&angles, &energies);
-            let out = traxer::run::results_folder(&folder, &names)?;
-            write_effective_area(out.path(), &self.result, self.radius_mm, &self.provenance)?;
-            out.commit()?;
-            Ok(())
-        })
-        .map_err(to_py)
+        py.detach(|| traxer::run::save_study(&self.sweep, &folder, &self.result, &self.provenance))
+            .map_err(|e| to_py(e.into()))
     }
 
     fn __repr__(&self) -> String {

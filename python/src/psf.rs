@@ -8,7 +8,7 @@ use crate::scene::Loaded;
 use pyo3::prelude::*;
 use std::path::PathBuf;
 use std::sync::Arc;
-use traxer::output::{write_psf_library, Provenance, PSF_FILES};
+use traxer::output::Provenance;
 use traxer::studies::psf::{PsfGrid, PsfLibrary as Library};
 
 /// Traces the library with the GIL released (into `out` when given, as the
@@ -129,13 +129,8 @@ impl PsfLibrary {
     /// Writes the files of `traxer psf` into `folder`: psf.fits (one image per
     /// HDU, the layout SIXTE reads), psf.npy and psf.json, all at once.
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
-        py.detach(|| -> anyhow::Result<()> {
-            let out = traxer::run::results_folder(&folder, &PSF_FILES)?;
-            write_psf_library(out.path(), &self.result, &self.grid, &self.provenance)?;
-            out.commit()?;
-            Ok(())
-        })
-        .map_err(to_py)
+        py.detach(|| traxer::run::save_study(&self.grid, &folder, &self.result, &self.provenance))
+            .map_err(|e| to_py(e.into()))
     }
 
     fn __repr__(&self) -> String {

@@ -45,7 +45,7 @@ pub use provenance::{git_hash, Build, Invocation, BUILD};
 pub use shard::Shard;
 pub use state_file::{read_header, read_state, state_bytes, write_state, RunStateError};
 pub use study::Study;
-pub use study_job::{run_study, StudyControl, StudyPlace};
+pub use study_job::{run_study, save_study, StudyControl, StudyPlace};
 
 use crate::scene::{input_difference, InputHashes, Scene};
 use crate::trace::{RunConfig, Tally};

@@ -102,3 +102,18 @@ pub fn run_study<K: StudyFiles>(
     }
     Ok((output, provenance))
 }
+
+/// Writes a finished study's files into `folder` (staged, put in place
+/// together): what a front end's `save` of a study held in memory does.
+pub fn save_study<K: StudyFiles>(
+    kind: &K,
+    folder: &Path,
+    output: &K::Output,
+    provenance: &Provenance,
+) -> Result<(), RunError> {
+    let out = super::results_folder(folder, &kind.files())?;
+    let failed = |e| super::finished::cannot_write(folder, e);
+    kind.write(out.path(), output, provenance).map_err(failed)?;
+    out.commit().map_err(failed)?;
+    Ok(())
+}
