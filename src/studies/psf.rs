@@ -20,9 +20,8 @@ use crate::progress::Progress;
 use crate::scene::Scene;
 use crate::scene::TABLE_THETA_MAX;
 use crate::source::{ParallelBeam, Source, Spectrum};
-use crate::trace::{chunk_range, trace_chunk_from, Tally, WithTables, CHUNK};
+use crate::trace::{run_part_with, trace_chunk_from, Flow, RunConfig, Tally, WithTables};
 use crate::xray::ReflectivityTable;
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -184,9 +183,10 @@ pub fn library(
         )));
     }
     image_stays_on_the_sensor(scene, base, spec, &g.angles_arcmin)?;
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(g.sampling.threads)
-        .build()?;
+    let mut threads = match g.sampling.threads {
+        0 => rayon::current_num_threads(),
+        n => n,
+    };
     let start = Instant::now();
     let mut images: Vec<PsfImage> = Vec::new();
     for (k, (angle, azimuth, energy)) in points(g).into_iter().enumerate() {
@@ -205,7 +205,8 @@ pub fn library(
                     Spectrum::Line(energy),
                 ));
                 let tables = tables_at(scene, energy)?;
-                let tally = pool.install(|| trace_point(scene, (&tilted, &tables), g, progress));
+                let (tally, used) = trace_point(scene, (&tilted, &tables), g, progress)?;
+                threads = used;
                 let flux = tally.images[sensor].flux_summed(spec);
                 let counts = tally.images[sensor].total_counts();
                 windowed(spec, &flux, counts, g.window, (angle, azimuth, energy))?
@@ -225,7 +226,7 @@ pub fn library(
         focal_length_mm: f,
         images,
         seconds: start.elapsed().as_secs_f64(),
-        threads: pool.current_num_threads(),
+        threads,
     })
 }
 
@@ -253,33 +254,33 @@ fn tables_at(scene: &Scene, energy: f64) -> Result<Vec<ReflectivityTable>, Study
         .collect()
 }
 
-/// Traces one point's photons from `source`, with `tables`: the tally of a
-/// plain trace of the scene with that source (exact sums, so the chunks'
-/// order is free).
+/// Traces one point's photons (photon i with the stream (seed, i), as a trace
+/// of the scene set to that angle and energy) through the one photon driver
+/// ([`crate::trace::run_part_with`]), with the point's beam and tables.
 fn trace_point(
     scene: &Scene,
     (source, tables): (&Source, &[ReflectivityTable]),
     g: &PsfGrid,
     progress: &dyn Progress,
-) -> Tally {
-    let shared = std::sync::Mutex::new(Tally::new(scene));
-    (0..g.sampling.photons.div_ceil(CHUNK))
-        .into_par_iter()
-        .for_each(|c| {
-            let range = chunk_range(0, c, g.sampling.photons);
-            let n = range.end - range.start;
-            let sources = std::slice::from_ref(source);
-            let att = &mut WithTables(tables);
-            let chunk = trace_chunk_from(scene, (sources, att), g.sampling.seed, range, 0, &mut ());
-            shared
-                .lock()
-                .expect("no worker panics while holding the tally")
-                .add_records(scene, &chunk);
-            progress.advance(n);
-        });
-    shared
-        .into_inner()
-        .expect("no worker panics while holding the tally")
+) -> Result<(Tally, usize), StudyError> {
+    let cfg = RunConfig {
+        threads: g.sampling.threads,
+        ..RunConfig::new(g.sampling.photons, g.sampling.seed)
+    };
+    let sources = std::slice::from_ref(source);
+    let chunk = |range, list_cap| {
+        let att = &mut WithTables(tables);
+        trace_chunk_from(scene, (sources, att), cfg.seed, range, list_cap, &mut ())
+    };
+    let (tally, threads) = run_part_with(
+        scene,
+        &cfg,
+        Tally::new(scene),
+        progress,
+        &mut |_| Flow::Continue,
+        &chunk,
+    )?;
+    Ok((tally, threads))
 }
 
 /// The window of `window` pixels around the image's centroid (moved inwards

@@ -3,9 +3,10 @@
 //! [`Statistics`] counts the photons' fates; this module holds the one chunk
 //! rule ([`chunk_range`]), the [`Tally`] a run accumulates, and [`run_part`],
 //! which traces a run or a part of one (a shard, a resumed sitting, a
-//! systematics variation) over rayon; [`live`] feeds the live window. The
-//! effective area's and the PSF library's points and the sky calibration still
-//! run their own chunk loops (issue 51 asks for one driver). The life of a run
+//! systematics variation) over rayon, and [`run_part_with`], the same loop
+//! with a study's own way of tracing a chunk (a PSF point's tilted beam and
+//! tables); [`live`] feeds the live window. The effective area and the sky
+//! calibration still run their own chunk loops (tests/it/layout.rs names them). The life of a run
 //! around it (results folder, checkpoints, shards, provenance) is `run`'s.
 //!
 //! Data flow: photon indices are cut into fixed chunks; rayon traces chunks in
@@ -212,9 +213,27 @@ pub fn run_with_progress(
 pub fn run_part(
     scene: &Scene,
     cfg: &RunConfig,
+    tally: Tally,
+    progress: &dyn Progress,
+    after_batch: &mut dyn FnMut(&Tally) -> Flow,
+) -> Result<(Tally, usize), rayon::ThreadPoolBuildError> {
+    let chunk = |range, list_cap| trace_chunk(scene, cfg.seed, range, list_cap, &mut ());
+    run_part_with(scene, cfg, tally, progress, after_batch, &chunk)
+}
+
+/// Traces one photon chunk: photon indices and how many photon details to keep.
+pub type ChunkTracer<'a> = &'a (dyn Fn(std::ops::Range<u64>, usize) -> Chunk + Sync);
+
+/// As [`run_part`], each chunk traced by `chunk` (a study's own sources and
+/// reflectivity tables through [`trace_chunk_from`]): the one loop over
+/// photon chunks, for runs and for the studies' points alike.
+pub fn run_part_with(
+    scene: &Scene,
+    cfg: &RunConfig,
     mut tally: Tally,
     progress: &dyn Progress,
     after_batch: &mut dyn FnMut(&Tally) -> Flow,
+    chunk: ChunkTracer,
 ) -> Result<(Tally, usize), rayon::ThreadPoolBuildError> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(cfg.threads)
@@ -236,7 +255,7 @@ pub fn run_part(
                 .map(|c| {
                     let range = chunk_range(cfg.first_photon, c, cfg.photons);
                     let n = range.end - range.start;
-                    let r = trace_chunk(scene, cfg.seed, range, list_cap, &mut ());
+                    let r = chunk(range, list_cap);
                     shared
                         .lock()
                         .expect("no worker panics while holding the tally")

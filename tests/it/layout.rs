@@ -368,3 +368,42 @@ fn the_library_reads_the_environment_only_in_environment_rs() {
         "the check sees a read where there is one"
     );
 }
+
+#[test]
+fn photon_chunks_are_looped_over_only_in_trace() {
+    // One photon driver (`trace::run_part_with`): runs, systematics variations
+    // and PSF points hand it how to trace a chunk. The two studies that still
+    // loop over chunks themselves are named, so that the list only shrinks:
+    // the effective area keeps every path's steps to re-weigh them at each
+    // energy, the sky calibration each photon's position on the sensor.
+    let not_yet = ["src/studies/effective_area.rs", "src/studies/sky.rs"];
+    let mut files = Vec::new();
+    rust_files(&repo().join("src"), &mut files);
+    rust_files(&repo().join("python/src"), &mut files);
+    let mut found = Vec::new();
+    for f in &files {
+        let rel = f
+            .strip_prefix(repo())
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
+        if rel.starts_with("src/trace/") || not_yet.contains(&rel.as_str()) {
+            continue;
+        }
+        let code = code(&std::fs::read_to_string(f).unwrap());
+        if code.contains("chunk_range(") || code.contains("div_ceil(CHUNK)") {
+            found.push(rel);
+        }
+    }
+    assert!(
+        found.is_empty(),
+        "photon chunks looped over outside trace/: {found:?}"
+    );
+    for f in not_yet {
+        let code = code(&std::fs::read_to_string(repo().join(f)).unwrap());
+        assert!(
+            code.contains("chunk_range("),
+            "{f} no longer loops over chunks: take it off the list"
+        );
+    }
+}
