@@ -4,8 +4,8 @@
 # cameras rendered (160×100, 8 spp, seed 3; with the traced image on the sensors
 # too); then the studies run at fixed seeds (effective area with its ARFs, PSF
 # library, systematics, focus scan: studies/ in the listing); prints the SHA-256 of
-# every image and table written (.npy, .png, .csv, .arf, .fits; FITS with their DATE
-# and CREATOR cards blanked), one per line, sorted. Provenance JSON is left out: it holds
+# every image and table written (.npy, .png, .csv, .arf, .fits; FITS with their DATE,
+# CREATOR and EMBREE cards blanked), one per line, sorted. Provenance JSON is left out: it holds
 # times and the command line.
 #
 # Used to check that a change which must not alter results does not:
@@ -47,8 +47,8 @@ cd "$work"
 find . -type f \( -name '*.npy' -o -name '*.png' -o -name '*.csv' -o -name '*.arf' -o -name '*.fits' \) -print0 |
   sort -z | while IFS= read -r -d '' f; do
     case "$f" in
-    *.fits | *.arf) # DATE and CREATOR say when and by which commit: blanked
-      sum=$(perl -0777 -pe 's/(DATE    = |CREATOR = ).{70}/$1 . ("-" x 70)/ges' "$f" | sha256sum) ;;
+    *.fits | *.arf) # DATE, CREATOR and EMBREE say when, by which commit and Embree: blanked
+      sum=$(perl -0777 -pe 's/(DATE    = |CREATOR = |EMBREE  = ).{70}/$1 . ("-" x 70)/ges' "$f" | sha256sum) ;;
     *) sum=$(sha256sum <"$f") ;;
     esac
     echo "${sum%% *}  $f"
