@@ -3,13 +3,11 @@
 //! (`traxer::studies::focus`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::{progress, Warnings};
-use traxer::embree::Device;
-use traxer::output::{plotted_diameter, write_focus, Provenance, FOCUS_FILES};
-use traxer::run::record::file_identity;
-use traxer::run::Study;
+use super::{load_xray_scene, Warnings};
+use std::sync::Mutex;
+use traxer::output::plotted_diameter;
 use traxer::scene::Scene;
-use traxer::studies::focus::{scan, FocusScan, FocusStep, FocusSweep};
+use traxer::studies::focus::{FocusScan, FocusStudy, FocusSweep};
 use traxer::studies::StudyError;
 
 /// Find the best focus: trace the scene at several sensor positions and fit the
@@ -60,45 +58,20 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
         steps: a.steps,
         sensor: a.sensor.clone(),
     };
-    let values = sweep.values()?;
+    sweep.values()?;
     let cfg = a.run.config()?;
-    let study = open_study(&a, &values, &cfg)?;
-    let replay = study.replay();
-    let quiet = a.output.quiet.quiet;
-    let device = Device::new()?;
-    let mut warnings = Warnings::default();
-    let mut first_scene = None;
+    let (device, scene) = load_xray_scene(&a.scene)?;
+    let warnings = Mutex::new(Warnings::default());
+    warnings.lock().expect("not poisoned").seen(&scene);
     let load = |extra: &[String]| -> Result<Scene, StudyError> {
         let defines = traxer::scene::merged_overrides(&a.scene.vars.define, extra);
-        let scene = Scene::load(&device, &a.scene.scene, &defines)?;
-        study
-            .check_scene(&scene)
-            .map_err(|e| StudyError::Input(e.to_string()))?;
-        warnings.show(&scene);
-        first_scene.get_or_insert_with(|| {
-            let run = (cfg.photons, cfg.seed);
-            Provenance::of_study(&super::invocation(), device.info().version, &scene, run, 0)
-        });
-        Ok(scene)
+        let s = Scene::load(&device, &a.scene.scene, &defines)?;
+        warnings.lock().expect("not poisoned").show(&s);
+        Ok(s)
     };
-    let bar = progress::bar(cfg.photons * values.len() as u64, "photons", quiet);
-    let result = scan(
-        load,
-        &sweep,
-        &cfg,
-        &replay,
-        &|n| bar.inc(n),
-        |step, sensor| {
-            if let Some(w) = study.point_done(step) {
-                tell!("warning: {w}");
-            }
-            if !quiet {
-                bar.suspend(|| print_step(&a.var, step, sensor));
-            }
-        },
-    );
-    bar.finish_and_clear();
-    let scan = result?;
+    let study = FocusStudy::new(sweep, cfg, &load)?;
+    let places = (&a.scene, &a.output);
+    let (scan, _) = super::study::run_loaded(&study, (&device, &scene), places, a.resume)?;
     if !scan.clipped.is_empty() {
         tell!(
             "warning: fewer photons reach the sensor at {} = {:?} than elsewhere in the sweep: \
@@ -106,67 +79,7 @@ pub fn run(a: FocusArgs) -> anyhow::Result<()> {
             a.var, scan.clipped
         );
     }
-    write(&a, study, &scan, first_scene)?;
     print_fits(&a, &scan)
-}
-
-/// Writes focus.csv, focus.json and focus.png with the provenance of the scene
-/// as the user gave it: -D overrides and variables without the swept one
-/// (focus.csv has its values).
-fn write(
-    a: &FocusArgs,
-    study: Study<FocusStep>,
-    scan: &FocusScan,
-    first_scene: Option<Provenance>,
-) -> anyhow::Result<()> {
-    let mut provenance = first_scene.map_or_else(
-        || Provenance::of_table(&super::invocation()),
-        |p| p.with_threads(scan.threads),
-    );
-    provenance.overrides = a.scene.vars.define.clone();
-    provenance.variables.remove(&a.var);
-    study.finish(|dir| write_focus(dir, scan, &a.var, (a.from, a.to), &provenance))?;
-    Ok(())
-}
-
-/// The scan's results folder and record (resumed with --resume).
-fn open_study(
-    a: &FocusArgs,
-    values: &[f64],
-    cfg: &traxer::trace::RunConfig,
-) -> anyhow::Result<Study<FocusStep>> {
-    let mut id = file_identity(&a.scene.scene, &a.scene.vars.define)?;
-    id.extend([
-        ("var".into(), a.var.clone().into()),
-        ("values".into(), serde_json::json!(values)),
-        ("sensor".into(), serde_json::json!(a.sensor)),
-        ("photons".into(), cfg.photons.into()),
-        ("seed".into(), cfg.seed.into()),
-    ]);
-    let study = Study::open(
-        &a.output.scene_folder(&a.scene, "focus"),
-        "focus",
-        &FOCUS_FILES,
-        id.into(),
-        a.resume,
-    )?;
-    super::signals::set_stop_message(study.stop_message("positions"));
-    Ok(study)
-}
-
-/// One position's line on stdout.
-fn print_step(var: &str, step: &FocusStep, sensor: &str) {
-    let q = step.quality.as_ref();
-    say!(
-        "{} = {:>10.3}: HPD {:>8.4} mm, 80 % {:>8.4} mm, 90 % {:>8.4} mm ({} photons on {})",
-        var,
-        step.value,
-        q.map_or(f64::NAN, |q| q.hpd_mm),
-        q.map_or(f64::NAN, |q| q.d80_mm),
-        q.map_or(f64::NAN, |q| q.d90_mm),
-        step.on_sensor,
-        sensor
-    );
 }
 
 /// The best focus and the other fits on stdout; an error if the HPD fit failed.

@@ -89,6 +89,11 @@ pub fn is_input_error(e: &anyhow::Error) -> bool {
 pub struct Warnings(std::collections::BTreeSet<String>);
 
 impl Warnings {
+    /// Marks the scene's warnings as shown (its load showed them already).
+    pub fn seen(&mut self, scene: &Scene) {
+        self.0.extend(scene.warnings.iter().cloned());
+    }
+
     pub fn show(&mut self, scene: &Scene) {
         for w in &scene.warnings {
             if self.0.insert(w.clone()) {

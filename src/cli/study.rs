@@ -12,7 +12,7 @@ use traxer::progress::Progress;
 use traxer::run::{run_study, StudyControl, StudyPlace};
 use traxer::scene::Scene;
 
-struct CliStudy(progress::Bar);
+struct CliStudy(progress::Bar, bool);
 
 impl Progress for CliStudy {
     fn advance(&self, done: u64) {
@@ -27,6 +27,12 @@ impl StudyControl for CliStudy {
 
     fn stoppable(&self, message: &str) {
         super::signals::set_stop_message(message.to_string());
+    }
+
+    fn point_finished(&self, description: &str) {
+        if !self.1 {
+            self.0.suspend(|| say!("{description}"));
+        }
     }
 }
 
@@ -54,11 +60,9 @@ pub fn run_loaded<K: StudyFiles>(
     resume: bool,
 ) -> anyhow::Result<(K::Output, PathBuf)> {
     let out = output.scene_folder(scene, K::NAME);
-    let control = CliStudy(progress::bar(
-        kind.photons_total(loaded),
-        "photons",
-        output.quiet.quiet,
-    ));
+    let quiet = output.quiet.quiet;
+    let bar = progress::bar(kind.photons_total(loaded), "photons", quiet);
+    let control = CliStudy(bar, quiet);
     let place = StudyPlace {
         out: Some(&out),
         resume,

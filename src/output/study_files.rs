@@ -4,6 +4,7 @@
 
 use super::Provenance;
 use crate::studies::effective_area::AreaResult;
+use crate::studies::focus::{FocusScan, FocusStudy};
 use crate::studies::psf::{PsfGrid, PsfLibrary};
 use crate::studies::systematics::{Systematics, SystematicsStudy};
 use crate::studies::{effective_area::AreaSweep, StudyKind};
@@ -21,6 +22,12 @@ pub trait StudyFiles: StudyKind {
         output: &Self::Output,
         provenance: &Provenance,
     ) -> std::io::Result<()>;
+
+    /// The provenance as the study states it (focus: without the variable it
+    /// sweeps); as the job made it by default.
+    fn provenance(&self, made: Provenance) -> Provenance {
+        made
+    }
 }
 
 impl StudyFiles for AreaSweep {
@@ -68,5 +75,27 @@ impl StudyFiles for SystematicsStudy<'_> {
         provenance: &Provenance,
     ) -> std::io::Result<()> {
         super::write_systematics(dir, output, &self.scene_name, provenance)
+    }
+}
+
+impl StudyFiles for FocusStudy<'_> {
+    fn files(&self) -> Vec<String> {
+        super::FOCUS_FILES.iter().map(|f| f.to_string()).collect()
+    }
+
+    fn write(
+        &self,
+        dir: &Path,
+        output: &FocusScan,
+        provenance: &Provenance,
+    ) -> std::io::Result<()> {
+        let range = (self.sweep.from, self.sweep.to);
+        super::write_focus(dir, output, &self.var, range, provenance).map(|_| ())
+    }
+
+    /// The scene as the user gave it: the swept variable is in focus.csv.
+    fn provenance(&self, mut made: Provenance) -> Provenance {
+        made.variables.remove(&self.var);
+        made
     }
 }

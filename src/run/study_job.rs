@@ -23,6 +23,8 @@ pub trait StudyControl: Progress {
     /// From now on a stop leaves a record to resume: what the stop says (the
     /// CLI hands it to its signal handler).
     fn stoppable(&self, _message: &str) {}
+    /// A point is done; the study describes it so (`StudyKind::describe`).
+    fn point_finished(&self, _description: &str) {}
 }
 
 /// Where a study's files go: a results folder (with its record, so that a
@@ -84,19 +86,22 @@ pub fn run_study<K: StudyFiles>(
         if let Some(w) = study.as_ref().and_then(|s| s.point_done(p)) {
             control.warn(&w);
         }
+        if let Some(d) = kind.describe(p) {
+            control.point_finished(&d);
+        }
     };
     let output = match kind.run(scene, &replay, control, &mut on_point) {
         Err(StudyError::Stopped) => return Err(RunError::Stopped(Stopped(stop_message))),
         other => other?,
     };
     let sampling = kind.sampling();
-    let provenance = Provenance::of_study(
+    let provenance = kind.provenance(Provenance::of_study(
         invocation,
         embree_version,
         scene,
         (sampling.photons, sampling.seed),
         K::threads_used(&output),
-    );
+    ));
     if let Some(study) = study {
         study.finish(|dir| kind.write(dir, &output, &provenance))?;
     }

@@ -103,6 +103,7 @@ pub fn scan(
     mut on_step: impl FnMut(&FocusStep, &str),
 ) -> Result<FocusScan, StudyError> {
     let values = sweep.values()?;
+    let n_values = values.len();
     let mut steps = Vec::with_capacity(values.len());
     let (mut focal_length, mut sensor_name, mut threads) = (None, String::new(), 0);
     for (i, value) in values.into_iter().enumerate() {
@@ -130,6 +131,9 @@ pub fn scan(
         };
         on_step(&step, &sensor_name);
         steps.push(step);
+        if progress.stop_requested() && steps.len() < n_values {
+            return Err(StudyError::Stopped);
+        }
     }
     // A sensor too small for the defocused image cuts off its outer rings and
     // makes the diameters there meaningless.
@@ -151,4 +155,108 @@ pub fn scan(
         scan.fits[k].1 = fit_defocus(&scan.points(*diameter));
     }
     Ok(scan)
+}
+
+/// The focus scan as the study job runs it: serialised, its identity (the
+/// variable, its values, the sampling); each position's scene comes from
+/// `load`, the front end's scene with the variable set.
+#[derive(serde::Serialize)]
+pub struct FocusStudy<'a> {
+    pub var: String,
+    pub values: Vec<f64>,
+    #[serde(flatten)]
+    pub sampling: super::Sampling,
+    #[serde(skip)]
+    pub sweep: FocusSweep,
+    #[serde(skip)]
+    pub cfg: RunConfig,
+    #[serde(skip)]
+    pub load: super::SceneLoader<'a>,
+    /// The sensor of the last position traced (for its line).
+    #[serde(skip)]
+    sensor: std::sync::Mutex<String>,
+}
+
+impl<'a> FocusStudy<'a> {
+    /// The scan of `sweep` with `cfg`'s photons, seed and threads.
+    pub fn new(
+        sweep: FocusSweep,
+        cfg: RunConfig,
+        load: super::SceneLoader<'a>,
+    ) -> Result<FocusStudy<'a>, StudyError> {
+        Ok(FocusStudy {
+            var: sweep.var.clone(),
+            values: sweep.values()?,
+            sampling: super::Sampling {
+                photons: cfg.photons,
+                seed: cfg.seed,
+                threads: cfg.threads,
+                sensor: sweep.sensor.clone(),
+            },
+            sweep,
+            cfg,
+            load,
+            sensor: Default::default(),
+        })
+    }
+}
+
+impl super::StudyKind for FocusStudy<'_> {
+    type Point = FocusStep;
+    type Output = FocusScan;
+    const NAME: &'static str = "focus";
+    const POINTS: &'static str = "positions";
+
+    fn sampling(&self) -> &super::Sampling {
+        &self.sampling
+    }
+
+    fn check(&self) -> Result<(), StudyError> {
+        self.sweep.values().map(|_| ())
+    }
+
+    fn photons_total(&self, _scene: &Scene) -> u64 {
+        self.cfg.photons.saturating_mul(self.values.len() as u64)
+    }
+
+    /// Loads the scene at each position (the scene given is the user's, for
+    /// the identity and provenance).
+    fn run(
+        &self,
+        _scene: &Scene,
+        replay: &[FocusStep],
+        progress: &dyn Progress,
+        on_point: &mut dyn FnMut(&FocusStep),
+    ) -> Result<FocusScan, StudyError> {
+        let load = |extra: &[String]| (self.load)(extra);
+        scan(
+            load,
+            &self.sweep,
+            &self.cfg,
+            replay,
+            progress,
+            |step, sensor| {
+                sensor.clone_into(&mut self.sensor.lock().expect("not poisoned"));
+                on_point(step);
+            },
+        )
+    }
+
+    fn threads_used(output: &FocusScan) -> usize {
+        output.threads
+    }
+
+    fn describe(&self, step: &FocusStep) -> Option<String> {
+        let q = step.quality.as_ref();
+        Some(format!(
+            "{} = {:>10.3}: HPD {:>8.4} mm, 80 % {:>8.4} mm, 90 % {:>8.4} mm ({} photons on {})",
+            self.var,
+            step.value,
+            q.map_or(f64::NAN, |q| q.hpd_mm),
+            q.map_or(f64::NAN, |q| q.d80_mm),
+            q.map_or(f64::NAN, |q| q.d90_mm),
+            step.on_sensor,
+            self.sensor.lock().expect("not poisoned")
+        ))
+    }
 }

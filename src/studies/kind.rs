@@ -15,6 +15,10 @@ use crate::progress::Progress;
 use crate::scene::Scene;
 use serde::{de::DeserializeOwned, Deserialize, Serialize};
 
+/// Loads the study's scene with these variables set besides the front end's
+/// (studies that trace the scene under other settings: systematics, focus).
+pub type SceneLoader<'a> = &'a (dyn Fn(&[String]) -> Result<Scene, StudyError> + Sync);
+
 /// How a study samples each of its points: the block every study shares.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Sampling {
@@ -64,4 +68,10 @@ pub trait StudyKind: Serialize + Sync {
 
     /// The worker threads the output was computed with.
     fn threads_used(output: &Self::Output) -> usize;
+
+    /// A line about a point just finished, for a front end to show (focus:
+    /// each position's diameters); none by default.
+    fn describe(&self, _point: &Self::Point) -> Option<String> {
+        None
+    }
 }

@@ -244,7 +244,13 @@ fn a_study_record_edited_or_of_changed_inputs_is_not_resumed() {
     std::fs::write(&record, &good).unwrap();
     std::fs::write(dir.path().join("llnl.toml"), format!("{data}\n# edited\n")).unwrap();
     let err = run_fails(&mut command(&["--resume"]), 2);
-    assert!(err.contains("input file llnl.toml with SHA-256"), "{err}");
+    // Refused naming the file (a study whose identity holds its scene's input
+    // files says so when it opens; one that loads later, when it loads).
+    assert!(
+        err.contains("input file llnl.toml with SHA-256")
+            || (err.contains("records another run") && err.contains("llnl.toml")),
+        "{err}"
+    );
     // As it was, the study resumes and ends.
     std::fs::write(dir.path().join("llnl.toml"), &data).unwrap();
     run_ok(&mut command(&["--resume"]));

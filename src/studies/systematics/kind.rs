@@ -5,11 +5,8 @@
 use super::{run, Outcome, Plan, Settings, Systematics};
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::studies::{Sampling, StudyError, StudyKind};
+use crate::studies::{Sampling, SceneLoader, StudyError, StudyKind};
 use serde::Serialize;
-
-/// Loads the study's scene with these variables set besides the front end's.
-pub type SceneLoader<'a> = &'a (dyn Fn(&[String]) -> Result<Scene, StudyError> + Sync);
 
 /// The study: serialised, its identity (settings and variations).
 #[derive(Serialize)]
