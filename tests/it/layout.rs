@@ -300,24 +300,11 @@ fn studies_are_opened_and_recorded_only_by_the_study_job() {
         "src/cli/compare.rs",
         "src/cli/view_window.rs",
     ];
-    let mut files = Vec::new();
-    rust_files(&repo().join("src"), &mut files);
-    rust_files(&repo().join("python/src"), &mut files);
-    let mut found = Vec::new();
-    for f in &files {
-        let rel = f
-            .strip_prefix(repo())
-            .unwrap()
-            .to_string_lossy()
-            .to_string();
-        if rel.starts_with("src/run/") || not_yet.contains(&rel.as_str()) {
-            continue;
-        }
-        let code = code(&std::fs::read_to_string(f).unwrap());
-        if code.contains("Study::open(") || code.contains("Provenance::of_study(") {
-            found.push(rel);
-        }
-    }
+    let found = files_containing(
+        &["src", "python/src"],
+        |rel| rel.starts_with("src/run/") || not_yet.contains(&rel),
+        &["Study::open(", "Provenance::of_study("],
+    );
     assert!(
         found.is_empty(),
         "studies opened or given provenance outside run/: {found:?}"
@@ -341,23 +328,11 @@ fn the_library_reads_the_environment_only_in_environment_rs() {
     // variables the library honours (the reflectivity cache's folder and
     // bound) are read in src/environment.rs. The front ends (src/cli/,
     // main.rs) read what they like.
-    let mut files = Vec::new();
-    rust_files(&repo().join("src"), &mut files);
-    let mut found = Vec::new();
-    for f in &files {
-        let rel = f
-            .strip_prefix(repo())
-            .unwrap()
-            .to_string_lossy()
-            .to_string();
-        if rel.starts_with("src/cli/") || rel == "src/main.rs" || rel == "src/environment.rs" {
-            continue;
-        }
-        let code = code(&std::fs::read_to_string(f).unwrap());
-        if code.contains("env::var") {
-            found.push(rel);
-        }
-    }
+    let found = files_containing(
+        &["src"],
+        |rel| rel.starts_with("src/cli/") || rel == "src/main.rs" || rel == "src/environment.rs",
+        &["env::var"],
+    );
     assert!(
         found.is_empty(),
         "environment read outside src/environment.rs: {found:?}"
@@ -377,24 +352,11 @@ fn photon_chunks_are_looped_over_only_in_trace() {
     // the effective area keeps every path's steps to re-weigh them at each
     // energy, the sky calibration each photon's position on the sensor.
     let not_yet = ["src/studies/effective_area.rs", "src/studies/sky.rs"];
-    let mut files = Vec::new();
-    rust_files(&repo().join("src"), &mut files);
-    rust_files(&repo().join("python/src"), &mut files);
-    let mut found = Vec::new();
-    for f in &files {
-        let rel = f
-            .strip_prefix(repo())
-            .unwrap()
-            .to_string_lossy()
-            .to_string();
-        if rel.starts_with("src/trace/") || not_yet.contains(&rel.as_str()) {
-            continue;
-        }
-        let code = code(&std::fs::read_to_string(f).unwrap());
-        if code.contains("chunk_range(") || code.contains("div_ceil(CHUNK)") {
-            found.push(rel);
-        }
-    }
+    let found = files_containing(
+        &["src", "python/src"],
+        |rel| rel.starts_with("src/trace/") || not_yet.contains(&rel),
+        &["chunk_range(", "div_ceil(CHUNK)"],
+    );
     assert!(
         found.is_empty(),
         "photon chunks looped over outside trace/: {found:?}"
@@ -406,4 +368,25 @@ fn photon_chunks_are_looped_over_only_in_trace() {
             "{f} no longer loops over chunks: take it off the list"
         );
     }
+}
+
+/// The source files under `dirs` (repository-relative), apart from those
+/// `skip` names, whose code (comments left out) contains any of `needles`.
+fn files_containing(dirs: &[&str], skip: impl Fn(&str) -> bool, needles: &[&str]) -> Vec<String> {
+    let mut files = Vec::new();
+    for d in dirs {
+        rust_files(&repo().join(d), &mut files);
+    }
+    files
+        .iter()
+        .filter_map(|f| {
+            let rel = f
+                .strip_prefix(repo())
+                .unwrap()
+                .to_string_lossy()
+                .to_string();
+            let code = code(&std::fs::read_to_string(f).unwrap());
+            (!skip(&rel) && needles.iter().any(|n| code.contains(n))).then_some(rel)
+        })
+        .collect()
 }
