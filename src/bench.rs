@@ -220,12 +220,13 @@ pub fn bvh_build_seconds(
         .map(|p| p.as_vec3().to_array())
         .collect();
     let mut builder = device.scene::<crate::scene::AnalyticPieces>();
-    builder.add_triangles(0, &vertices, &mesh.triangles)?;
+    let count = mesh.triangles.len();
+    builder.add_triangles(0, &vertices, mesh.triangles.into())?;
     let t = Instant::now();
     let committed = builder.commit()?;
     let seconds = t.elapsed().as_secs_f64();
     drop(committed);
-    Ok((mesh.triangles.len(), seconds))
+    Ok((count, seconds))
 }
 
 /// Reflectivity evaluations per second of one coating on one thread: direct

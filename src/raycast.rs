@@ -102,8 +102,7 @@ pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> 
         }
         ObjectGeometry::Mesh(m) => {
             let prim = hit.primitive as usize;
-            let [nx, ny, nz, offset] = m.planes[prim];
-            let n = DVec3::new(nx, ny, nz);
+            let (n, offset) = m.plane(prim);
             // Refine Embree's f32 distance on the f64 plane of the triangle.
             let denom = dir.dot(n);
             let (t, geometric_normal) = if denom != 0.0 {
@@ -114,10 +113,8 @@ pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> 
                 (hit.t, -dir.normalize())
             };
             let point = origin + dir * t;
-            let shading_normal = match &m.corner_normals {
-                Some(corners) => {
-                    let [n0, n1, n2] =
-                        corners[prim].map(|c| DVec3::new(c[0] as f64, c[1] as f64, c[2] as f64));
+            let shading_normal = match m.corner_normals(prim) {
+                Some([n0, n1, n2]) => {
                     let (u, v) = (hit.u as f64, hit.v as f64);
                     let s = (n0 * (1.0 - u - v) + n1 * u + n2 * v)
                         .try_normalize()

@@ -6,6 +6,7 @@ use super::device::Device;
 use super::{sys, version, EmbreeError, Hit, Query, UserGeometry, EMBREE_FLT_LARGE, INVALID_ID};
 use std::cell::Cell;
 use std::ffi::c_void;
+use std::sync::Arc;
 
 /// A scene being assembled. Geometry ids are chosen by the caller (object indices).
 pub struct SceneBuilder<U: UserGeometry> {
@@ -13,6 +14,8 @@ pub struct SceneBuilder<U: UserGeometry> {
     raw: sys::RTCScene,
     // Boxed so that the pointers handed to Embree stay valid when the Vec grows.
     user: Vec<Box<U>>,
+    // Index buffers Embree reads in place (shared, not copied).
+    shared: Vec<Arc<[[u32; 3]]>>,
 }
 
 impl<U: UserGeometry> Drop for SceneBuilder<U> {
@@ -38,17 +41,20 @@ impl<U: UserGeometry> SceneBuilder<U> {
             device,
             raw,
             user: Vec::new(),
+            shared: Vec::new(),
         }
     }
 
     /// Adds a triangle mesh under geometry id `id`.
-    /// `vertices` are world-space positions, `triangles` index triples into them
-    /// (the caller has checked that every index is in range).
+    /// `vertices` are world-space positions (copied), `triangles` index triples
+    /// into them (the caller has checked that every index is in range). Embree
+    /// reads the triangles in place, so that a 2-million-triangle mesh does not
+    /// hold its 25 MB of indices twice; the scene keeps them alive.
     pub fn add_triangles(
         &mut self,
         id: u32,
         vertices: &[[f32; 3]],
-        triangles: &[[u32; 3]],
+        triangles: Arc<[[u32; 3]]>,
     ) -> Result<(), EmbreeError> {
         let dev = self.device.raw();
         // SAFETY: valid device; the geometry handle is released below after attaching.
@@ -58,9 +64,12 @@ impl<U: UserGeometry> SceneBuilder<U> {
             return Err(EmbreeError::NoDevice("rtcNewGeometry returned NULL".into()));
         }
         // SAFETY: rtcSetNewGeometryBuffer allocates a buffer of exactly
-        // count × stride bytes (plus the padding Embree needs for 16-byte loads) and
-        // returns a pointer to it, or NULL on failure (checked). We write exactly
-        // `count` elements of the declared layout.
+        // count × stride bytes (plus the padding Embree needs for 16-byte loads of
+        // vertices) and returns a pointer to it, or NULL on failure (checked). We
+        // write exactly `count` elements of the declared layout. The shared index
+        // buffer is 4-byte aligned with a 12-byte stride as Embree requires (only
+        // vertex buffers need padding past the last element), and its Arc is kept
+        // in the builder and then the committed scene, so it outlives every use.
         unsafe {
             let vb = sys::rtcSetNewGeometryBuffer(
                 geom,
@@ -70,15 +79,7 @@ impl<U: UserGeometry> SceneBuilder<U> {
                 12,
                 vertices.len(),
             ) as *mut [f32; 3];
-            let ib = sys::rtcSetNewGeometryBuffer(
-                geom,
-                sys::RTC_BUFFER_TYPE_INDEX,
-                0,
-                sys::RTC_FORMAT_UINT3,
-                12,
-                triangles.len(),
-            ) as *mut [u32; 3];
-            if vb.is_null() || ib.is_null() {
+            if vb.is_null() {
                 sys::rtcReleaseGeometry(geom);
                 self.device.check()?;
                 return Err(EmbreeError::NoDevice(
@@ -86,11 +87,21 @@ impl<U: UserGeometry> SceneBuilder<U> {
                 ));
             }
             std::ptr::copy_nonoverlapping(vertices.as_ptr(), vb, vertices.len());
-            std::ptr::copy_nonoverlapping(triangles.as_ptr(), ib, triangles.len());
+            sys::rtcSetSharedGeometryBuffer(
+                geom,
+                sys::RTC_BUFFER_TYPE_INDEX,
+                0,
+                sys::RTC_FORMAT_UINT3,
+                triangles.as_ptr() as *const c_void,
+                0,
+                12,
+                triangles.len(),
+            );
             sys::rtcCommitGeometry(geom);
             sys::rtcAttachGeometryByID(self.raw, geom, id);
             sys::rtcReleaseGeometry(geom);
         }
+        self.shared.push(triangles);
         self.device.check()
     }
 
@@ -138,6 +149,7 @@ impl<U: UserGeometry> SceneBuilder<U> {
             raw,
             _device: self.device.clone(),
             _user: std::mem::take(&mut self.user),
+            _shared: std::mem::take(&mut self.shared),
         })
     }
 }
@@ -148,6 +160,8 @@ pub struct CommittedScene<U: UserGeometry> {
     _device: Device,
     // Owns the shapes the user-geometry callbacks point to.
     _user: Vec<Box<U>>,
+    // Owns the index buffers Embree reads in place.
+    _shared: Vec<Arc<[[u32; 3]]>>,
 }
 
 // SAFETY: after rtcCommitScene, Embree allows concurrent rtcIntersect1 calls on a

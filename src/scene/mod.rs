@@ -50,6 +50,7 @@ use crate::xray::ReflectivityTable;
 use glam::DVec3;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A built scene, ready to trace.
 pub struct Scene {
@@ -148,51 +149,54 @@ pub enum ObjectGeometry {
     Mesh(MeshObject),
 }
 
-/// A mesh in world space. Besides the vertices it keeps, per triangle, what the
-/// photon loop reads after an Embree hit, packed so that one hit touches one or
-/// two cache lines instead of an index and three scattered vertices.
+/// A mesh in world space, as the photon loop reads it after an Embree hit.
+/// The f64 vertices give each facet's exact plane, on which Embree's f32 hit is
+/// refined; the triangles are the very index buffer Embree reads (shared, not
+/// copied). Facet planes and corner normals are looked up per hit rather than
+/// stored per triangle: that keeps a 2-million-triangle mesh at about 40 bytes a
+/// triangle instead of 100 (docs/speed.md "Memory").
 pub struct MeshObject {
     pub positions: Vec<DVec3>,
-    pub triangles: Vec<[u32; 3]>,
-    /// Per triangle: unit front normal (counter-clockwise side) and its offset
-    /// n·p0, in f64: the plane on which Embree's f32 hit is refined. Zero for a
-    /// degenerate (zero-area) triangle.
-    pub planes: Vec<[f64; 4]>,
-    /// Per triangle, the vertex normals at its three corners, present only when
-    /// the object reflects on interpolated normals (f32: 1e-7 rad is far below
-    /// any figure error).
-    pub corner_normals: Option<Vec<[[f32; 3]; 3]>>,
+    pub triangles: Arc<[[u32; 3]]>,
+    /// Unit vertex normals, one per position, present only when the object
+    /// reflects on interpolated normals (f32: 1e-7 rad is far below any figure
+    /// error).
+    vertex_normals: Option<Vec<[f32; 3]>>,
 }
 
 impl MeshObject {
     pub fn new(world: TriangleMesh, smooth: bool) -> MeshObject {
-        let planes = world
-            .triangles
-            .iter()
-            .map(|t| {
-                let [a, b, c] = t.map(|k| world.positions[k as usize]);
-                match (b - a).cross(c - a).try_normalize() {
-                    Some(n) => [n.x, n.y, n.z, n.dot(a)],
-                    None => [0.0; 4],
-                }
-            })
-            .collect();
-        let corner_normals = match (&world.normals, smooth) {
-            (Some(ns), true) => Some(
-                world
-                    .triangles
-                    .iter()
-                    .map(|t| t.map(|k| ns[k as usize].as_vec3().to_array()))
-                    .collect(),
-            ),
+        let vertex_normals = match (world.normals, smooth) {
+            (Some(ns), true) => Some(ns.iter().map(|n| n.as_vec3().to_array()).collect()),
             _ => None,
         };
         MeshObject {
             positions: world.positions,
-            triangles: world.triangles,
-            planes,
-            corner_normals,
+            triangles: world.triangles.into(),
+            vertex_normals,
         }
+    }
+
+    /// Triangle `prim`'s unit front normal (counter-clockwise side) and its
+    /// offset n·p0, in f64; zero for a degenerate (zero-area) triangle.
+    #[inline]
+    pub fn plane(&self, prim: usize) -> (DVec3, f64) {
+        let [a, b, c] = self.triangles[prim].map(|k| self.positions[k as usize]);
+        match (b - a).cross(c - a).try_normalize() {
+            Some(n) => (n, n.dot(a)),
+            None => (DVec3::ZERO, 0.0),
+        }
+    }
+
+    /// Triangle `prim`'s vertex normals at its three corners, when the object
+    /// reflects on interpolated normals.
+    #[inline]
+    pub fn corner_normals(&self, prim: usize) -> Option<[DVec3; 3]> {
+        let normals = self.vertex_normals.as_ref()?;
+        Some(self.triangles[prim].map(|k| {
+            let [x, y, z] = normals[k as usize];
+            DVec3::new(x as f64, y as f64, z as f64)
+        }))
     }
 }
 
