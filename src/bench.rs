@@ -214,14 +214,10 @@ pub fn bvh_build_seconds(
     let segments = n_triangles.div_ceil(2 * rings);
     let cylinder = RevolutionQuadric::cylinder(100.0, 0.0, 200.0, AzimuthRange::FULL);
     let mesh = cylinder.tessellate(Resolution { segments, rings });
-    let vertices: Vec<[f32; 3]> = mesh
-        .positions
-        .iter()
-        .map(|p| p.as_vec3().to_array())
-        .collect();
+    let vertices = mesh.positions.iter().map(|p| p.as_vec3().to_array());
     let mut builder = device.scene::<crate::scene::AnalyticPieces>();
     let count = mesh.triangles.len();
-    builder.add_triangles(0, &vertices, mesh.triangles.into())?;
+    builder.add_triangles(0, vertices, mesh.triangles.into())?;
     let t = Instant::now();
     let committed = builder.commit()?;
     let seconds = t.elapsed().as_secs_f64();

@@ -172,7 +172,7 @@ impl SensorImage {
             total_flux,
             total_counts: image.total_counts(),
             flux: array(py, &shape, flux)?.unbind(),
-            counts: array(py, &shape, image.counts.clone())?.unbind(),
+            counts: array(py, &shape, image.counts.to_vec())?.unbind(),
             unit: flux_unit(counted).bunit.to_string(),
             size_mm: (spec.size[0], spec.size[1]),
             pixels: (spec.pixels[0], spec.pixels[1]),

@@ -15,7 +15,7 @@ pub struct SceneBuilder<U: UserGeometry> {
     // Boxed so that the pointers handed to Embree stay valid when the Vec grows.
     user: Vec<Box<U>>,
     // Index buffers Embree reads in place (shared, not copied).
-    shared: Vec<Arc<[[u32; 3]]>>,
+    shared: Vec<Arc<Vec<[u32; 3]>>>,
 }
 
 impl<U: UserGeometry> Drop for SceneBuilder<U> {
@@ -46,17 +46,19 @@ impl<U: UserGeometry> SceneBuilder<U> {
     }
 
     /// Adds a triangle mesh under geometry id `id`.
-    /// `vertices` are world-space positions (copied), `triangles` index triples
+    /// `vertices` are world-space positions (written straight into Embree's
+    /// buffer, no copy of the mesh in between), `triangles` index triples
     /// into them (the caller has checked that every index is in range). Embree
     /// reads the triangles in place, so that a 2-million-triangle mesh does not
     /// hold its 25 MB of indices twice; the scene keeps them alive.
     pub fn add_triangles(
         &mut self,
         id: u32,
-        vertices: &[[f32; 3]],
-        triangles: Arc<[[u32; 3]]>,
+        vertices: impl ExactSizeIterator<Item = [f32; 3]>,
+        triangles: Arc<Vec<[u32; 3]>>,
     ) -> Result<(), EmbreeError> {
         let dev = self.device.raw();
+        let count = vertices.len();
         // SAFETY: valid device; the geometry handle is released below after attaching.
         let geom = unsafe { sys::rtcNewGeometry(dev, sys::RTC_GEOMETRY_TYPE_TRIANGLE) };
         if geom.is_null() {
@@ -77,7 +79,7 @@ impl<U: UserGeometry> SceneBuilder<U> {
                 0,
                 sys::RTC_FORMAT_FLOAT3,
                 12,
-                vertices.len(),
+                count,
             ) as *mut [f32; 3];
             if vb.is_null() {
                 sys::rtcReleaseGeometry(geom);
@@ -86,7 +88,12 @@ impl<U: UserGeometry> SceneBuilder<U> {
                     "cannot allocate geometry buffers".into(),
                 ));
             }
-            std::ptr::copy_nonoverlapping(vertices.as_ptr(), vb, vertices.len());
+            // Never past `count`, and every element written (an iterator that
+            // reports more than it yields leaves zeros, not uninitialised memory).
+            let mut vertices = vertices.take(count);
+            for k in 0..count {
+                vb.add(k).write(vertices.next().unwrap_or_default());
+            }
             sys::rtcSetSharedGeometryBuffer(
                 geom,
                 sys::RTC_BUFFER_TYPE_INDEX,
@@ -161,7 +168,7 @@ pub struct CommittedScene<U: UserGeometry> {
     // Owns the shapes the user-geometry callbacks point to.
     _user: Vec<Box<U>>,
     // Owns the index buffers Embree reads in place.
-    _shared: Vec<Arc<[[u32; 3]]>>,
+    _shared: Vec<Arc<Vec<[u32; 3]>>>,
 }
 
 // SAFETY: after rtcCommitScene, Embree allows concurrent rtcIntersect1 calls on a

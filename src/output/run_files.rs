@@ -144,7 +144,7 @@ fn write_sensor(
     let files = SensorFiles::of(&spec.name);
     let path = |name: &str| dir.join(name);
     write_npy_f64(&path(&files.flux_npy), &shape, flux)?;
-    write_npy_u64(&path(&files.counts_npy), &shape, &image.counts)?;
+    write_npy_u64(&path(&files.counts_npy), &shape, &image.counts.to_vec())?;
     let on_grid = finished.on_grid(spec);
     let scale = absolute.unwrap_or(1.0);
     let processes = process_images(spec, image, scale);

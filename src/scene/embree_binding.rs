@@ -73,8 +73,8 @@ pub(super) fn attach(
     match geometry {
         ObjectGeometry::Analytic(a) => embree.add_user(id, AnalyticPieces::new(a)).map(|_| 0),
         ObjectGeometry::Mesh(m) => {
-            let v32: Vec<[f32; 3]> = m.positions.iter().map(|p| p.as_vec3().to_array()).collect();
-            embree.add_triangles(id, &v32, m.triangles.clone())?;
+            let v32 = m.positions.iter().map(|p| p.as_vec3().to_array());
+            embree.add_triangles(id, v32, m.triangles.clone())?;
             Ok(m.triangles.len())
         }
     }

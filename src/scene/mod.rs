@@ -157,7 +157,7 @@ pub enum ObjectGeometry {
 /// triangle instead of 100 (docs/speed.md "Memory").
 pub struct MeshObject {
     pub positions: Vec<DVec3>,
-    pub triangles: Arc<[[u32; 3]]>,
+    pub triangles: Arc<Vec<[u32; 3]>>,
     /// Unit vertex normals, one per position, present only when the object
     /// reflects on interpolated normals (f32: 1e-7 rad is far below any figure
     /// error).
@@ -172,7 +172,7 @@ impl MeshObject {
         };
         MeshObject {
             positions: world.positions,
-            triangles: world.triangles.into(),
+            triangles: Arc::new(world.triangles),
             vertex_normals,
         }
     }

@@ -18,6 +18,7 @@ pub mod exact;
 mod files;
 pub mod masses;
 pub mod paths;
+mod pixel_sums;
 mod processes;
 pub mod rebin;
 
@@ -29,6 +30,7 @@ pub use files::{
     MAX_FILE_NAME_BYTES, SUMMARY_FILE,
 };
 pub use paths::PathTally;
+pub use pixel_sums::PixelSums;
 pub use processes::ProcessTally;
 pub use rebin::{rebin, PixelGrid, Rebinned};
 
@@ -186,9 +188,9 @@ pub fn sum_bands(stack: &[f64], plane: usize) -> Vec<f64> {
 pub struct SensorImage {
     /// Sum of photon weights per pixel, exact (see [`exact`]); [`SensorImage::flux`]
     /// gives it as floating-point numbers.
-    pub flux_sum: Vec<WeightSum>,
+    pub flux_sum: PixelSums<WeightSum>,
     /// Number of photons per pixel.
-    pub counts: Vec<u64>,
+    pub counts: PixelSums<u64>,
     /// The flux by photon path.
     pub paths: PathTally,
     /// Where the photons converted, for a sensor with a gas.
@@ -208,8 +210,8 @@ impl SensorImage {
     pub fn new(spec: &SensorSpec) -> SensorImage {
         let n = spec.pixel_count() * spec.bands();
         SensorImage {
-            flux_sum: vec![WeightSum::ZERO; n],
-            counts: vec![0; n],
+            flux_sum: PixelSums::new(n),
+            counts: PixelSums::new(n),
             paths: PathTally::new(spec.history_images, spec.pixel_count()),
             conversion: spec.gas.as_ref().map(|g| ConversionTally::new(&g.desc)),
             processes: ProcessTally::new(spec.processes.len(), spec.pixel_count()),
@@ -225,7 +227,7 @@ impl SensorImage {
 
     /// Sum of photon weights per pixel ([band][iy][ix]).
     pub fn flux(&self) -> Vec<f64> {
-        exact::values(&self.flux_sum)
+        self.flux_sum.iter().map(WeightSum::value).collect()
     }
 
     /// The image summed over energy bands.
@@ -248,8 +250,8 @@ impl SensorImage {
             tally.record(weight, energy_kev, c);
         }
         let fixed = WeightSum::of(weight);
-        self.flux_sum[pixel as usize].add(fixed);
-        self.counts[pixel as usize] += 1;
+        self.flux_sum.get_mut(pixel as usize).add(fixed);
+        *self.counts.get_mut(pixel as usize) += 1;
         let in_plane = pixel as usize % self.plane.max(1);
         self.processes.record(in_plane, (weight, fixed), shares);
         self.masses
@@ -259,10 +261,8 @@ impl SensorImage {
 
     /// Adds the image of another part of the same run (exact, in any order).
     pub fn add(&mut self, other: &SensorImage) {
-        exact::add_all(&mut self.flux_sum, &other.flux_sum);
-        for (a, b) in self.counts.iter_mut().zip(&other.counts) {
-            *a += b;
-        }
+        self.flux_sum.add_with(&other.flux_sum, |a, b| a.add(b));
+        self.counts.add_with(&other.counts, |a, b| *a += b);
         self.paths.add(&other.paths);
         self.processes.add(&other.processes);
         self.masses.add(&other.masses);
@@ -274,13 +274,13 @@ impl SensorImage {
     /// Total flux, summed exactly.
     pub fn total_flux(&self) -> f64 {
         let mut total = WeightSum::ZERO;
-        for s in &self.flux_sum {
-            total.add(*s);
+        for (_, s) in self.flux_sum.allocated() {
+            total.add(s);
         }
         total.value()
     }
 
     pub fn total_counts(&self) -> u64 {
-        self.counts.iter().sum()
+        self.counts.allocated().map(|(_, c)| c).sum()
     }
 }

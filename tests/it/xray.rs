@@ -295,7 +295,7 @@ fn sensors_bin_in_energy() {
     assert_eq!(img.flux().len(), 8 * px);
     let gold = CoatingLibrary::shipped().coating("bare_gold").unwrap();
     for b in 0..8 {
-        let counts: u64 = img.counts[b * px..(b + 1) * px].iter().sum();
+        let counts: u64 = img.counts.to_vec()[b * px..(b + 1) * px].iter().sum();
         let flux: f64 = img.flux()[b * px..(b + 1) * px].iter().sum();
         let expected = n as f64 / 8.0;
         assert!(
