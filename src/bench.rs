@@ -39,6 +39,21 @@ pub struct BenchReport {
     /// of the trace, before the raw rays are recorded ([`peak_rss_mb`]); where
     /// the system reports it (Linux).
     pub peak_rss_mb: Option<f64>,
+    /// For a scene with nested shells, the same rays answered by the
+    /// nested-shell search beside Embree for the rest.
+    pub nested_shells: Option<NestedShellRates>,
+}
+
+/// The rays of a run answered two ways on the same threads: Embree on the whole
+/// scene, and [`NestedShells`] for the shells plus Embree on everything else
+/// (spider, sensor, CAD parts).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct NestedShellRates {
+    pub shells: usize,
+    pub embree_rays_per_second: f64,
+    pub nested_rays_per_second: f64,
+    /// Rays whose nearest object and distance (to 1e-9 relative) agree.
+    pub agreeing_fraction: f64,
 }
 
 /// Starts a new peak-memory measurement: the kernel's high-water mark of the
@@ -124,6 +139,7 @@ pub fn run(
             (best_raw, best_order) = (rate, order);
         }
     }
+    let nested_shells = pool.install(|| nested_shell_rates(scene, &rays));
     let pps = r.stats.photons_emitted as f64 / r.seconds;
     let qpp = r.stats.embree_queries as f64 / r.stats.photons_emitted as f64;
     Ok(BenchReport {
@@ -141,17 +157,48 @@ pub fn run(
         triangles: scene.triangle_count,
         bvh_seconds: scene.bvh_seconds,
         peak_rss_mb,
+        nested_shells,
+    })
+}
+
+/// Times the shell search against Embree over every object on `rays` (`None`
+/// for a scene without nested shells).
+fn nested_shell_rates(scene: &Scene, rays: &[Query]) -> Option<NestedShellRates> {
+    let search = scene.shell_search.as_ref()?;
+    let agreeing = rays
+        .par_iter()
+        .filter(|q| {
+            let full = scene.embree.intersect(q).map(|h| (h.geometry, h.t));
+            match (full, search.intersect(q).map(|h| (h.geometry, h.t))) {
+                (None, None) => true,
+                (Some(a), Some(b)) => a.0 == b.0 && (a.1 - b.1).abs() <= 1e-9 * a.1.abs().max(1.0),
+                _ => false,
+            }
+        })
+        .count();
+    let nested_rate = rate_of(rays, &|c: &[Query]| {
+        c.iter().filter(|q| search.intersect(q).is_some()).count()
+    });
+    let embree_rate = rate_of(rays, &|c: &[Query]| scene.embree.intersect_raw(c));
+    Some(NestedShellRates {
+        shells: search.shells.ids().count(),
+        embree_rays_per_second: embree_rate,
+        nested_rays_per_second: nested_rate,
+        agreeing_fraction: agreeing as f64 / rays.len().max(1) as f64,
     })
 }
 
 /// Bare `rtcIntersect1` rays per second on `rays` in the current thread pool
 /// (after one warm-up pass; at least three passes and one second).
 fn replay_rate(scene: &Scene, rays: &[Query]) -> f64 {
-    let pass = || -> usize {
-        rays.par_chunks(4096)
-            .map(|c| scene.embree.intersect_raw(c))
-            .sum()
-    };
+    rate_of(rays, &|c: &[Query]| scene.embree.intersect_raw(c))
+}
+
+/// Rays per second that `answer` (hits in a slice of rays) gets through `rays`
+/// in the current thread pool (after one warm-up pass; at least three passes
+/// and one second).
+fn rate_of(rays: &[Query], answer: &(dyn Fn(&[Query]) -> usize + Sync)) -> f64 {
+    let pass = || -> usize { rays.par_chunks(4096).map(answer).sum() };
     pass();
     let t = Instant::now();
     let mut rounds = 0;

@@ -84,7 +84,7 @@ pub fn intersect(
 #[inline]
 pub fn intersect_query<H: QueryHook>(scene: &Scene, q: &Query, hook: &mut H) -> Option<SurfaceHit> {
     hook.query(q);
-    let hit = scene.embree.intersect(q)?;
+    let hit = scene.nearest_hit(q)?;
     let object = hit.geometry as usize;
     let origin = DVec3::from(q.origin);
     let dir = DVec3::from(q.dir);

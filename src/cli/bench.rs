@@ -141,4 +141,14 @@ fn print_report(path: &std::path::Path, r: &traxer::bench::BenchReport) {
         r.best_order.describe(),
         r.photons_per_second * r.queries_per_photon / r.best_raw_rays_per_second
     );
+    if let Some(n) = &r.nested_shells {
+        say!(
+            "  nested-shell search {:>10.0} rays/s against Embree's {:.0} on the same rays ({:.2} ×; {} shells, {:.4} of the answers agree)",
+            n.nested_rays_per_second,
+            n.embree_rays_per_second,
+            n.nested_rays_per_second / n.embree_rays_per_second,
+            n.shells,
+            n.agreeing_fraction
+        );
+    }
 }

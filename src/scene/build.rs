@@ -96,6 +96,12 @@ pub(super) fn build(
             .of_machine()
     })?;
     let bvh_seconds = bvh_start.elapsed().as_secs_f64();
+    let shell_search = embree_binding::ShellSearch::of(device, &objects).map_err(|e| {
+        at.whole(format!(
+            "Embree could not build the scene without its shells: {e}"
+        ))
+        .of_machine()
+    })?;
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
     let warnings = [expanded.warnings, builder.warnings].concat();
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
@@ -116,6 +122,7 @@ pub(super) fn build(
         max_interactions,
         reflectivity,
         embree,
+        shell_search,
         cameras,
         sky,
         warnings,

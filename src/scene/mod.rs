@@ -33,7 +33,7 @@ pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
 pub use assemblies::{AssemblyDesc, NestedTelescopeDesc};
 pub use build::{analytic_shapes, inline_shape, NamedShape, TABLE_THETA_MAX};
 pub use camera::{Camera, CameraDesc};
-pub use embree_binding::AnalyticPieces;
+pub use embree_binding::{AnalyticPieces, ShellSearch};
 pub use error::SceneError;
 pub use inputs::{input_difference, InputHashes};
 pub use materials::{AbsorberDesc, FoilDesc, MaterialDesc, MirrorDesc, SideDesc};
@@ -83,7 +83,11 @@ pub struct Scene {
     /// Reflectivity tables of the coated mirrors' coatings (indexed by
     /// `Material::Mirror::reflectivity`), over the sources' energy range.
     pub reflectivity: Vec<ReflectivityTable>,
+    /// Every object, in one Embree scene.
     pub embree: CommittedScene<embree_binding::AnalyticPieces>,
+    /// With nested shells, how the photon loop finds hits instead
+    /// ([`Scene::nearest_hit`]); `None` sends every query to `embree`.
+    pub shell_search: Option<ShellSearch>,
     /// Named cameras for visible-light renders.
     pub cameras: BTreeMap<String, Camera>,
     /// The sky of visible-light renders.
@@ -213,6 +217,16 @@ pub enum Representation {
 }
 
 impl Scene {
+    /// The nearest hit of `q`: by the shell search where the scene has one,
+    /// else by Embree over every object (the same answers; docs/speed.md).
+    #[inline]
+    pub fn nearest_hit(&self, q: &crate::embree::Query) -> Option<crate::embree::Hit> {
+        match &self.shell_search {
+            Some(s) => s.intersect(q),
+            None => self.embree.intersect(q),
+        }
+    }
+
     /// Whether any object reflects (a mirror material).
     pub fn has_mirrors(&self) -> bool {
         self.objects
