@@ -90,18 +90,7 @@ pub(super) fn build(
     let reflectivity = reflectivity_tables(at, &materials.coatings, &sources)?;
     check_foils(at, &materials.foils, &sources)?;
     check_gas(at, &materials.sensors, &sources)?;
-    let bvh_start = std::time::Instant::now();
-    let embree = embree.commit().map_err(|e| {
-        at.whole(format!("Embree could not build the scene: {e}"))
-            .of_machine()
-    })?;
-    let bvh_seconds = bvh_start.elapsed().as_secs_f64();
-    let shell_search = embree_binding::ShellSearch::of(device, &objects).map_err(|e| {
-        at.whole(format!(
-            "Embree could not build the scene without its shells: {e}"
-        ))
-        .of_machine()
-    })?;
+    let (embree, shell_search, bvh_seconds) = commit(at, device, embree, &objects)?;
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
     let warnings = [expanded.warnings, builder.warnings].concat();
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
@@ -130,6 +119,37 @@ pub(super) fn build(
         triangle_count,
     })
 }
+
+/// Builds Embree's BVH over every object (timed, for `traxer bench`) and the
+/// shell search that the photon loop asks instead where the scene has nested
+/// shells.
+fn commit(
+    at: SceneText,
+    device: &Device,
+    embree: crate::embree::SceneBuilder<embree_binding::AnalyticPieces>,
+    objects: &[super::Object],
+) -> Result<Built, SceneError> {
+    let bvh_start = std::time::Instant::now();
+    let embree = embree.commit().map_err(|e| {
+        at.whole(format!("Embree could not build the scene: {e}"))
+            .of_machine()
+    })?;
+    let bvh_seconds = bvh_start.elapsed().as_secs_f64();
+    let shell_search = embree_binding::ShellSearch::of(device, objects).map_err(|e| {
+        at.whole(format!(
+            "Embree could not build the scene without its shells: {e}"
+        ))
+        .of_machine()
+    })?;
+    Ok((embree, shell_search, bvh_seconds))
+}
+
+/// Embree's scene of every object, the shell search, and the BVH's build time.
+type Built = (
+    crate::embree::CommittedScene<embree_binding::AnalyticPieces>,
+    Option<embree_binding::ShellSearch>,
+    f64,
+);
 
 /// The sources, with the files they read noted; a Sun must be alone.
 /// `max_interactions`, at least 1.
