@@ -174,7 +174,7 @@ impl Systematics {
     /// systematics.json, systematics.fits, the map_*.npy and the PNGs, all at once.
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
         py.detach(|| -> anyhow::Result<()> {
-            let out = traxer::run::results_folder(&folder, &SYSTEMATICS_FILES)?;
+            let out = traxer::run::results_folder(&folder, &SYSTEMATICS_FILES.all())?;
             write_systematics(out.path(), &self.study, &self.scene_name, &self.provenance)?;
             out.commit()?;
             Ok(())

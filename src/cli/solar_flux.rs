@@ -101,7 +101,7 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     traxer::source::sun::check_distance_au("--distance-au", a.distance_au).map_err(InputError)?;
     let (g_agamma, g_ae) = couplings(&a)?;
     let out = a.output.folder("solar");
-    let mut files = SOLAR_FLUX_FILES.to_vec();
+    let mut files = SOLAR_FLUX_FILES.all().to_vec();
     if a.model.is_some() && g_ae.is_some() {
         files.push(SHARES_FILE);
     }

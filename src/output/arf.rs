@@ -56,8 +56,7 @@ pub fn energy_bins(energies: &[f64]) -> Option<(Vec<f64>, Vec<f64>)> {
     Some((lo, hi))
 }
 
-/// Writes the ARFs (TELESCOP: the scene traced), SIXTE's vignetting file and
-/// `vignetting.fits`.
+/// Writes the ARFs (TELESCOP: the scene traced) and SIXTE's vignetting file.
 pub fn write_responses(dir: &Path, r: &AreaResult, provenance: &Provenance) -> std::io::Result<()> {
     let telescope = provenance
         .scene_path
@@ -65,8 +64,7 @@ pub fn write_responses(dir: &Path, r: &AreaResult, provenance: &Provenance) -> s
         .and_then(|p| Path::new(p).file_stem())
         .map_or("traxer".to_string(), |s| s.to_string_lossy().into_owned());
     write_arfs(dir, r, &telescope, provenance)?;
-    write_sixte_vignetting(dir, r, provenance)?;
-    write_vignetting(dir, r, provenance)
+    write_sixte_vignetting(dir, r, provenance).map(|_| ())
 }
 
 /// Writes one ARF per angle of `r` into `dir` (nothing for fewer than two
@@ -278,16 +276,15 @@ fn sixte_vignetting_file(
     write_keys(&mut f, &hdu, keys)
 }
 
-/// Writes `vignetting.fits` into `dir`: the BINTABLE `VIGNETTING` with the
+/// Writes the vignetting table to `path` (a sweep's `vignetting.fits`): the BINTABLE `VIGNETTING` with the
 /// columns OFFAXIS (arcmin), ENERGY (keV), AREA and AREA_ERR (cm²) and VIGNET,
 /// the area over the area at the reference angle `VIGREF` (the on-axis one, or
 /// the sweep's angle nearest the axis) at the same energy.
 pub fn write_vignetting(
-    dir: &Path,
+    path: &Path,
     r: &AreaResult,
     provenance: &Provenance,
 ) -> std::io::Result<()> {
-    let path = dir.join("vignetting.fits");
     let tmp = tempfile::Builder::new().prefix("traxer-vig-").tempdir()?;
     let tmp_file = tmp.path().join("vignetting.fits");
     vignetting_file(&tmp_file, r, provenance).map_err(|e| {
@@ -296,7 +293,7 @@ pub fn write_vignetting(
             path.display()
         ))
     })?;
-    atomic_write(&path, &std::fs::read(&tmp_file)?)
+    atomic_write(path, &std::fs::read(&tmp_file)?)
 }
 
 fn vignetting_file(

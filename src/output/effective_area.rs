@@ -12,22 +12,56 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 
 /// The files of a sweep.
-pub const EFFECTIVE_AREA_FILES: [&str; 7] = [
-    "effective_area.csv",
-    "off_axis.csv",
-    "effective_area.json",
-    "effective_area.png",
-    "vignetting.png",
-    "off_axis.png",
-    "vignetting.fits",
-];
+pub const EFFECTIVE_AREA_FILES: EffectiveAreaFiles = EffectiveAreaFiles {
+    area_csv: "effective_area.csv",
+    off_axis_csv: "off_axis.csv",
+    summary_json: "effective_area.json",
+    area_png: "effective_area.png",
+    vignetting_png: "vignetting.png",
+    off_axis_png: "off_axis.png",
+    vignetting_fits: "vignetting.fits",
+};
+
+/// A sweep's files, by what they hold.
+#[derive(Clone, Copy, Debug)]
+pub struct EffectiveAreaFiles {
+    /// Area by energy and angle, with the path classes' shares.
+    pub area_csv: &'static str,
+    /// Image quality off axis.
+    pub off_axis_csv: &'static str,
+    pub summary_json: &'static str,
+    pub area_png: &'static str,
+    pub vignetting_png: &'static str,
+    pub off_axis_png: &'static str,
+    /// The vignetting as an OGIP table.
+    pub vignetting_fits: &'static str,
+}
+
+impl EffectiveAreaFiles {
+    /// Every name, in the order above.
+    pub fn all(&self) -> [&'static str; 7] {
+        [
+            self.area_csv,
+            self.off_axis_csv,
+            self.summary_json,
+            self.area_png,
+            self.vignetting_png,
+            self.off_axis_png,
+            self.vignetting_fits,
+        ]
+    }
+}
 
 /// Every file of a sweep over these angles and energies: the seven above and,
 /// with at least two energies, one OGIP ARF per angle ([`super::arf_name`])
 /// and, if the angles start on the axis and none is negative, SIXTE's
 /// vignetting file ([`super::SIXTE_VIGNETTING`]).
 pub fn effective_area_files(angles_arcmin: &[f64], energies: &[f64]) -> Vec<String> {
-    let mut names: Vec<String> = EFFECTIVE_AREA_FILES.iter().map(|s| s.to_string()).collect();
+    let mut names: Vec<String> = EFFECTIVE_AREA_FILES
+        .all()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
     if super::energy_bins(energies).is_some() {
         names.extend(angles_arcmin.iter().map(|&a| super::arf_name(a)));
         if super::sixte_vignetting_refused(angles_arcmin).is_none() {
@@ -46,7 +80,7 @@ pub fn write_effective_area(
     provenance: &Provenance,
 ) -> std::io::Result<Vec<PathBuf>> {
     crate::files::create_dir_all(dir)?;
-    let paths: Vec<PathBuf> = EFFECTIVE_AREA_FILES.iter().map(|f| dir.join(f)).collect();
+    let files = EFFECTIVE_AREA_FILES;
     let mut header = vec![
         "off_axis_arcmin".to_string(),
         "energy_keV".into(),
@@ -60,7 +94,7 @@ pub fn write_effective_area(
     );
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
     write_csv(
-        &paths[0],
+        &dir.join(files.area_csv),
         &header,
         r.angles.iter().flat_map(|a| {
             a.points.iter().map(move |p| {
@@ -83,7 +117,7 @@ pub fn write_effective_area(
             .map_or(String::new(), |v| v.to_string())
     };
     write_csv(
-        &paths[1],
+        &dir.join(files.off_axis_csv),
         &[
             "off_axis_arcmin",
             "centroid_x_mm",
@@ -114,7 +148,7 @@ pub fn write_effective_area(
         }),
     )?;
     write_json(
-        &paths[2],
+        &dir.join(files.summary_json),
         &json!({
             "provenance": provenance,
             "sensor": r.sensor,
@@ -129,9 +163,10 @@ pub fn write_effective_area(
             "angles": r.angles,
         }),
     )?;
-    write_plots(&paths[3..6], r)?;
+    write_plots(dir, r)?;
+    super::arf::write_vignetting(&dir.join(files.vignetting_fits), r, provenance)?;
     super::arf::write_responses(dir, r, provenance)?;
-    Ok(paths)
+    Ok(files.all().iter().map(|name| dir.join(name)).collect())
 }
 
 /// The effective-area curves (one per angle, ±1σ bands) and the on-axis
@@ -191,10 +226,11 @@ fn area_curves(r: &AreaResult) -> (Vec<Series>, String) {
     (by_energy, title)
 }
 
-fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
+fn write_plots(dir: &Path, r: &AreaResult) -> std::io::Result<()> {
+    let files = EFFECTIVE_AREA_FILES;
     let (by_energy, title) = area_curves(r);
     line_plot(
-        &paths[0],
+        &dir.join(files.area_png),
         &title,
         "energy [keV]",
         "effective area [cm²]",
@@ -203,7 +239,7 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
     )?;
     let (by_angle, title) = vignetting_curves(r);
     line_plot(
-        &paths[1],
+        &dir.join(files.vignetting_png),
         &title,
         "off-axis angle [arcmin]",
         &format!(
@@ -247,7 +283,7 @@ fn write_plots(paths: &[PathBuf], r: &AreaResult) -> std::io::Result<()> {
     };
     let title = format!("{}: off-axis image quality on {}", r.optic, r.sensor);
     line_plot(
-        &paths[2],
+        &dir.join(files.off_axis_png),
         &title,
         "off-axis angle [arcmin]",
         unit,

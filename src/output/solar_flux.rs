@@ -9,16 +9,47 @@ use crate::source::sun::{EmissionSampler, EmissionTable};
 use serde_json::json;
 use std::path::Path;
 
+/// The files `traxer solar-flux` writes, by what they hold.
+#[derive(Clone, Copy, Debug)]
+pub struct SolarFluxFiles {
+    /// The emission table itself.
+    pub emission_csv: &'static str,
+    /// The spectrum at Earth (and each part's), as CSV and plot.
+    pub spectrum_csv: &'static str,
+    pub spectrum_png: &'static str,
+    /// The radial profile in 3D and projected on the disk, and their plot.
+    pub radial_profile_csv: &'static str,
+    pub projected_profile_csv: &'static str,
+    pub profiles_png: &'static str,
+    /// The summary.
+    pub summary_json: &'static str,
+}
+
 /// Every file `traxer solar-flux` writes.
-pub const SOLAR_FLUX_FILES: [&str; 7] = [
-    "emission.csv",
-    "spectrum.csv",
-    "spectrum.png",
-    "radial_profile.csv",
-    "projected_profile.csv",
-    "profiles.png",
-    "solar_flux.json",
-];
+pub const SOLAR_FLUX_FILES: SolarFluxFiles = SolarFluxFiles {
+    emission_csv: "emission.csv",
+    spectrum_csv: "spectrum.csv",
+    spectrum_png: "spectrum.png",
+    radial_profile_csv: "radial_profile.csv",
+    projected_profile_csv: "projected_profile.csv",
+    profiles_png: "profiles.png",
+    summary_json: "solar_flux.json",
+};
+
+impl SolarFluxFiles {
+    /// Every name, in the order above.
+    pub fn all(&self) -> [&'static str; 7] {
+        [
+            self.emission_csv,
+            self.spectrum_csv,
+            self.spectrum_png,
+            self.radial_profile_csv,
+            self.projected_profile_csv,
+            self.profiles_png,
+            self.summary_json,
+        ]
+    }
+}
 
 /// The CAST 2007 parameterisation of the Primakoff flux at 1 AU for g_aγ =
 /// 1e-10 GeV⁻¹ (Andriamonje et al., JCAP 04 (2007) 010), cm⁻² s⁻¹ keV⁻¹.
@@ -52,7 +83,10 @@ pub fn write_solar_flux(
 ) -> std::io::Result<()> {
     let d_cm = info.distance_au * AU_CM;
     let arcmin_per_rsun = (R_SUN_CM / d_cm).atan().to_degrees() * 60.0;
-    crate::files::atomic_write(&dir.join(SOLAR_FLUX_FILES[0]), info.table_csv.as_bytes())?;
+    crate::files::atomic_write(
+        &dir.join(SOLAR_FLUX_FILES.emission_csv),
+        info.table_csv.as_bytes(),
+    )?;
     write_spectrum(dir, table, parts, info)?;
     let at_1au = 1.0 / (info.distance_au * info.distance_au);
     let (e_lo, e_hi) = (
@@ -108,9 +142,9 @@ pub fn write_solar_flux(
         "radius_enclosing_rsun": enclosing_radii(&|r| main.enclosed_3d(r)),
         "projected_radius_enclosing_rsun": enclosing_radii(&|r| main.enclosed_projected(r)),
         "arcmin_per_rsun": arcmin_per_rsun,
-        "files": SOLAR_FLUX_FILES,
+        "files": SOLAR_FLUX_FILES.all(),
     });
-    write_json(&dir.join(SOLAR_FLUX_FILES[6]), &doc)
+    write_json(&dir.join(SOLAR_FLUX_FILES.summary_json), &doc)
 }
 
 /// A sampler per profiled emission (the total first), by name.
@@ -130,7 +164,7 @@ fn write_profiles(
         header.push(format!("enclosed_fraction_{name}"));
     }
     write_csv(
-        &dir.join(SOLAR_FLUX_FILES[3]),
+        &dir.join(SOLAR_FLUX_FILES.radial_profile_csv),
         &header.iter().map(String::as_str).collect::<Vec<_>>(),
         (0..table.radii.len()).map(|i| {
             let mut row = vec![re[i].to_string(), re[i + 1].to_string()];
@@ -149,7 +183,7 @@ fn write_profiles(
         header.push(format!("surface_brightness_per_rsun2_{name}"));
     }
     write_csv(
-        &dir.join(SOLAR_FLUX_FILES[4]),
+        &dir.join(SOLAR_FLUX_FILES.projected_profile_csv),
         &header.iter().map(String::as_str).collect::<Vec<_>>(),
         rhos.windows(2).map(|w| {
             let (a, b) = (w[0], w[1]);
@@ -196,7 +230,7 @@ fn write_profiles(
         ));
     }
     line_plot(
-        &dir.join(SOLAR_FLUX_FILES[5]),
+        &dir.join(SOLAR_FLUX_FILES.profiles_png),
         "Where the axions come from",
         "radius [R_sun]",
         "enclosed fraction of the emission",
@@ -245,7 +279,7 @@ fn write_spectrum(
     }
     header.push("cast2007_at_this_distance_per_cm2_s_keV".into());
     write_csv(
-        &dir.join(SOLAR_FLUX_FILES[1]),
+        &dir.join(SOLAR_FLUX_FILES.spectrum_csv),
         &header.iter().map(String::as_str).collect::<Vec<_>>(),
         table.energies.iter().enumerate().map(|(j, e)| {
             let mut row = vec![e.to_string(), format!("{:.6e}", spectrum[j])];
@@ -302,7 +336,7 @@ fn write_spectrum(
         ));
     }
     line_plot(
-        &dir.join(SOLAR_FLUX_FILES[2]),
+        &dir.join(SOLAR_FLUX_FILES.spectrum_png),
         &format!("Axion flux at {} AU", info.distance_au),
         "energy [keV]",
         "dΦ/dE [cm⁻² s⁻¹ keV⁻¹]",

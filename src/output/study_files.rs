@@ -63,6 +63,7 @@ impl StudyFiles for PsfGrid {
 impl StudyFiles for SystematicsStudy<'_> {
     fn files(&self) -> Vec<String> {
         super::SYSTEMATICS_FILES
+            .all()
             .iter()
             .map(|f| f.to_string())
             .collect()

@@ -14,21 +14,65 @@ use crate::studies::systematics::{summary::metrics, Systematics, METRICS};
 use serde_json::json;
 use std::path::Path;
 
+/// The files a systematics study writes, by what they hold.
+#[derive(Clone, Copy, Debug)]
+pub struct SystematicsFiles {
+    /// Every variation's metrics.
+    pub table_csv: &'static str,
+    /// Each source's effect and the study's description.
+    pub description_json: &'static str,
+    /// The mean, nominal, σ and per-source σ maps as FITS images.
+    pub maps_fits: &'static str,
+    pub nominal_npy: &'static str,
+    pub mean_npy: &'static str,
+    pub sigma_npy: &'static str,
+    /// One σ map per source, stacked.
+    pub sigma_by_source_npy: &'static str,
+    /// Every variation's image, stacked.
+    pub variations_npy: &'static str,
+    pub mean_png: &'static str,
+    pub sigma_png: &'static str,
+    /// σ over the nominal image, pixel by pixel.
+    pub sigma_relative_npy: &'static str,
+    /// The Monte Carlo noise of a variation's image (NaN where not measured).
+    pub sigma_noise_npy: &'static str,
+}
+
 /// The files a systematics study writes.
-pub const SYSTEMATICS_FILES: [&str; 12] = [
-    "systematics.csv",
-    "systematics.json",
-    "systematics.fits",
-    "map_nominal.npy",
-    "map_mean.npy",
-    "map_sigma.npy",
-    "map_sigma_by_source.npy",
-    "map_variations.npy",
-    "map_mean.png",
-    "map_sigma.png",
-    "map_sigma_relative.npy",
-    "map_sigma_noise.npy",
-];
+pub const SYSTEMATICS_FILES: SystematicsFiles = SystematicsFiles {
+    table_csv: "systematics.csv",
+    description_json: "systematics.json",
+    maps_fits: "systematics.fits",
+    nominal_npy: "map_nominal.npy",
+    mean_npy: "map_mean.npy",
+    sigma_npy: "map_sigma.npy",
+    sigma_by_source_npy: "map_sigma_by_source.npy",
+    variations_npy: "map_variations.npy",
+    mean_png: "map_mean.png",
+    sigma_png: "map_sigma.png",
+    sigma_relative_npy: "map_sigma_relative.npy",
+    sigma_noise_npy: "map_sigma_noise.npy",
+};
+
+impl SystematicsFiles {
+    /// Every name, in the order above.
+    pub fn all(&self) -> [&'static str; 12] {
+        [
+            self.table_csv,
+            self.description_json,
+            self.maps_fits,
+            self.nominal_npy,
+            self.mean_npy,
+            self.sigma_npy,
+            self.sigma_by_source_npy,
+            self.variations_npy,
+            self.mean_png,
+            self.sigma_png,
+            self.sigma_relative_npy,
+            self.sigma_noise_npy,
+        ]
+    }
+}
 
 /// Writes the study's files into `dir`; `scene_name` titles the pictures.
 pub fn write_systematics(
@@ -38,8 +82,8 @@ pub fn write_systematics(
     provenance: &Provenance,
 ) -> std::io::Result<()> {
     let f = SYSTEMATICS_FILES;
-    write_table(&dir.join(f[0]), s)?;
-    write_json(&dir.join(f[1]), &description(s, provenance))?;
+    write_table(&dir.join(f.table_csv), s)?;
+    write_json(&dir.join(f.description_json), &description(s, provenance))?;
     let [nx, ny] = s.frame.pixels;
     let unit = flux_unit(s.facts.counted);
     let mut maps = vec![
@@ -72,21 +116,25 @@ pub fn write_systematics(
         "position on the sensor"
     };
     write_maps_fits(
-        &dir.join(f[2]),
+        &dir.join(f.maps_fits),
         [ny, nx],
         (s.frame.first_mm, s.frame.step_mm, frame),
         &unit,
         &maps,
-        (provenance, f[1]),
+        (provenance, f.description_json),
     )?;
     let dims = [ny as u64, nx as u64];
-    write_npy_f64(&dir.join(f[3]), &dims, &s.nominal_map)?;
-    write_npy_f64(&dir.join(f[4]), &dims, &s.mean_map)?;
-    write_npy_f64(&dir.join(f[5]), &dims, &s.sigma_map)?;
-    write_npy_f64(&dir.join(f[10]), &dims, &s.relative_sigma_map)?;
+    write_npy_f64(&dir.join(f.nominal_npy), &dims, &s.nominal_map)?;
+    write_npy_f64(&dir.join(f.mean_npy), &dims, &s.mean_map)?;
+    write_npy_f64(&dir.join(f.sigma_npy), &dims, &s.sigma_map)?;
+    write_npy_f64(
+        &dir.join(f.sigma_relative_npy),
+        &dims,
+        &s.relative_sigma_map,
+    )?;
     let unknown = vec![f64::NAN; s.sigma_map.len()];
     write_npy_f64(
-        &dir.join(f[11]),
+        &dir.join(f.sigma_noise_npy),
         &dims,
         s.noise_map.as_ref().unwrap_or(&unknown),
     )?;
@@ -95,16 +143,16 @@ pub fn write_systematics(
         (shape, v.into_iter().flatten().copied().collect())
     };
     let (shape, data) = stack(s.sigma_maps.iter().collect());
-    write_npy_f64(&dir.join(f[6]), &shape, &data)?;
+    write_npy_f64(&dir.join(f.sigma_by_source_npy), &shape, &data)?;
     let (shape, data) = stack(s.outcomes.iter().map(|o| &o.map).collect());
-    write_npy_f64(&dir.join(f[7]), &shape, &data)?;
+    write_npy_f64(&dir.join(f.variations_npy), &shape, &data)?;
     // Both framed as the sensor figures are, on the nominal image's flux: a
     // 15 mm image is not lost on a 60 mm detector.
     let g = map_geometry(s);
     let quality = crate::analysis::analyse(&s.nominal_map, &g, None);
     for (file, values, what) in [
-        (f[8], &s.mean_map, "mean image"),
-        (f[9], &s.sigma_map, "systematic σ (all sources)"),
+        (f.mean_png, &s.mean_map, "mean image"),
+        (f.sigma_png, &s.sigma_map, "systematic σ (all sources)"),
     ] {
         let mut fig = figure(s, values, (scene_name, what));
         if let Some((q, _)) = &quality {
@@ -116,7 +164,7 @@ pub fn write_systematics(
             ) {
                 fig.orientation.push_str(&format!(
                     "; framed: ±2 × the nominal image's 90 % radius ({}: all of it)",
-                    f[4]
+                    f.mean_npy
                 ));
             }
         }

@@ -286,7 +286,7 @@ fn effective_area_command_writes_its_files_the_same_on_any_thread_count() {
     assert!(one.starts_with(
         "off_axis_arcmin,energy_keV,area_cm2,error_cm2,area_direct_cm2,area_front_rear_cm2"
     ));
-    for f in traxer::output::EFFECTIVE_AREA_FILES {
+    for f in traxer::output::EFFECTIVE_AREA_FILES.all() {
         assert!(dir.path().join("a").join(f).is_file(), "{f}");
     }
 }

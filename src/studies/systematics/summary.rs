@@ -28,12 +28,30 @@ pub const METRICS: [&str; 7] = [
     "centroid_y_mm",
 ];
 
+/// Where each quantity sits in [`METRICS`] and in what [`metrics`] returns.
+pub mod metric {
+    pub const FLUX: usize = 0;
+    pub const CENTRAL_FLUX: usize = 1;
+    pub const HPD: usize = 2;
+    pub const D80: usize = 3;
+    pub const D90: usize = 4;
+    pub const CENTROID_X: usize = 5;
+    pub const CENTROID_Y: usize = 6;
+}
+
 /// An outcome's quantities in the order of [`METRICS`] (NaN where it has
 /// none: no flux, or no focal length for the diameters).
 pub fn metrics(o: &Outcome) -> [f64; 7] {
-    let d = o.diameters.map_or([f64::NAN; 3], |d| [d.hpd, d.d80, d.d90]);
-    let c = o.centroid_mm.unwrap_or([f64::NAN; 2]);
-    [o.flux, o.central_flux, d[0], d[1], d[2], c[0], c[1]]
+    let mut m = [f64::NAN; 7];
+    m[metric::FLUX] = o.flux;
+    m[metric::CENTRAL_FLUX] = o.central_flux;
+    if let Some(d) = o.diameters {
+        (m[metric::HPD], m[metric::D80], m[metric::D90]) = (d.hpd, d.d80, d.d90);
+    }
+    if let Some([x, y]) = o.centroid_mm {
+        (m[metric::CENTROID_X], m[metric::CENTROID_Y]) = (x, y);
+    }
+    m
 }
 
 /// One quantity's change under a source.
