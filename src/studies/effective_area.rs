@@ -32,7 +32,7 @@ use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::scene::{Scene, TABLE_THETA_MAX};
 use crate::source::{ParallelBeam, Photon};
-use crate::trace::{chunk_range, trace_photon, Attenuation, Statistics, CHUNK};
+use crate::trace::{map_chunks, trace_photon, Attenuation, Statistics};
 use crate::xray::{AngleCell, EnergyCell, ReflectivityTable};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -222,47 +222,42 @@ fn trace_angle(
     energy: Option<f64>,
     progress: &dyn Progress,
 ) -> Hits {
-    let chunks: Vec<Hits> = (0..s.sampling.photons.div_ceil(CHUNK))
-        .into_par_iter()
-        .map(|c| {
-            let photons = chunk_range(0, c, s.sampling.photons);
-            let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
-            let mut out = Hits {
-                hits: Vec::new(),
-                steps: Vec::new(),
-            };
-            let mut rec = Recorder(Vec::new());
-            for i in photons.clone() {
-                let mut rng = PhotonRng::new(s.sampling.seed, i);
-                let mut photon = beam.emit(&mut rng);
-                if let Some(e) = energy {
-                    photon.energy = e;
-                }
-                rec.0.clear();
-                let traced = trace_photon(scene, photon, &mut rng, &mut stats, &mut (), &mut rec);
-                if let Some((r, local, _)) = traced.filter(|t| t.0.sensor as usize == sensor) {
-                    let conversion = match &r.conversion {
-                        Some(c) if c.entered > 0.0 => r.weight / c.entered,
-                        Some(_) => 0.0,
-                        None => 1.0,
-                    };
-                    let start = out.steps.len() as u32;
-                    out.steps.extend_from_slice(&rec.0);
-                    out.hits.push(Hit {
-                        pixel: r.pixel,
-                        x: local.x,
-                        y: local.y,
-                        class: r.history.class(),
-                        start,
-                        end: out.steps.len() as u32,
-                        conversion,
-                    });
-                }
+    let chunks: Vec<Hits> = map_chunks(0, s.sampling.photons, progress, &|photons| {
+        let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
+        let mut out = Hits {
+            hits: Vec::new(),
+            steps: Vec::new(),
+        };
+        let mut rec = Recorder(Vec::new());
+        for i in photons {
+            let mut rng = PhotonRng::new(s.sampling.seed, i);
+            let mut photon = beam.emit(&mut rng);
+            if let Some(e) = energy {
+                photon.energy = e;
             }
-            progress.advance(photons.end - photons.start);
-            out
-        })
-        .collect();
+            rec.0.clear();
+            let traced = trace_photon(scene, photon, &mut rng, &mut stats, &mut (), &mut rec);
+            if let Some((r, local, _)) = traced.filter(|t| t.0.sensor as usize == sensor) {
+                let conversion = match &r.conversion {
+                    Some(c) if c.entered > 0.0 => r.weight / c.entered,
+                    Some(_) => 0.0,
+                    None => 1.0,
+                };
+                let start = out.steps.len() as u32;
+                out.steps.extend_from_slice(&rec.0);
+                out.hits.push(Hit {
+                    pixel: r.pixel,
+                    x: local.x,
+                    y: local.y,
+                    class: r.history.class(),
+                    start,
+                    end: out.steps.len() as u32,
+                    conversion,
+                });
+            }
+        }
+        out
+    });
     // In chunk order, with step ranges moved to the joined list.
     let mut all = Hits {
         hits: Vec::new(),

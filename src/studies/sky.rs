@@ -27,8 +27,7 @@ use crate::analysis::centre::windowed_centroid;
 use crate::random::PhotonRng;
 use crate::scene::Scene;
 use crate::source::Source;
-use crate::trace::{chunk_range, trace_photon, AtItsEnergy, Statistics, CHUNK};
-use rayon::prelude::*;
+use crate::trace::{map_chunks, trace_photon, AtItsEnergy, Statistics};
 
 /// Photons traced at each of the five pointings.
 pub const CALIBRATION_PHOTONS: u64 = 500_000;
@@ -107,12 +106,11 @@ pub fn calibrate(scene: &Scene, sensor: usize) -> Option<SkyCalibration> {
     let mut centres = [[[0.0; 2]; 5]; 3];
     for (k, offset) in pointings.iter().enumerate() {
         let source = sun.with_offset(*offset);
-        let chunks: Vec<Vec<(f64, f64, f64)>> = (0..CALIBRATION_PHOTONS.div_ceil(CHUNK))
-            .into_par_iter()
-            .map(|c| {
+        let chunks: Vec<Vec<(f64, f64, f64)>> =
+            map_chunks(0, CALIBRATION_PHOTONS, &(), &|photons| {
                 let mut stats = Statistics::new(scene.objects.len(), scene.sensors.len());
                 let mut points = Vec::new();
-                for i in chunk_range(0, c, CALIBRATION_PHOTONS) {
+                for i in photons {
                     let mut rng = PhotonRng::new(SEED, i);
                     let photon = source.emit(&mut rng);
                     let traced = trace_photon(
@@ -128,8 +126,7 @@ pub fn calibrate(scene: &Scene, sensor: usize) -> Option<SkyCalibration> {
                     }
                 }
                 points
-            })
-            .collect();
+            });
         for (set, parity) in [None, Some(0), Some(1)].into_iter().enumerate() {
             let points: Vec<(f64, f64, f64)> = chunks
                 .iter()

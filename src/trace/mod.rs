@@ -280,6 +280,29 @@ pub fn run_part_with(
     Ok((tally, threads))
 }
 
+/// The parallel loop over the chunks of photons [first, first + photons) in the
+/// current thread pool, for studies that keep per photon what a run's tally
+/// does not (the effective area each path's steps, the sky calibration each
+/// photon's position): `chunk` traces a chunk's photon indices and returns what
+/// it keeps, and the results come back in chunk order, whatever the threads.
+pub fn map_chunks<T: Send>(
+    first: u64,
+    photons: u64,
+    progress: &dyn Progress,
+    chunk: &(dyn Fn(std::ops::Range<u64>) -> T + Sync),
+) -> Vec<T> {
+    (0..photons.div_ceil(CHUNK))
+        .into_par_iter()
+        .map(|c| {
+            let range = chunk_range(first, c, photons);
+            let n = range.end - range.start;
+            let kept = chunk(range);
+            progress.advance(n);
+            kept
+        })
+        .collect()
+}
+
 /// What one chunk of photons gave.
 pub struct Chunk {
     pub records: Vec<Record>,

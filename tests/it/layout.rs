@@ -346,28 +346,19 @@ fn the_library_reads_the_environment_only_in_environment_rs() {
 
 #[test]
 fn photon_chunks_are_looped_over_only_in_trace() {
-    // One photon driver (`trace::run_part_with`): runs, systematics variations
-    // and PSF points hand it how to trace a chunk. The two studies that still
-    // loop over chunks themselves are named, so that the list only shrinks:
-    // the effective area keeps every path's steps to re-weigh them at each
-    // energy, the sky calibration each photon's position on the sensor.
-    let not_yet = ["src/studies/effective_area.rs", "src/studies/sky.rs"];
+    // One photon driver: runs, systematics variations and PSF points hand
+    // `trace::run_part_with` how to trace a chunk; the effective area and the
+    // sky calibration, which keep per photon what a tally does not, hand
+    // `trace::map_chunks` what to keep of one.
     let found = files_containing(
         &["src", "python/src"],
-        |rel| rel.starts_with("src/trace/") || not_yet.contains(&rel),
+        |rel| rel.starts_with("src/trace/"),
         &["chunk_range(", "div_ceil(CHUNK)"],
     );
     assert!(
         found.is_empty(),
         "photon chunks looped over outside trace/: {found:?}"
     );
-    for f in not_yet {
-        let code = code(&std::fs::read_to_string(repo().join(f)).unwrap());
-        assert!(
-            code.contains("chunk_range("),
-            "{f} no longer loops over chunks: take it off the list"
-        );
-    }
 }
 
 /// The source files under `dirs` (repository-relative), apart from those
