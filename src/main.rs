@@ -107,7 +107,7 @@ fn main() -> ExitCode {
         Command::FitFigureError(a) => cli::fit_figure_error::run(a),
         Command::Render(a) => cli::render::run(a),
         Command::SolarFlux(a) => cli::solar_flux::run(a),
-        Command::View(a) => cli::view::run(a),
+        Command::View(a) => cli::view(a),
         Command::Synopsis => cli::synopsis::run(&Cli::command()),
     };
     match result {

@@ -54,6 +54,22 @@ pub mod view_controls;
 pub mod view_window;
 
 use args::SceneArgs;
+
+/// `traxer view`: the live window, or why this build has none.
+pub fn view(a: view::ViewArgs) -> anyhow::Result<()> {
+    #[cfg(feature = "window")]
+    {
+        view_window::run(a)
+    }
+    #[cfg(not(feature = "window"))]
+    {
+        let _ = a;
+        Err(InputError(
+            "this traxer was built without the live window (cargo feature `window`); build it with the default features".into(),
+        )
+        .into())
+    }
+}
 use traxer::embree::Device;
 use traxer::scene::Scene;
 

@@ -1,6 +1,7 @@
 //! `traxer view`: the live window (SPEC §7). Its arguments live here; the window
 //! itself is in `view_window` (cargo feature `window`, on by default), so that a
-//! build without it still knows the command and says why it cannot open one.
+//! build without it still knows the command and says why it cannot open one
+//! (`cli::view` chooses).
 
 use super::args::{SamplingArgs, SceneArgs};
 use std::path::PathBuf;
@@ -59,19 +60,4 @@ pub struct ViewArgs {
     pub sampling: SamplingArgs,
     #[command(flatten)]
     pub quiet: super::args::QuietArg,
-}
-
-pub fn run(a: ViewArgs) -> anyhow::Result<()> {
-    #[cfg(feature = "window")]
-    {
-        super::view_window::run(a)
-    }
-    #[cfg(not(feature = "window"))]
-    {
-        let _ = a;
-        Err(super::InputError(
-            "this traxer was built without the live window (cargo feature `window`); build it with the default features".into(),
-        )
-        .into())
-    }
 }

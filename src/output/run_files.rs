@@ -153,7 +153,7 @@ fn write_sensor(
             spec,
             flux,
             unit: flux_unit(scene.counted()),
-            energy_kev: image_energy_range(scene, spec),
+            energy_kev: scene.image_energy_range(spec),
             provenance: run.provenance,
             json_name: &files.json,
             sky: run.sky,
@@ -161,7 +161,15 @@ fn write_sensor(
         };
         written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
-    let figure = |scale| sensor_figure(scene, spec, &finished, run, scale);
+    let figure = |scale| {
+        sensor_figure(
+            scene,
+            spec,
+            &finished,
+            (run.provenance, run.statistics),
+            scale,
+        )
+    };
     write_image_figure(&path(&files.figure_png), &figure(Scale::Linear))?;
     write_image_figure(
         &path(&files.figure_log_png),
@@ -324,7 +332,13 @@ fn write_grid_files(
     let names = GridFiles::of(&spec.name);
     let [npy, csv, png] = names.all().map(|n| dir.join(n));
     write_grid((&npy, &csv), &r, g)?;
-    let mut figure = sensor_figure(scene, spec, finished, run, Scale::Linear);
+    let mut figure = sensor_figure(
+        scene,
+        spec,
+        finished,
+        (run.provenance, run.statistics),
+        Scale::Linear,
+    );
     let half = [
         g.pixels[0] as f64 * g.pitch_mm / 2.0,
         g.pixels[1] as f64 * g.pitch_mm / 2.0,
@@ -402,20 +416,6 @@ pub fn flux_unit(counted: Counted) -> FluxUnit {
             comment: "weighted photons per pixel (see sources[].weight)",
         },
     }
-}
-
-/// The energies an image holds (keV): the sensor's bins, else the sources'.
-pub(super) fn image_energy_range(scene: &Scene, spec: &crate::sensor::SensorSpec) -> (f64, f64) {
-    if let Some((lo, hi, _)) = spec.energy_bins {
-        return (lo, hi);
-    }
-    scene
-        .sources
-        .iter()
-        .map(|s| s.energy_range())
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
-            (a.min(lo), b.max(hi))
-        })
 }
 
 /// The image's x and y projections as CSV (the shorter axis' columns end empty).

@@ -9,8 +9,7 @@
 //! Data flow: `run_files::write_sensor` → [`sensor_figure`] → `image_plot`.
 
 use super::image_plot::{ImageFigure, Overlay, SecondaryAxes};
-use super::run_files::{image_energy_range, RunJson};
-use super::Scale;
+use super::{Provenance, Scale};
 use crate::analysis::FinishedImage;
 use crate::scene::Scene;
 use crate::sensor::SensorSpec;
@@ -30,12 +29,11 @@ pub fn sensor_figure<'a>(
     scene: &Scene,
     spec: &SensorSpec,
     finished: &'a FinishedImage,
-    run: &RunJson,
+    (provenance, statistics): (&Provenance, &crate::trace::Statistics),
     scale: Scale,
 ) -> ImageFigure<'a> {
     let g = &finished.geometry;
-    let photons = run
-        .provenance
+    let photons = provenance
         .photons
         .map_or(String::new(), |n| format!(" · {n} photons traced"));
     let scene_name = scene.name_for_people();
@@ -63,7 +61,7 @@ pub fn sensor_figure<'a>(
             crate::sensor::file_stem(&spec.name)
         ),
         overlay: Overlay::default(),
-        note: stopped_note(scene, spec, run.statistics),
+        note: stopped_note(scene, spec, statistics),
         top: None,
     };
     if scale == Scale::Linear {
@@ -218,7 +216,7 @@ fn unit(scene: &Scene, spec: &SensorSpec, absolute: bool) -> String {
 
 /// The source and its energies in words: what the flux depends on.
 fn source_words(scene: &Scene, spec: &SensorSpec) -> String {
-    let (lo, hi) = image_energy_range(scene, spec);
+    let (lo, hi) = scene.image_energy_range(spec);
     let energies = if lo == hi {
         format!("{lo} keV")
     } else {

@@ -227,6 +227,20 @@ impl Scene {
         }
     }
 
+    /// The energies an image on `spec` holds (keV): the sensor's bins, else the
+    /// sources' range.
+    pub fn image_energy_range(&self, spec: &SensorSpec) -> (f64, f64) {
+        if let Some((lo, hi, _)) = spec.energy_bins {
+            return (lo, hi);
+        }
+        self.sources
+            .iter()
+            .map(|s| s.energy_range())
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), (lo, hi)| {
+                (a.min(lo), b.max(hi))
+            })
+    }
+
     /// Whether any object reflects (a mirror material).
     pub fn has_mirrors(&self) -> bool {
         self.objects

@@ -49,40 +49,47 @@ fn module_graph() -> BTreeMap<String, BTreeSet<String>> {
     for f in &files {
         let Some(from) = top(f) else { continue };
         let text = code(&std::fs::read_to_string(f).unwrap());
-        for (i, _) in text.match_indices("crate::") {
-            let rest = &text[i + "crate::".len()..];
-            let names: Vec<String> = if let Some(group) = rest.strip_prefix('{') {
-                // Top-level names of the group: `a`, `b::c`, `d::{e, f}`.
-                let mut depth = 0;
-                let mut items = vec![String::new()];
-                for c in group.chars() {
-                    match c {
-                        '{' => depth += 1,
-                        '}' if depth == 0 => break,
-                        '}' => depth -= 1,
-                        ',' if depth == 0 => items.push(String::new()),
-                        _ => items.last_mut().unwrap().push(c),
-                    }
-                }
-                items
-                    .iter()
-                    .map(|s| s.trim().split("::").next().unwrap_or("").to_string())
-                    .collect()
-            } else {
-                let name: String = rest
-                    .chars()
-                    .take_while(|c| c.is_alphanumeric() || *c == '_')
-                    .collect();
-                vec![name]
-            };
-            for n in names {
-                if modules.contains(&n) && n != from {
-                    graph.get_mut(&from).unwrap().insert(n);
-                }
+        for n in names_after(&text, "crate::") {
+            if modules.contains(&n) && n != from {
+                graph.get_mut(&from).unwrap().insert(n);
             }
         }
     }
     graph
+}
+
+/// The first path segments named after each `prefix` in `text` (`prefix` then
+/// `a::…`, or a group `{a, b::c, d::{e, f}}`: a, b, d).
+fn names_after(text: &str, prefix: &str) -> Vec<String> {
+    let mut out = Vec::new();
+    for (i, _) in text.match_indices(prefix) {
+        let rest = &text[i + prefix.len()..];
+        if let Some(group) = rest.strip_prefix('{') {
+            let mut depth = 0;
+            let mut items = vec![String::new()];
+            for c in group.chars() {
+                match c {
+                    '{' => depth += 1,
+                    '}' if depth == 0 => break,
+                    '}' => depth -= 1,
+                    ',' if depth == 0 => items.push(String::new()),
+                    _ => items.last_mut().unwrap().push(c),
+                }
+            }
+            out.extend(
+                items
+                    .iter()
+                    .map(|s| s.trim().split("::").next().unwrap_or("").to_string()),
+            );
+        } else {
+            out.push(
+                rest.chars()
+                    .take_while(|c| c.is_alphanumeric() || *c == '_')
+                    .collect(),
+            );
+        }
+    }
+    out
 }
 
 /// A cycle of the graph, if it has one (depth-first search).
@@ -152,6 +159,79 @@ fn library_modules_import_each_other_without_cycles() {
         assert!(graph[leaf].is_empty(), "{leaf} imports {:?}", graph[leaf]);
     }
     assert!(!graph["render"].contains("output"), "render imports output");
+}
+
+/// The files of one folder (a module's children) that import each other in a
+/// circle: the folders whose sibling files (and subfolders) name each other
+/// through `super::` or their full `crate::` path in a cycle, with the cycle.
+fn file_circles() -> BTreeMap<String, Vec<String>> {
+    let src = repo().join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut folders: BTreeMap<PathBuf, Vec<PathBuf>> = BTreeMap::new();
+    for f in files {
+        folders
+            .entry(f.parent().unwrap().to_path_buf())
+            .or_default()
+            .push(f);
+    }
+    let mut circles = BTreeMap::new();
+    for (dir, files) in folders {
+        if dir == src {
+            continue;
+        }
+        let stem = |p: &Path| p.file_stem().unwrap().to_string_lossy().into_owned();
+        let mut siblings: BTreeSet<String> = files.iter().map(|f| stem(f)).collect();
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                siblings.insert(stem(&p));
+            }
+        }
+        siblings.remove("mod");
+        let rel = dir
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .replace('/', "::");
+        let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for f in files.iter().filter(|f| stem(f) != "mod") {
+            let text = code(&std::fs::read_to_string(f).unwrap());
+            let text = text.split("#[cfg(test)]").next().unwrap();
+            let named = names_after(text, "super::")
+                .into_iter()
+                .chain(names_after(text, &format!("crate::{rel}::")));
+            let edges = graph.entry(stem(f)).or_default();
+            edges.extend(named.filter(|n| siblings.contains(n) && *n != stem(f)));
+        }
+        if let Some(cycle) = find_cycle(&graph) {
+            circles.insert(format!("src/{}", rel.replace("::", "/")), cycle);
+        }
+    }
+    circles
+}
+
+#[test]
+fn files_in_a_folder_import_each_other_without_circles() {
+    // Each circle is cut by moving one type (or merging two files); the
+    // folders that still have one are named, so that the list only shrinks.
+    let not_yet = ["src/embree", "src/scene", "src/source/sun", "src/xray"];
+    let circles = file_circles();
+    for (folder, cycle) in &circles {
+        assert!(
+            not_yet.contains(&folder.as_str()),
+            "{folder}: its files import each other in a circle: {}",
+            cycle.join(" → ")
+        );
+    }
+    for f in not_yet {
+        assert!(
+            circles.contains_key(f),
+            "{f} has no circle left: take it off the list"
+        );
+    }
+    // The finder sees circles: src/xray's figure error and its covariance.
+    assert!(circles["src/xray"].contains(&"figure_error".to_string()));
 }
 
 #[test]

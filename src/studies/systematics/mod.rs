@@ -11,7 +11,6 @@
 //! from the variations it recorded) and [`summary`] turns them into each
 //! source's standard deviation; `output::systematics` writes the files.
 
-mod figure;
 mod kind;
 pub use kind::SystematicsStudy;
 pub mod plan;
