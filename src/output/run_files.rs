@@ -124,6 +124,13 @@ pub(super) struct RunJson<'a> {
     sky: Option<&'a SkyCalibration>,
 }
 
+impl RunJson<'_> {
+    /// What a sensor's figure says of the run: photons traced, what stopped them.
+    fn figure_facts(&self) -> (&Provenance, &crate::trace::Statistics) {
+        (self.provenance, self.statistics)
+    }
+}
+
 /// Writes one sensor's files (flux and counts `.npy`, PNGs, EEF plot,
 /// projections, grid, per-class images, `NAME.json`); returns its summary entry
 /// and the paths written. `absolute` converts weights to axions/s (a Sun).
@@ -161,15 +168,7 @@ fn write_sensor(
         };
         written.extend(write_fits_files(dir, &fits, on_grid.as_ref())?);
     }
-    let figure = |scale| {
-        sensor_figure(
-            scene,
-            spec,
-            &finished,
-            (run.provenance, run.statistics),
-            scale,
-        )
-    };
+    let figure = |scale| sensor_figure(scene, spec, &finished, run.figure_facts(), scale);
     write_image_figure(&path(&files.figure_png), &figure(Scale::Linear))?;
     write_image_figure(
         &path(&files.figure_log_png),
@@ -332,13 +331,7 @@ fn write_grid_files(
     let names = GridFiles::of(&spec.name);
     let [npy, csv, png] = names.all().map(|n| dir.join(n));
     write_grid((&npy, &csv), &r, g)?;
-    let mut figure = sensor_figure(
-        scene,
-        spec,
-        finished,
-        (run.provenance, run.statistics),
-        Scale::Linear,
-    );
+    let mut figure = sensor_figure(scene, spec, finished, run.figure_facts(), Scale::Linear);
     let half = [
         g.pixels[0] as f64 * g.pitch_mm / 2.0,
         g.pixels[1] as f64 * g.pitch_mm / 2.0,
