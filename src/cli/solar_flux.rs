@@ -283,14 +283,7 @@ fn from_model(
         origin["opacities"] = json!(dir.display().to_string());
     }
     // Cite the model the file is, not always the default one.
-    let cited = ["AGSS09met", "GS98"]
-        .iter()
-        .find(|m| name.contains(&format!("B16-{m}")))
-        .map_or(
-            "a solar model file (not one of the B16 models traxer knows: cite its source)"
-                .to_string(),
-            |m| format!("B16-{m}, N. Vinyoles et al., ApJ 835 (2017) 202, arXiv:1611.09867"),
-        );
+    let cited = SolarModel::citation(&name);
     let header = format!(
         "Axion emission: rate per axion phase-space mode w (keV); {}.\n\
          Computed by traxer {} (`traxer solar-flux --emission {} --model {name} --radii {} --energies {energies_text}`)\n\

@@ -108,6 +108,20 @@ pub struct SolarModel {
 }
 
 impl SolarModel {
+    /// The reference to cite for a model file named `file_name`: the B16
+    /// models traxer knows by their names (AGSS09met, GS98), else a request to
+    /// cite the file's own source.
+    pub fn citation(file_name: &str) -> String {
+        ["AGSS09met", "GS98"]
+            .iter()
+            .find(|m| file_name.contains(&format!("B16-{m}")))
+            .map_or(
+                "a solar model file (not one of the B16 models traxer knows: cite its source)"
+                    .to_string(),
+                |m| format!("B16-{m}, N. Vinyoles et al., ApJ 835 (2017) 202, arXiv:1611.09867"),
+            )
+    }
+
     pub fn read(path: &Path) -> Result<SolarModel, SolarDataError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| SolarDataError(format!("{}: cannot read: {e}", path.display())))?;
