@@ -12,7 +12,7 @@ use super::placement::{RotateDesc, TransformStep};
 use super::shapes::{MeshDesc, ShapeDesc};
 use super::telescope::{self, Profile, Telescope};
 use super::telescope_parts::{Part, PartChoices, PartMaterial};
-use crate::xray::figure_error::FigureErrorSpec;
+use crate::xray::figure_presets::FigureErrorSpec;
 use serde::Deserialize;
 use std::ops::Range;
 use std::path::Path;

@@ -14,7 +14,7 @@ use super::{embree_binding, load, Camera, Representation, Scene, Sky};
 use crate::embree::Device;
 use crate::geometry::{Resolution, Shape, Transform};
 use crate::source::Source;
-use crate::xray::figure_error::FigureErrorLibrary;
+use crate::xray::figure_presets::FigureErrorLibrary;
 use crate::xray::{Coating, CoatingLibrary, Foil, ReflectivityTable};
 use std::collections::BTreeMap;
 use std::path::Path;

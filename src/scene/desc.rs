@@ -74,7 +74,7 @@ pub struct SceneDesc {
     pub mirror_optical_constants: crate::xray::elements::OpticalConstants,
     /// Figure-error presets, added to those of data/figure_errors.toml.
     #[serde(default)]
-    pub figure_errors: BTreeMap<String, crate::xray::figure_error::FigureErrorEntry>,
+    pub figure_errors: BTreeMap<String, crate::xray::figure_presets::FigureErrorEntry>,
     /// Named cameras for visible-light renders (`traxer render --camera NAME`).
     #[serde(default)]
     pub cameras: BTreeMap<String, Spanned<CameraDesc>>,

@@ -5,7 +5,7 @@
 
 use crate::material::{Material, Side};
 use crate::sensor::{SensorDesc, SensorSpec};
-use crate::xray::figure_error::{FigureErrorLibrary, FigureErrorSpec};
+use crate::xray::figure_presets::{FigureErrorLibrary, FigureErrorSpec};
 use crate::xray::{Coating, CoatingLibrary, Foil};
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};

@@ -10,7 +10,7 @@
 //! objects; tests and studies read the shipped data through [`Telescope::shipped`].
 
 use crate::geometry::wolter::WolterShell;
-use crate::xray::figure_error::FigureErrorSpec;
+use crate::xray::figure_presets::FigureErrorSpec;
 use serde::Deserialize;
 
 // The telescopes traxer ships, by the name a scene gives (`telescope =

@@ -14,7 +14,7 @@ use super::placement::TransformStep;
 use super::shapes::{ConeDesc, DiskDesc, HyperboloidDesc, ParaboloidDesc, ShapeDesc};
 use super::telescope::{Profile, Telescope};
 use crate::history::MirrorStage;
-use crate::xray::figure_error::FigureErrorSpec;
+use crate::xray::figure_presets::FigureErrorSpec;
 
 /// What an expanded object is made of.
 #[derive(Clone, Debug)]

@@ -16,6 +16,7 @@ pub mod compound;
 pub mod elements;
 pub mod figure_covariance;
 pub mod figure_error;
+pub mod figure_presets;
 pub mod foil;
 pub mod gas;
 pub mod optical;
@@ -28,7 +29,8 @@ pub mod table_grid;
 
 pub use coating::{Coating, CoatingLibrary};
 pub use coating_spec::{coating_from_spec, CoatingSpecError};
-pub use figure_error::{FigureError, FigureErrorLibrary};
+pub use figure_error::FigureError;
+pub use figure_presets::FigureErrorLibrary;
 pub use foil::Foil;
 pub use optical::OpticalMaterial;
 pub use table::{AngleCell, EnergyCell, ReflectivityTable};

@@ -253,7 +253,7 @@ fn a_shell_keeps_its_own_figure_errors_unless_the_scene_gives_every_mirror_one()
     assert_eq!(f2.in_plane_narrow, 30.0);
     // The scene's figure_error replaces the shells' own, on every mirror.
     let scene = two_shell_scene(own, "figure_error = \"llnl_panter\"");
-    let lib = traxer::xray::figure_error::FigureErrorLibrary::shipped();
+    let lib = traxer::xray::figure_presets::FigureErrorLibrary::shipped();
     let panter = lib.get("llnl_panter").unwrap();
     for name in ["t_front_1", "t_rear_1", "t_front_2", "t_rear_2"] {
         assert_eq!(figure_of(&scene, name).unwrap(), panter, "{name}");
