@@ -2,7 +2,7 @@
 //! sensor's memory follows the illuminated area, not the pixel count. A
 //! telescope focuses its beam onto a few thousand of a 2000 × 2000 sensor's four
 //! million pixels, whose dense flux and counts (24 bytes a pixel) took 96 MB,
-//! and the same again while a run's parts were added up.
+//! twice that while `traxer merge` added two shards.
 //!
 //! Data flow: [`super::SensorImage`] records each photon into its flux and count
 //! [`PixelSums`]; `output` reads them back as dense images. They encode (serde)
