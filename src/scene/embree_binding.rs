@@ -84,7 +84,7 @@ pub(super) fn attach(
 /// A nested telescope's shells searched by radius ([`NestedShells`]), and
 /// Embree for the other objects: the photon loop's nearest hit without
 /// traversing a BVH over hundreds of shells (docs/speed.md, "A nested-shell
-/// intersector": 2.2–2.5 × Embree's rate on the same rays, same answers).
+/// intersector": 2.3–2.6 × Embree's rate on XMM's and BabyIAXO's rays, same answers).
 pub struct ShellSearch {
     pub shells: NestedShells,
     /// The scene's other objects (ids are still the objects' indices).
