@@ -3,7 +3,8 @@
 # scene in scenes/ is traced (seed 7, $PHOTONS photons, 2 threads) and each of its
 # cameras rendered (160×100, 8 spp, seed 3; with the traced image on the sensors
 # too); then the studies run at fixed seeds (effective area with its ARFs, PSF
-# library, systematics, focus scan: studies/ in the listing); prints the SHA-256 of
+# library, systematics, focus scan, figure-error fit, mesh comparison, solar
+# flux: studies/ in the listing); prints the SHA-256 of
 # every image and table written (.npy, .png, .csv, .arf, .fits; FITS with their DATE,
 # CREATOR and EMBREE cards blanked), one per line, sorted. Provenance JSON is left out: it holds
 # times and the command line.
@@ -43,6 +44,15 @@ st="$work/studies"
   --vary sensor_z=-1539:-1499 -n "$((photons / 10))" -s 2 -j 2 -q --out "$st/systematics" >/dev/null
 "$bin" focus scenes/panter_al_ka.toml --from -1534 --to -1504 --steps 4 \
   -n "$((photons / 10))" -s 2 -j 2 -q --out "$st/focus" >/dev/null
+"$bin" fit-figure-error scenes/panter_al_ka.toml --target-hpd 206 --target-c80 397 \
+  --target-c90 549 --global-evals 8 --local-evals 4 --check-seeds 1 \
+  -n "$((photons / 20))" -s 2 -j 2 -q --out "$st/fit" >/dev/null
+"$bin" compare scenes/panter_al_ka.toml --resolutions 8x1,30x1 \
+  -n "$((photons / 10))" -s 2 -j 2 -q --out "$st/compare" >/dev/null
+# compare.csv's last two columns are speeds and times: kept out of the fingerprint.
+cut -d, -f1-11 "$st/compare/compare.csv" >"$st/compare/compare_without_times.csv"
+rm "$st/compare/compare.csv"
+"$bin" solar-flux --emission primakoff+abc -q --out "$st/solar" >/dev/null
 cd "$work"
 find . -type f \( -name '*.npy' -o -name '*.png' -o -name '*.csv' -o -name '*.arf' -o -name '*.fits' \) -print0 |
   sort -z | while IFS= read -r -d '' f; do

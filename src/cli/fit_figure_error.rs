@@ -3,18 +3,12 @@
 //! progress, a CSV history and the result as a preset file.
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::{load_xray_scene, progress, InputError};
-use traxer::output::{write_fit, FitReport, Provenance, FIT_FILES};
-use traxer::run::record::base_identity;
-use traxer::run::Study;
+use super::{load_xray_scene, InputError};
+use traxer::output::FitReport;
 use traxer::scene::Scene;
-use traxer::studies::fit::{
-    fit, seed_spread, Bounds, Evaluation, FitSettings, LocalAlgorithm, Spread, PARAMETERS,
-};
-use traxer::studies::fit_errors::{
-    parameter_errors, predict, sensitivity, ParameterErrors, Prediction,
-};
-use traxer::studies::{pick_sensor, Diameters};
+use traxer::studies::fit::{Bounds, FitSettings, LocalAlgorithm, PARAMETERS};
+use traxer::studies::fit_study::{AfterFit, FitStudy};
+use traxer::studies::{pick_sensor, Diameters, StudyError};
 
 /// Fit the mirrors' figure errors to measured image quality.
 ///
@@ -155,119 +149,28 @@ fn parse_bounds(specs: &[String]) -> Result<Bounds, InputError> {
 
 pub fn run(a: FitFigureErrorArgs) -> anyhow::Result<()> {
     let run = a.run.config()?;
-    let (device, mut scene) = load_xray_scene(&a.scene)?;
+    let (device, scene) = load_xray_scene(&a.scene)?;
     let settings = fit_settings(&a, &scene, &run)?;
-    let mut predicted = prediction_scenes(&a)?;
-    let study: Study<Evaluation> = Study::open(
-        &a.output.scene_folder(&a.scene, "fit"),
-        "fit",
-        &FIT_FILES,
-        identity(&scene, &settings),
-        a.resume,
-    )?;
-    let replay = study.replay();
-    let quiet = a.output.quiet.quiet;
-    if !quiet && a.resume {
-        say!("resuming: {} evaluations recorded", replay.len());
-    }
-    super::signals::set_stop_message(study.stop_message("evaluations"));
-    // Progress in evaluations (DIRECT-L may stop early; the bar then ends
-    // short of its length); the traces after the fit count as they finish.
-    let evaluations = evaluations_planned(&a, &settings, predicted.len());
-    let bar = progress::bar(evaluations, "evaluations", quiet);
-    let started = std::time::Instant::now();
-    let result = fit(&mut scene, &settings, &replay, &|_| {}, |e, best| {
-        bar.inc(1);
-        if let Some(w) = study.point_done_at(e.index - 1, e) {
-            tell!("warning: {w}");
-        }
-        if !quiet && e.index > replay.len() {
-            bar.suspend(|| tell!("{}", evaluation_line(e, best, &started)));
-        }
-    });
-    let fit_seconds = started.elapsed().as_secs_f64();
-    let result = result?;
-    let after = after_fit(&a, (&mut scene, &mut predicted), &settings, &result, &bar);
-    bar.finish_and_clear();
-    let (spread, errors, predictions) = after?;
-    let provenance = Provenance::of_study(
-        &super::invocation(),
-        device.info().version,
-        &scene,
-        (run.photons, run.seed),
-        result.threads,
-    );
-    let report = FitReport {
-        result: &result,
-        settings: &settings,
-        spread: &spread,
-        extra_seeds: a.check_seeds,
-        preset_name: &a.name,
-        fit_seconds,
-        errors: &errors,
-        predictions: &predictions,
+    let after = AfterFit {
+        check_seeds: a.check_seeds,
+        target_fraction: a.target_error / 100.0,
+        predict_seeds: a.predict_seeds,
+        preset_name: a.name.clone(),
     };
-    let out = &a.output.scene_folder(&a.scene, "fit");
-    study.finish(|dir| write_fit(dir, &report, &provenance))?;
-    print_result(&report, out);
+    let load = |extra: &[String]| -> Result<Scene, StudyError> {
+        let defines = traxer::scene::merged_overrides(&a.scene.vars.define, extra);
+        Ok(Scene::load(&device, &a.scene.scene, &defines)?)
+    };
+    let study = FitStudy::new(&scene, settings, after, &load, prediction_scenes(&a)?)?;
+    let places = (&a.scene, &a.output);
+    let (output, out) = super::study::run_loaded(&study, (&device, &scene), places, a.resume)?;
+    print_result(&FitReport::of(&study, &output), &out);
     Ok(())
-}
-
-/// The evaluations the bar counts: the fit's budget, the seed check, the
-/// sensitivity (two traces per free parameter) and each prediction's seeds and
-/// sensitivity.
-fn evaluations_planned(a: &FitFigureErrorArgs, settings: &FitSettings, predictions: usize) -> u64 {
-    let b = &settings.bounds;
-    let free = (0..4).filter(|&i| b.upper[i] > b.lower[i]).count() as u64;
-    a.global_evals as u64
-        + a.local_evals as u64
-        + a.check_seeds
-        + 2 * free
-        + predictions as u64 * (a.predict_seeds.max(2) + 2 * free)
-}
-
-/// After the fit: the Monte Carlo spread of the best parameters over other
-/// seeds (the fit saw one), then the parameters' errors and the predictions;
-/// `bar` advances by one at every finished trace.
-fn after_fit(
-    a: &FitFigureErrorArgs,
-    (scene, predicted): (&mut Scene, &mut [(Scene, usize)]),
-    settings: &FitSettings,
-    result: &traxer::studies::fit::FitResult,
-    bar: &progress::Bar,
-) -> anyhow::Result<(Spread, ParameterErrors, Vec<Prediction>)> {
-    let photons = settings.run.photons;
-    let traced = std::sync::atomic::AtomicU64::new(0);
-    let per_trace = |n: u64| {
-        let before = traced.fetch_add(n, std::sync::atomic::Ordering::Relaxed);
-        bar.inc((before + n) / photons - before / photons);
-    };
-    let spread = seed_spread(scene, settings, &result.best, a.check_seeds, &per_trace)?;
-    let (mut errors, predictions) = errors_and_predictions(
-        a,
-        scene,
-        predicted,
-        settings,
-        (&result.best, &spread),
-        &per_trace,
-    )?;
-    let free: Vec<usize> = (0..4)
-        .filter(|&i| settings.bounds.upper[i] > settings.bounds.lower[i])
-        .collect();
-    errors.assess(&free, &settings.bounds, &result.history);
-    Ok((spread, errors, predictions))
 }
 
 /// The scenes of --predict, loaded with the fit's -D overrides, each with
 /// the sensor to measure (the --sensor name, or its only one).
 fn prediction_scenes(a: &FitFigureErrorArgs) -> anyhow::Result<Vec<(Scene, usize)>> {
-    if !(a.target_error.is_finite() && a.target_error > 0.0 && a.target_error < 100.0) {
-        return Err(InputError(format!(
-            "--target-error {}: expected a percentage between 0 and 100",
-            a.target_error
-        ))
-        .into());
-    }
     a.predict
         .iter()
         .map(|path| {
@@ -279,168 +182,30 @@ fn prediction_scenes(a: &FitFigureErrorArgs) -> anyhow::Result<Vec<(Scene, usize
                 .map_err(|e| e.context(format!("--predict {}", path.display())))?;
             let sensor = pick_sensor(&scene, a.sensor.as_deref())
                 .map_err(|e| InputError(format!("--predict {}: {e}", path.display())))?;
-            check_predictable(&scene, sensor, path)?;
-            if scene.sensors[sensor].focal_length.is_none() {
-                return Err(InputError(format!(
-                    "{}: sensor `{}` has no focal_length, which the diameters in arcseconds need",
-                    path.display(),
-                    scene.sensors[sensor].name
-                ))
-                .into());
-            }
             Ok((scene, sensor))
         })
         .collect()
 }
 
-/// Photons of the trial trace that checks a --predict scene before the fit.
-const TRIAL_PHOTONS: u64 = 20_000;
-
-/// Refuses, before the fit runs, a --predict scene whose diameters the fitted
-/// figure errors cannot predict: one without a mirror for them to act on, or
-/// one where no photon of a short trial trace reaches the sensor.
-fn check_predictable(scene: &Scene, sensor: usize, path: &std::path::Path) -> anyhow::Result<()> {
-    let mirrors = scene
-        .objects
-        .iter()
-        .any(|o| matches!(o.material, traxer::material::Material::Mirror { .. }));
-    if !mirrors {
-        return Err(InputError(format!(
-            "--predict {}: the scene has no mirror for the fitted figure errors to act on",
-            path.display()
-        ))
-        .into());
-    }
-    let trial = traxer::trace::run(scene, &traxer::trace::RunConfig::new(TRIAL_PHOTONS, 1))?;
-    if trial.images[sensor].total_flux() <= 0.0 {
-        return Err(InputError(format!(
-            "--predict {}: no photon of a {TRIAL_PHOTONS}-photon trial trace reaches sensor `{}`, so its diameters cannot be predicted (check the sensor's place and the sources)",
-            path.display(),
-            scene.sensors[sensor].name
-        ))
-        .into());
-    }
-    Ok(())
-}
-
-/// The fitted parameters' errors (from the fit scene's sensitivity, the seed
-/// spread and --target-error) and each --predict scene's diameters with theirs.
-fn errors_and_predictions(
-    a: &FitFigureErrorArgs,
-    scene: &mut Scene,
-    predicted: &mut [(Scene, usize)],
-    settings: &FitSettings,
-    (best, spread): (&Evaluation, &Spread),
-    progress: &dyn traxer::progress::Progress,
-) -> Result<(ParameterErrors, Vec<Prediction>), traxer::studies::StudyError> {
-    let p = &best.parameters;
-    let j = sensitivity(scene, settings, p, progress)?;
-    let mc_sd =
-        [spread.hpd.1, spread.d80.1, spread.d90.1].map(|v| if v.is_finite() { v } else { 0.0 });
-    let errors = parameter_errors(&j, p, mc_sd, &settings.target, a.target_error / 100.0)?;
-    let predictions = predicted
-        .iter_mut()
-        .map(|(s, sensor)| {
-            let here = FitSettings {
-                sensor: *sensor,
-                ..settings.clone()
-            };
-            predict(s, &here, p, &errors, a.predict_seeds, progress).map_err(|e| match e {
-                traxer::studies::StudyError::Input(m) => traxer::studies::StudyError::Input(
-                    format!("--predict {}: {m}", s.path.display()),
-                ),
-                other => other,
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok((errors, predictions))
-}
-
-/// The fit's settings from the command line, checked against the scene.
+/// The fit's settings from the command line, its sensor picked in the scene.
 fn fit_settings(
     a: &FitFigureErrorArgs,
     scene: &traxer::scene::Scene,
     run: &traxer::trace::RunConfig,
 ) -> anyhow::Result<FitSettings> {
-    let target = Diameters {
-        hpd: a.target_hpd,
-        d80: a.target_c80,
-        d90: a.target_c90,
-    };
-    if ![target.hpd, target.d80, target.d90]
-        .iter()
-        .all(|v| v.is_finite() && *v > 0.0)
-    {
-        return Err(InputError("the targets must be positive diameters (arcsec)".into()).into());
-    }
-    // The name becomes a key of figure_error.toml: a dot would nest tables.
-    let bare = |c: char| c.is_ascii_alphanumeric() || c == '_' || c == '-';
-    if a.name.is_empty() || !a.name.chars().all(bare) {
-        return Err(InputError(format!(
-            "--name {:?}: a preset name is a bare TOML key: letters, digits, _ and - (e.g. llnl_panter_sigma_0p5)",
-            a.name
-        ))
-        .into());
-    }
-    let bounds = parse_bounds(&a.bounds)?;
-    let sensor = pick_sensor(scene, a.sensor.as_deref())?;
-    if scene.sensors[sensor].focal_length.is_none() {
-        return Err(InputError(format!(
-            "sensor `{}` has no focal_length: the diameters in arcseconds need one",
-            scene.sensors[sensor].name
-        ))
-        .into());
-    }
     Ok(FitSettings {
-        bounds,
-        target,
+        bounds: parse_bounds(&a.bounds)?,
+        target: Diameters {
+            hpd: a.target_hpd,
+            d80: a.target_c80,
+            d90: a.target_c90,
+        },
         run: run.clone(),
-        sensor,
+        sensor: pick_sensor(scene, a.sensor.as_deref())?,
         global_evaluations: a.global_evals,
         local_evaluations: a.local_evals,
         local_algorithm: a.local_algorithm.into(),
     })
-}
-
-/// One line per evaluation: its parameters and diameters, and the best so far.
-fn evaluation_line(e: &Evaluation, best: &Evaluation, started: &std::time::Instant) -> String {
-    let p = &e.parameters;
-    let d = e.diameters.map_or("no image".into(), |d| {
-        format!("{:.1}″ {:.1}″ {:.1}″", d.hpd, d.d80, d.d90)
-    });
-    format!(
-        "eval {:>4} ({}, {:.0} s): narrow {:.2}″ wide {:.2}″ fraction {:.4} out {:.2}″ → {d}, error {:.3e} | best {:.3e} (eval {})",
-        e.index,
-        e.stage,
-        started.elapsed().as_secs_f64(),
-        p.in_plane_narrow,
-        p.in_plane_wide,
-        p.wide_fraction,
-        p.out_of_plane,
-        e.error,
-        best.error,
-        best.index
-    )
-}
-
-/// What must be equal for a recorded evaluation to be this fit's.
-fn identity(scene: &traxer::scene::Scene, s: &FitSettings) -> serde_json::Value {
-    let mut id = base_identity(scene);
-    id.extend([
-        ("sensor".into(), scene.sensors[s.sensor].name.clone().into()),
-        ("photons".into(), s.run.photons.into()),
-        ("seed".into(), s.run.seed.into()),
-        ("target_arcsec".into(), serde_json::json!(s.target)),
-        ("bounds_lower".into(), serde_json::json!(s.bounds.lower)),
-        ("bounds_upper".into(), serde_json::json!(s.bounds.upper)),
-        ("global_evaluations".into(), s.global_evaluations.into()),
-        ("local_evaluations".into(), s.local_evaluations.into()),
-        (
-            "local_algorithm".into(),
-            format!("{:?}", s.local_algorithm).into(),
-        ),
-    ]);
-    id.into()
 }
 
 /// The result on stdout.

@@ -7,6 +7,7 @@ use super::{write_csv, write_json, Provenance};
 use crate::files::atomic_write;
 use crate::studies::fit::{FitResult, FitSettings, Spread, PARAMETERS};
 use crate::studies::fit_errors::{ParameterErrors, Prediction};
+use crate::studies::fit_study::{FitOutput, FitStudy};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -26,7 +27,21 @@ pub struct FitReport<'a> {
     pub predictions: &'a [Prediction],
 }
 
-impl FitReport<'_> {
+impl<'a> FitReport<'a> {
+    /// The report of `study`'s finished `output`.
+    pub fn of(study: &'a FitStudy, output: &'a FitOutput) -> FitReport<'a> {
+        FitReport {
+            result: &output.result,
+            settings: &study.settings,
+            spread: &output.spread,
+            extra_seeds: study.after.check_seeds,
+            preset_name: &study.after.preset_name,
+            fit_seconds: output.fit_seconds,
+            errors: &output.errors,
+            predictions: &output.predictions,
+        }
+    }
+
     /// How the preset was obtained, for its `source` key: the command, targets,
     /// budget, bounds, version and the result with its spread.
     pub fn source(&self, provenance: &Provenance) -> String {

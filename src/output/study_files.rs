@@ -4,6 +4,7 @@
 
 use super::Provenance;
 use crate::studies::effective_area::AreaResult;
+use crate::studies::fit_study::{FitOutput, FitStudy};
 use crate::studies::focus::{FocusScan, FocusStudy};
 use crate::studies::psf::{PsfGrid, PsfLibrary};
 use crate::studies::systematics::{Systematics, SystematicsStudy};
@@ -98,5 +99,20 @@ impl StudyFiles for FocusStudy<'_> {
     fn provenance(&self, mut made: Provenance) -> Provenance {
         made.variables.remove(&self.var);
         made
+    }
+}
+
+impl StudyFiles for FitStudy<'_> {
+    fn files(&self) -> Vec<String> {
+        super::FIT_FILES.iter().map(|f| f.to_string()).collect()
+    }
+
+    fn write(
+        &self,
+        dir: &Path,
+        output: &FitOutput,
+        provenance: &Provenance,
+    ) -> std::io::Result<()> {
+        super::write_fit(dir, &super::FitReport::of(self, output), provenance).map(|_| ())
     }
 }

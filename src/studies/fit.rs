@@ -173,6 +173,17 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
     }
 
     fn evaluate(&mut self, x: &[f64]) -> f64 {
+        // After a failure or a stop the optimiser may still ask: it is
+        // answered without a trace, and nothing is recorded.
+        if self.failure.is_none()
+            && self.history.len() >= self.replay.len()
+            && self.trace_progress.stop_requested()
+        {
+            self.failure = Some(StudyError::Stopped);
+        }
+        if self.failure.is_some() {
+            return 1e6;
+        }
         let fe = self.parameters(x);
         let diameters = if let Some(d) = self.recorded(&fe) {
             self.replayed += 1;
@@ -192,7 +203,7 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
                 }
                 Err(e) => {
                     self.failure = Some(e);
-                    None
+                    return 1e6;
                 }
             }
         };

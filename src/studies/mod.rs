@@ -10,6 +10,7 @@ pub mod compare;
 pub mod effective_area;
 pub mod fit;
 pub mod fit_errors;
+pub mod fit_study;
 pub mod focus;
 pub mod kind;
 mod measure;
