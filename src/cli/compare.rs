@@ -5,14 +5,14 @@
 //! (`traxer::studies::compare`).
 
 use super::args::{OutputArgs, RunArgs, SceneArgs};
-use super::{progress, Warnings};
-use anyhow::Context;
+use super::Warnings;
 use std::path::PathBuf;
 use traxer::embree::Device;
 use traxer::geometry::Resolution;
-use traxer::output::{compare_markdown, write_compare, Provenance, COMPARE_FILES};
-use traxer::scene::Scene;
-use traxer::studies::compare::{compare, variants};
+use traxer::output::compare_markdown;
+use traxer::scene::{Representation, Scene};
+use traxer::studies::compare::{variants, CompareStudy};
+use traxer::studies::StudyError;
 
 /// Compare the analytic scene with meshes of it: HPD / 80 % / 90 %, photons on the
 /// sensor and photons per second.
@@ -44,6 +44,10 @@ pub struct CompareArgs {
     pub run: RunArgs,
     #[command(flatten)]
     pub output: OutputArgs,
+    /// Continue a stopped comparison in --out: the variants it recorded
+    /// (compare_checkpoint.jsonl) are taken, the rest traced.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 fn parse_resolution(s: &str) -> Result<Resolution, String> {
@@ -59,59 +63,24 @@ fn parse_resolution(s: &str) -> Result<Resolution, String> {
 
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
-    let folder =
-        traxer::run::results_folder(&a.output.scene_folder(&a.scene, "compare"), &COMPARE_FILES)?;
-    let quiet = a.output.quiet.quiet;
     let device = Device::new()?;
-    let runs = variants(&a.scene.scene, &a.resolutions, &a.also);
-    let mut warnings = Warnings::default();
-    let mut main_scene = None;
-    let load = |path: &std::path::Path, repr| {
-        let scene = Scene::load_as(&device, path, &a.scene.vars.define, repr)?;
-        warnings.show(&scene);
-        main_scene.get_or_insert_with(|| {
-            let run = (cfg.photons, cfg.seed);
-            Provenance::of_study(&super::invocation(), device.info().version, &scene, run, 0)
-        });
+    let defines = &a.scene.vars.define;
+    let warnings = std::sync::Mutex::new(Warnings::default());
+    let load = |path: &std::path::Path, repr| -> Result<Scene, StudyError> {
+        let scene = Scene::load_as(&device, path, defines, repr)?;
+        if let Ok(mut w) = warnings.lock() {
+            w.show(&scene);
+        }
         Ok(scene)
     };
-    let bar = progress::bar(cfg.photons * runs.len() as u64, "photons", quiet);
-    let rows = compare(
-        load,
-        &runs,
-        a.sensor.as_deref(),
-        &cfg,
-        &|n| bar.inc(n),
-        |r| {
-            if !quiet {
-                bar.suspend(|| {
-                    tell!(
-                        "{}: {} triangles, {:.2} s, HPD {}",
-                        r.label,
-                        r.triangles,
-                        r.measured.seconds,
-                        r.measured
-                            .quality
-                            .as_ref()
-                            .map_or("-".into(), |q| format!("{:.4} mm", q.hpd_mm))
-                    )
-                });
-            }
-        },
-    );
-    bar.finish_and_clear();
-    let rows = rows?;
-    let threads = rows.first().map_or(0, |r| r.measured.threads);
-    let provenance = main_scene.map_or_else(
-        || Provenance::of_table(&super::invocation()),
-        |p| p.with_threads(threads),
-    );
-    let out = &a.output.scene_folder(&a.scene, "compare");
-    write_compare(folder.path(), &rows, &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the results into {}", out.display()))?;
+    let analytic = load(&a.scene.scene, Representation::Analytic)?;
+    traxer::studies::require_sources(&analytic)?;
+    let runs = variants(&a.scene.scene, &a.resolutions, &a.also);
+    let study = CompareStudy::new(runs, cfg.clone(), a.sensor.clone(), &load);
+    let places = (&a.scene, &a.output);
+    let (rows, out) = super::study::run_loaded(&study, (&device, &analytic), places, a.resume)?;
     say!("{}", compare_markdown(&rows));
-    if !quiet {
+    if !a.output.quiet.quiet {
         say!(
             "{} photons per run, seed {}; Δ relative to the analytic run; wrote compare.csv and compare.json to {}",
             cfg.photons,

@@ -3,6 +3,7 @@
 //! folder with these names and calls [`StudyFiles::write`] at the end.
 
 use super::Provenance;
+use crate::studies::compare::{CompareStudy, Row};
 use crate::studies::effective_area::AreaResult;
 use crate::studies::fit_study::{FitOutput, FitStudy};
 use crate::studies::focus::{FocusScan, FocusStudy};
@@ -114,5 +115,15 @@ impl StudyFiles for FitStudy<'_> {
         provenance: &Provenance,
     ) -> std::io::Result<()> {
         super::write_fit(dir, &super::FitReport::of(self, output), provenance).map(|_| ())
+    }
+}
+
+impl StudyFiles for CompareStudy<'_> {
+    fn files(&self) -> Vec<String> {
+        super::COMPARE_FILES.iter().map(|f| f.to_string()).collect()
+    }
+
+    fn write(&self, dir: &Path, rows: &Vec<Row>, provenance: &Provenance) -> std::io::Result<()> {
+        super::write_compare(dir, rows, provenance).map(|_| ())
     }
 }

@@ -1,13 +1,18 @@
 //! Analytic versus meshed: one scene traced with its analytic objects exact and
 //! tessellated at several resolutions (and other scene files, e.g. one built from
 //! exported meshes), all with the same seed, so that differences in image quality,
-//! photons on the sensor and speed are not Monte Carlo noise.
+//! photons on the sensor and speed are not Monte Carlo noise. A study the job
+//! runs ([`CompareStudy`]): each variant's row is recorded as it is done, so a
+//! stopped comparison resumes at the next variant.
 
-use super::{pick_sensor, require_sources, trace_and_measure, Measured, StudyError};
+use super::{
+    pick_sensor, require_sources, trace_and_measure, Measured, Sampling, StudyError, StudyKind,
+};
 use crate::geometry::Resolution;
 use crate::progress::Progress;
 use crate::scene::{Representation, Scene};
 use crate::trace::RunConfig;
+use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
 /// One traced variant: its label, scene file and representation.
@@ -43,8 +48,8 @@ pub fn variants(scene: &Path, resolutions: &[Resolution], also: &[PathBuf]) -> V
     v
 }
 
-/// One variant traced and measured.
-#[derive(Clone, Debug)]
+/// One variant traced and measured: the study's point.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Row {
     pub label: String,
     pub path: PathBuf,
@@ -52,36 +57,143 @@ pub struct Row {
     pub measured: Measured,
 }
 
-/// Traces every variant (`load` builds a scene file in a representation) and
-/// measures `sensor` (default: the only one); `on_row` sees each row when done.
-/// The first row is the reference and must have an image.
-pub fn compare(
-    mut load: impl FnMut(&Path, Representation) -> Result<Scene, StudyError>,
-    variants: &[Variant],
-    sensor: Option<&str>,
-    cfg: &RunConfig,
-    progress: &dyn Progress,
-    mut on_row: impl FnMut(&Row),
-) -> Result<Vec<Row>, StudyError> {
-    let mut rows = Vec::with_capacity(variants.len());
-    for v in variants {
-        let scene = load(&v.path, v.representation)?;
-        require_sources(&scene)?;
-        let sensor = pick_sensor(&scene, sensor)?;
-        let measured = trace_and_measure(&scene, sensor, cfg, progress)?;
-        let row = Row {
+/// Builds a scene file in a representation (with the front end's variables).
+pub type VariantLoader<'a> =
+    &'a (dyn Fn(&Path, Representation) -> Result<Scene, StudyError> + Sync);
+
+/// The comparison as a study: its sampling and variants (by label) are its
+/// identity.
+#[derive(Serialize)]
+pub struct CompareStudy<'a> {
+    #[serde(flatten)]
+    pub sampling: Sampling,
+    #[serde(serialize_with = "labels")]
+    pub variants: Vec<Variant>,
+    #[serde(skip)]
+    cfg: RunConfig,
+    #[serde(skip)]
+    load: VariantLoader<'a>,
+}
+
+fn labels<S: serde::Serializer>(variants: &[Variant], s: S) -> Result<S::Ok, S::Error> {
+    s.collect_seq(variants.iter().map(|v| &v.label))
+}
+
+impl<'a> CompareStudy<'a> {
+    /// `variants` traced with `cfg`'s photons, seed and threads, measured on
+    /// `sensor` (default: each scene's only one); `load` builds each.
+    pub fn new(
+        variants: Vec<Variant>,
+        cfg: RunConfig,
+        sensor: Option<String>,
+        load: VariantLoader<'a>,
+    ) -> CompareStudy<'a> {
+        CompareStudy {
+            sampling: Sampling {
+                photons: cfg.photons,
+                seed: cfg.seed,
+                threads: cfg.threads,
+                sensor,
+            },
+            variants,
+            cfg,
+            load,
+        }
+    }
+}
+
+impl StudyKind for CompareStudy<'_> {
+    type Point = Row;
+    type Output = Vec<Row>;
+    const NAME: &'static str = "compare";
+    const POINTS: &'static str = "variants";
+
+    fn sampling(&self) -> &Sampling {
+        &self.sampling
+    }
+
+    fn check(&self) -> Result<(), StudyError> {
+        Ok(())
+    }
+
+    fn photons_total(&self, _scene: &Scene) -> u64 {
+        let n = self.variants.len() as u64;
+        self.cfg.photons.saturating_mul(n)
+    }
+
+    /// Traces every variant and measures its sensor. The first row (the
+    /// analytic scene, as the front end loaded it) is the reference and must
+    /// have an image.
+    fn run(
+        &self,
+        scene: &Scene,
+        replay: &[Row],
+        progress: &dyn Progress,
+        on_point: &mut dyn FnMut(&Row),
+    ) -> Result<Vec<Row>, StudyError> {
+        let mut rows = Vec::with_capacity(self.variants.len());
+        for (k, v) in self.variants.iter().enumerate() {
+            let row = match replay.get(k).filter(|r| r.label == v.label) {
+                Some(r) => {
+                    progress.advance(self.cfg.photons);
+                    r.clone()
+                }
+                None => self.trace(scene, v, progress)?,
+            };
+            on_point(&row);
+            if k == 0 && row.measured.quality.is_none() {
+                return Err(StudyError::Input(
+                    "no photon reached the sensor in the analytic run: nothing to compare".into(),
+                ));
+            }
+            rows.push(row);
+            if progress.stop_requested() && rows.len() < self.variants.len() {
+                return Err(StudyError::Stopped);
+            }
+        }
+        Ok(rows)
+    }
+
+    fn threads_used(rows: &Vec<Row>) -> usize {
+        rows.first().map_or(0, |r| r.measured.threads)
+    }
+
+    fn describe(&self, r: &Row) -> Option<String> {
+        let hpd = r
+            .measured
+            .quality
+            .as_ref()
+            .map_or("-".into(), |q| format!("{:.4} mm", q.hpd_mm));
+        Some(format!(
+            "{}: {} triangles, {:.2} s, HPD {hpd}",
+            r.label, r.triangles, r.measured.seconds
+        ))
+    }
+}
+
+impl CompareStudy<'_> {
+    /// One variant traced: the analytic one on `analytic` (the front end's
+    /// load), the others loaded here.
+    fn trace(
+        &self,
+        analytic: &Scene,
+        v: &Variant,
+        progress: &dyn Progress,
+    ) -> Result<Row, StudyError> {
+        let loaded;
+        let scene = if v.representation == Representation::Analytic && v.path == analytic.path {
+            analytic
+        } else {
+            loaded = (self.load)(&v.path, v.representation)?;
+            &loaded
+        };
+        require_sources(scene)?;
+        let sensor = pick_sensor(scene, self.sampling.sensor.as_deref())?;
+        Ok(Row {
             label: v.label.clone(),
             path: v.path.clone(),
             triangles: scene.triangle_count,
-            measured,
-        };
-        on_row(&row);
-        rows.push(row);
+            measured: trace_and_measure(scene, sensor, &self.cfg, progress)?,
+        })
     }
-    if rows.first().is_some_and(|r| r.measured.quality.is_none()) {
-        return Err(StudyError::Input(
-            "no photon reached the sensor in the analytic run: nothing to compare".into(),
-        ));
-    }
-    Ok(rows)
 }

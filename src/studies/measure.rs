@@ -30,7 +30,7 @@ pub fn pick_sensor(scene: &Scene, name: Option<&str>) -> Result<usize, StudyErro
 }
 
 /// One traced run, measured on one sensor.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Measured {
     /// `None` when no flux reached the sensor.
     pub quality: Option<ImageQuality>,

@@ -375,11 +375,7 @@ fn studies_are_opened_and_recorded_only_by_the_study_job() {
     // run/ (`run::run_study`): front ends parse arguments into a study's
     // settings and show its output. The studies not yet moved onto the job
     // are named here, so that the list only shrinks.
-    let not_yet = [
-        "src/cli/fit_figure_error.rs",
-        "src/cli/compare.rs",
-        "src/cli/view_window.rs",
-    ];
+    let not_yet = ["src/cli/view_window.rs"];
     let found = files_containing(
         &["src", "python/src"],
         |rel| rel.starts_with("src/run/") || not_yet.contains(&rel),

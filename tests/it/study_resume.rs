@@ -304,3 +304,38 @@ fn a_systematics_study_killed_and_resumed_is_the_uninterrupted_study() {
         ],
     );
 }
+
+#[test]
+fn a_mesh_comparison_killed_and_resumed_measures_what_the_uninterrupted_one_does() {
+    let command = |out: &Path, extra: &[&str]| {
+        let mut c = traxer();
+        c.arg("compare")
+            .arg(repo().join("scenes/panter_al_ka.toml"))
+            .args(["--resolutions", "4x1,8x1,15x1,30x1"])
+            .args(["-n", "200000", "-q", "-o"])
+            .arg(out)
+            .args(extra);
+        c
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let reference = dir.path().join("reference");
+    run_ok(&mut command(&reference, &[]));
+    let out = dir.path().join("stopped");
+    stop_after(command(&out, &[]), &out, 2, "-KILL");
+    assert!(recorded(&out) >= 2);
+    let err = run_fails(&mut command(&out, &[]), 2);
+    assert!(err.contains("--resume"), "{err}");
+    run_ok(&mut command(&out, &["--resume"]));
+    assert_eq!(recorded(&out), 0, "the record stayed");
+    // Every column but the last two (photons per second and seconds: the
+    // machine's speed, not the measurement) is the uninterrupted run's.
+    let measured = |folder: &Path| -> Vec<String> {
+        let text = std::fs::read_to_string(folder.join("compare.csv")).unwrap();
+        text.lines()
+            .map(|l| l.rsplitn(3, ',').nth(2).unwrap().to_string())
+            .collect()
+    };
+    let (a, b) = (measured(&reference), measured(&out));
+    assert_eq!(a.len(), 6, "header, analytic and four meshes: {a:?}");
+    assert_eq!(a, b);
+}
