@@ -175,8 +175,9 @@ impl Systematics {
     fn save(&self, py: Python<'_>, folder: PathBuf) -> PyResult<()> {
         py.detach(|| -> anyhow::Result<()> {
             let out = traxer::run::results_folder(&folder, &SYSTEMATICS_FILES.all())?;
-            write_systematics(out.path(), &self.study, &self.scene_name, &self.provenance)?;
-            out.commit()?;
+            traxer::run::write_results_folder(out, |dir| {
+                write_systematics(dir, &self.study, &self.scene_name, &self.provenance)
+            })?;
             Ok(())
         })
         .map_err(to_py)

@@ -3,10 +3,8 @@
 
 use super::signal::RegionArgs;
 use super::InputError;
-use anyhow::Context;
 use std::path::PathBuf;
 use traxer::analysis::reach::Exposure;
-use traxer::files::OutputFolder;
 use traxer::output::run_read::{read_run_signal, RunReadError};
 use traxer::output::{write_reach, Provenance, REACH_FILES};
 use traxer::studies::reach::{reach, Reach, ReachError};
@@ -82,17 +80,11 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         .out
         .clone()
         .unwrap_or_else(|| a.runs[0].join("reach"));
-    let folder = OutputFolder::prepare(&out, &REACH_FILES)?;
+    let folder = traxer::run::results_folder(&out, &REACH_FILES)?;
     let provenance = Provenance::of_table(&super::invocation());
-    write_reach(
-        folder.path(),
-        &curves,
-        kind,
-        (&exposures[0], window),
-        &provenance,
-    )
-    .and_then(|_| folder.commit())
-    .with_context(|| format!("cannot write the reach into {}", out.display()))?;
+    traxer::run::write_results_folder(folder, |dir| {
+        write_reach(dir, &curves, kind, (&exposures[0], window), &provenance)
+    })?;
     print_limits(&curves, kind, window, a.output.quiet.quiet);
     if !a.output.quiet.quiet {
         tell!("wrote {} to {}", REACH_FILES.join(", "), out.display());

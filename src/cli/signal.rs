@@ -2,10 +2,8 @@
 //! signal region on its sensor, per axion mass, with their spectrum.
 
 use super::InputError;
-use anyhow::Context;
 use std::path::PathBuf;
 use traxer::analysis::signal::{signal, Centre, Region, RunSignal, Signal, Size};
-use traxer::files::OutputFolder;
 use traxer::output::run_read::read_run_signal;
 use traxer::output::{write_signal, Provenance, SIGNAL_FILES};
 
@@ -89,11 +87,9 @@ impl RegionArgs {
 pub fn run(a: SignalArgs) -> anyhow::Result<()> {
     let (run, s) = a.region.measure(&a.run)?;
     let out = a.output.out.clone().unwrap_or_else(|| a.run.join("signal"));
-    let folder = OutputFolder::prepare(&out, &SIGNAL_FILES)?;
+    let folder = traxer::run::results_folder(&out, &SIGNAL_FILES)?;
     let provenance = Provenance::of_table(&super::invocation());
-    write_signal(folder.path(), &run, &s, &provenance)
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot write the signal into {}", out.display()))?;
+    traxer::run::write_results_folder(folder, |dir| write_signal(dir, &run, &s, &provenance))?;
     say!(
         "signal region on {}: a circle of {:.4} mm about ({:.4}, {:.4}) mm, {:.4} cm², {:.2} % of the flux at the scene's mass",
         run.sensor,

@@ -107,9 +107,6 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
     }
     let folder = traxer::run::results_folder(&out, &files)?;
     let e = emission(&a, g_agamma, g_ae)?;
-    if let Some(csv) = &e.shares_csv {
-        traxer::files::atomic_write(&folder.path().join(SHARES_FILE), csv.as_bytes())?;
-    }
     let info = SolarFluxInfo {
         description: &e.description,
         coupling: &e.coupling,
@@ -117,14 +114,13 @@ pub fn run(a: SolarFluxArgs) -> anyhow::Result<()> {
         table_csv: &e.csv,
         origin: e.origin.clone(),
     };
-    write_solar_flux(
-        folder.path(),
-        &e.table,
-        &e.parts,
-        &info,
-        &Provenance::of_table(&super::invocation()),
-    )?;
-    folder.commit()?;
+    let provenance = Provenance::of_table(&super::invocation());
+    traxer::run::write_results_folder(folder, |dir| {
+        if let Some(csv) = &e.shares_csv {
+            traxer::files::atomic_write(&dir.join(SHARES_FILE), csv.as_bytes())?;
+        }
+        write_solar_flux(dir, &e.table, &e.parts, &info, &provenance)
+    })?;
     print_totals(&e, a.distance_au);
     say!("wrote {}", out.display());
     Ok(())

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use traxer::analysis::FinishedImage;
 use traxer::colormap::Scale;
 use traxer::embree::Device;
-use traxer::output::{run_file_names, write_rgb_png, write_run, Outputs, Provenance};
+use traxer::output::write_rgb_png;
 use traxer::render::{
     overview_camera, part_labels, render_pass, to_srgb8, Camera, PartLabel, RenderSettings,
     SensorTexture,
@@ -339,26 +339,18 @@ fn save(
     frame: &[u32],
     (w, h): (usize, usize),
 ) -> anyhow::Result<()> {
-    let mut names = run_file_names(scene, Outputs::default());
-    names.push("frame.png".into());
-    let folder = traxer::run::results_folder(dir, &names)?;
-    let traced = tally.traced;
-    let provenance = Provenance::of_study(
-        &super::invocation(),
-        device.info().version,
-        scene,
-        (traced.max(1), seed),
-        1,
-    );
-    let result = tally.into_result(0, 0.0, 1);
     let mut png = image::RgbImage::new(w as u32, h as u32);
     for (p, c) in png.pixels_mut().zip(frame) {
         *p = image::Rgb([(c >> 16) as u8, (c >> 8) as u8, *c as u8]);
     }
-    write_run(folder.path(), scene, &result, &provenance, None)
-        .and_then(|_| write_rgb_png(&folder.path().join("frame.png"), &png))
-        .and_then(|_| folder.commit())
-        .with_context(|| format!("cannot save into {}", dir.display()))?;
+    let frame_png = |dir: &Path| write_rgb_png(&dir.join("frame.png"), &png);
+    let traced = traxer::run::save_traced(
+        dir,
+        scene,
+        (device.info().version, &super::invocation()),
+        (seed, tally),
+        (&["frame.png"], frame_png),
+    )?;
     say!(
         "saved the sensor images of {traced} photons and the frame into {} (scene {})",
         dir.display(),

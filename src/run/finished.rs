@@ -41,7 +41,7 @@ pub fn save_results(
     let names = results_file_names(scene, outputs);
     let folder = results_folder(out, &names)?;
     super::job::refuse_other_run(out, &header.identity, replace)?;
-    Ok(write_results(folder, scene, header, tally, threads, provenance, fits)?.0)
+    Ok(write_results(folder, scene, header, tally, threads, provenance, outputs)?.0)
 }
 
 /// Every file a finished run leaves in its results folder: the results, the run
@@ -64,29 +64,69 @@ pub fn write_results(
     tally: Tally,
     threads: usize,
     provenance: &Provenance,
-    fits: bool,
+    outputs: Outputs,
 ) -> std::io::Result<(usize, RunResult)> {
-    let out = folder.target().to_path_buf();
-    let failed = |e: std::io::Error| cannot_write(&out, e);
-    write_state(&folder.path().join(RUN_STATE_FILE), header.clone(), &tally).map_err(failed)?;
-    let result = tally.into_result(header.identity.photon_list, header.seconds, threads);
     // FITS carries the sky's frame, measured by tracing (a Sun scene only).
-    let sky: Vec<_> = match fits {
+    let sky: Vec<_> = match outputs.fits {
         true => (0..scene.sensors.len())
             .map(|k| crate::studies::sky::calibrate(scene, k))
             .collect(),
         false => Vec::new(),
     };
-    let files = write_run(
-        folder.path(),
-        scene,
-        &result,
-        provenance,
-        fits.then_some(&sky[..]),
-    )
-    .map_err(failed)?;
+    write_results_folder(folder, |dir| {
+        write_state(&dir.join(RUN_STATE_FILE), header.clone(), &tally)?;
+        let result = tally.into_result(header.identity.photon_list, header.seconds, threads);
+        let files = write_run(
+            dir,
+            scene,
+            &result,
+            provenance,
+            outputs.fits.then_some(&sky[..]),
+        )?;
+        Ok((files.len() + 1, result))
+    })
+}
+
+/// Writes the prepared results folder `folder`: `write` puts the files into
+/// its staging place, which then takes the folder's place, all together (a
+/// failure or a stop leaves the previous results); a failure names the
+/// folder. Every result is written here: runs, studies, and the one-shot
+/// results of the front ends (the solar flux, the live window's save,
+/// Python's saves).
+pub fn write_results_folder<R>(
+    folder: OutputFolder,
+    write: impl FnOnce(&Path) -> std::io::Result<R>,
+) -> std::io::Result<R> {
+    let out = folder.target().to_path_buf();
+    let failed = |e: std::io::Error| cannot_write(&out, e);
+    let written = write(folder.path()).map_err(failed)?;
     folder.commit().map_err(failed)?;
-    Ok((files.len() + 1, result))
+    Ok(written)
+}
+
+/// Saves photons traced outside a run (the live window's: from photon 0 with
+/// `seed`, on one thread) into `dir`: a trace's result files, and the
+/// front end's files `more` (their names, and how it writes them), together.
+/// Returns the photons saved.
+pub fn save_traced(
+    dir: &Path,
+    scene: &Scene,
+    (embree_version, invocation): (String, &super::Invocation),
+    (seed, tally): (u64, Tally),
+    (more, write_more): (&[&str], impl FnOnce(&Path) -> std::io::Result<()>),
+) -> Result<u64, super::RunError> {
+    let mut names = crate::output::run_file_names(scene, Outputs::default());
+    names.extend(more.iter().map(|m| m.to_string()));
+    let folder = results_folder(dir, &names)?;
+    let traced = tally.traced;
+    let provenance =
+        Provenance::of_study(invocation, embree_version, scene, (traced.max(1), seed), 1);
+    let result = tally.into_result(0, 0.0, 1);
+    write_results_folder(folder, |out| {
+        write_run(out, scene, &result, &provenance, None)?;
+        write_more(out)
+    })?;
+    Ok(traced)
 }
 
 /// The one message for results that could not be written into `out`.

@@ -125,6 +125,7 @@ impl TraceJob<'_> {
             embree_version: &self.embree_version,
             settings,
             invocation,
+            outputs,
         };
         run.trace_into(part, tally, folder, control)
     }
@@ -262,6 +263,8 @@ struct Sitting<'a> {
     embree_version: &'a str,
     settings: &'a RunSettings,
     invocation: &'a Invocation,
+    /// The files it writes (chosen once, with the folder prepared for them).
+    outputs: Outputs,
 }
 
 impl Sitting<'_> {
@@ -342,7 +345,7 @@ impl Sitting<'_> {
             tally,
             threads,
             &provenance,
-            self.settings.fits,
+            self.outputs,
         )?;
         Ok(Finished {
             out: target,
@@ -407,6 +410,7 @@ impl Resumable {
             embree_version: &embree_version,
             settings,
             invocation,
+            outputs,
         };
         let tally = self.tally.take().ok_or_else(|| {
             InputError(format!(
@@ -517,7 +521,7 @@ pub fn open_finished(
         },
     )?;
     (header.identity.traxer_version, header.identity.git_hash) = recorded;
-    if !fits_scene(&tally, &scene) {
+    if !tally.fits(&scene) {
         return Err(InputError(format!(
             "{}: its images do not fit the scene's sensors",
             path.display()
@@ -572,7 +576,7 @@ fn check_checkpoint(
         count: id.shards,
         total: id.total_photons,
     };
-    let fits = fits_scene(tally, scene);
+    let fits = tally.fits(scene);
     let aligned = tally.traced == shard.photons()
         || (tally.traced < shard.photons() && tally.traced.is_multiple_of(CHUNK));
     if !fits || !aligned || tally.traced != header.traced || header.photons != shard.photons() {
@@ -581,20 +585,4 @@ fn check_checkpoint(
         ));
     }
     Ok(shard)
-}
-
-/// Whether a tally has the scene's sensors, pixels and objects.
-pub fn fits_scene(tally: &Tally, scene: &Scene) -> bool {
-    tally.images.len() == scene.sensors.len()
-        && tally.images.iter().zip(&scene.sensors).all(|(i, s)| {
-            let n = s.pixel_count() * s.bands();
-            i.counts.len() == n
-                && i.flux_sum.len() == n
-                && i.paths.class_images.as_ref().is_none_or(|c| {
-                    c.len() == crate::history::PathClass::ALL.len()
-                        && c.iter().all(|c| c.len() == s.pixel_count())
-                })
-        })
-        && tally.stats.hits_per_object.len() == scene.objects.len()
-        && tally.stats.recorded_per_sensor.len() == scene.sensors.len()
 }

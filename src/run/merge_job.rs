@@ -3,9 +3,7 @@
 //! variables, build), the tallies added one at a time ([`super::merge`]), and the
 //! results of the whole run written as a finished run's.
 
-use super::job::{
-    fits_scene, prepare_folder, refuse_other_run, refuse_unfinished_run, reload_scene,
-};
+use super::job::{prepare_folder, refuse_other_run, refuse_unfinished_run, reload_scene};
 use super::{
     merge, read_header, read_state, Finished, InputError, Invocation, RunError, StateHeader,
     CHECKPOINT_FILE, RUN_STATE_FILE,
@@ -59,7 +57,7 @@ impl MergeJob<'_> {
         let (device, scene) = self.scene_of(first_dir, &first)?;
         let merged = merge(shards, self.partial, |dir, header| {
             let tally = read_shard_tally(dir, header)?;
-            if !fits_scene(&tally, &scene) {
+            if !tally.fits(&scene) {
                 return Err(RunError::from(InputError(format!(
                     "{}: its sums do not fit the scene's sensors: not a shard of this run",
                     dir.display()
@@ -90,7 +88,7 @@ impl MergeJob<'_> {
             merged.tally,
             0,
             &provenance,
-            self.fits,
+            outputs,
         )?;
         let finished = Finished {
             out: out.to_path_buf(),

@@ -34,7 +34,10 @@ pub mod state_file;
 pub mod study;
 mod study_job;
 
-pub use finished::{results_file_names, results_folder, save_results, write_results};
+pub use finished::{
+    results_file_names, results_folder, save_results, save_traced, write_results,
+    write_results_folder,
+};
 pub use job::{
     open_finished, open_stopped, Finished, Found, InMemory, Resumable, RunControl, RunError,
     RunSettings, TraceJob,

@@ -76,11 +76,7 @@ impl<T: Serialize + DeserializeOwned + Clone> Study<T> {
     /// then takes the results folder's place (with the record). A failure says
     /// which folder could not be written.
     pub fn finish<R>(self, write: impl FnOnce(&Path) -> std::io::Result<R>) -> std::io::Result<R> {
-        let out = self.folder.target().to_path_buf();
-        let failed = |e: std::io::Error| super::finished::cannot_write(&out, e);
-        let written = write(self.folder.path()).map_err(failed)?;
-        self.folder.commit().map_err(failed)?;
-        Ok(written)
+        super::write_results_folder(self.folder, write)
     }
 
     /// A load of the study's scene: it must read the files the first load read.

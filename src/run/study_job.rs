@@ -117,8 +117,6 @@ pub fn save_study<K: StudyFiles>(
     provenance: &Provenance,
 ) -> Result<(), RunError> {
     let out = super::results_folder(folder, &kind.files())?;
-    let failed = |e| super::finished::cannot_write(folder, e);
-    kind.write(out.path(), output, provenance).map_err(failed)?;
-    out.commit().map_err(failed)?;
+    super::write_results_folder(out, |dir| kind.write(dir, output, provenance))?;
     Ok(())
 }

@@ -94,6 +94,23 @@ pub struct Tally {
 }
 
 impl Tally {
+    /// Whether the tally has the scene's sensors, pixels and objects (a
+    /// tally read from a file may be of another scene).
+    pub fn fits(&self, scene: &Scene) -> bool {
+        self.images.len() == scene.sensors.len()
+            && self.images.iter().zip(&scene.sensors).all(|(i, s)| {
+                let n = s.pixel_count() * s.bands();
+                i.counts.len() == n
+                    && i.flux_sum.len() == n
+                    && i.paths.class_images.as_ref().is_none_or(|c| {
+                        c.len() == crate::history::PathClass::ALL.len()
+                            && c.iter().all(|c| c.len() == s.pixel_count())
+                    })
+            })
+            && self.stats.hits_per_object.len() == scene.objects.len()
+            && self.stats.recorded_per_sensor.len() == scene.sensors.len()
+    }
+
     /// Nothing traced yet.
     pub fn new(scene: &Scene) -> Tally {
         Tally {
