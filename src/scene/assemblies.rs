@@ -8,11 +8,11 @@ use super::desc::{ObjectDesc, SceneDesc, ShellLabel, TessellateDesc};
 use super::error::{SceneError, SceneText};
 use super::inputs::InputFiles;
 use super::materials::{MaterialDesc, MirrorDesc, SideDesc};
+use super::mirror_surface::MirrorSurfaceDesc;
 use super::placement::{RotateDesc, TransformStep};
 use super::shapes::{MeshDesc, ShapeDesc};
 use super::telescope::{self, Profile, Telescope};
 use super::telescope_parts::{Part, PartChoices, PartMaterial};
-use crate::xray::figure_presets::FigureErrorSpec;
 use serde::Deserialize;
 use std::ops::Range;
 use std::path::Path;
@@ -50,6 +50,23 @@ pub enum AssemblyDesc {
     LlnlTelescope(NestedTelescopeDesc),
 }
 
+/// The keys of a nested telescope besides its surface's (for messages; see
+/// `mirror_surface::keys_of_table_with_surface`).
+pub const NESTED_TELESCOPE_KEYS: [&str; 12] = [
+    "name",
+    "telescope",
+    "data",
+    "azimuth_center",
+    "shell_axes",
+    "spider",
+    "spider_distance",
+    "central_stop",
+    "omit",
+    "tessellate",
+    "mesh",
+    "transform",
+];
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct NestedTelescopeDesc {
@@ -64,16 +81,11 @@ pub struct NestedTelescopeDesc {
     pub data: Option<String>,
     #[serde(default)]
     pub azimuth_center: f64,
-    #[serde(default)]
-    pub coating: Option<String>,
-    /// Figure errors of every mirror (preset name or inline parameters);
-    /// replaces the shells' own where the data gives them.
-    #[serde(default)]
-    pub figure_error: Option<FigureErrorSpec>,
-    /// Microroughness scatter of every mirror (a PSD over a band, or "none");
-    /// default none.
-    #[serde(default)]
-    pub roughness: Option<crate::xray::roughness::RoughnessSpec>,
+    /// The surface of every mirror: one coating for every shell (or
+    /// "as_built": each shell's own), and figure errors and roughness that
+    /// replace the shells' own where the data gives them.
+    #[serde(flatten)]
+    pub surface: MirrorSurfaceDesc,
     /// Where each shell's cone axis lies (see [`ShellAxes`]).
     #[serde(default)]
     pub shell_axes: ShellAxes,
@@ -239,25 +251,20 @@ fn part_material(
 ) -> String {
     match &part.material {
         PartMaterial::Absorber => "absorber".to_string(),
-        PartMaterial::Mirror {
-            coating,
-            figure_error,
-        } => {
-            let (name, figure_error) = match (&t.figure_error, figure_error, part.shell) {
-                (None, Some(own), Some(shell)) => (
-                    format!("{prefix}_mirror_{coating}_shell_{}", shell + 1),
-                    Some(own.clone()),
-                ),
-                _ => (format!("{prefix}_mirror_{coating}"), t.figure_error.clone()),
+        PartMaterial::Mirror(own) => {
+            let coating = own.coating.as_deref().unwrap_or("perfect");
+            let name = match part.shell {
+                Some(shell) if own.keeps_own_under(&t.surface) => {
+                    format!("{prefix}_mirror_{coating}_shell_{}", shell + 1)
+                }
+                _ => format!("{prefix}_mirror_{coating}"),
             };
             if !materials.iter().any(|m| m.name == name) {
                 materials.push(GeneratedMaterial {
                     name: name.clone(),
                     desc: MaterialDesc::Mirror(MirrorDesc {
                         side: SideDesc::Front,
-                        coating: Some(coating.clone()),
-                        figure_error,
-                        roughness: t.roughness.clone(),
+                        surface: own.under(&t.surface),
                     }),
                     span: span.clone(),
                 });
@@ -322,7 +329,7 @@ fn part_choices<'a>(
             t.azimuth_center
         },
         // "as_built" (or no `coating`) keeps each shell's own coating.
-        coating: t.coating.as_deref().filter(|c| *c != "as_built"),
+        coating: t.surface.coating.as_deref().filter(|c| *c != "as_built"),
         spider_distance_mm: spider_distance,
         central_stop: t.central_stop,
     })

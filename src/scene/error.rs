@@ -73,6 +73,7 @@ impl SceneError {
         let (offset, message, key) = match locate_bad_value(text, span.clone(), message) {
             Some((offset, key)) => {
                 let said = plain_value_message(message, &key, text, offset);
+                let said = with_flattened_keys(said, &key);
                 (offset, format!("`{key}`: {said}"), Some(key))
             }
             None => {
@@ -94,6 +95,19 @@ impl SceneError {
         let line = line_of(text, offset);
         let quoted = excerpt(text, offset);
         SceneError::new(file, Some(line), format!("{message}\n    | {quoted}")).keyed(key)
+    }
+}
+
+/// serde's "unknown field `k`" in a table that flattens a mirror surface in
+/// names no keys: the keys that table takes are added.
+fn with_flattened_keys(said: String, key: &str) -> String {
+    let table = key.rsplit_once('.').map_or("", |(t, _)| t);
+    match super::mirror_surface::keys_of_table_with_surface(table) {
+        Some(keys) if said.starts_with("unknown field `") && !said.contains("expected") => {
+            let keys: Vec<String> = keys.iter().map(|k| format!("`{k}`")).collect();
+            format!("{said}, expected one of {}", keys.join(", "))
+        }
+        _ => said,
     }
 }
 

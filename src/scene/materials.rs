@@ -3,9 +3,10 @@
 //! later turned into reflectivity tables), figure-error presets, and the sensors
 //! that sensor materials create (one per object that uses one).
 
+use super::mirror_surface::MirrorSurfaceDesc;
 use crate::material::{Material, Side};
 use crate::sensor::{SensorDesc, SensorSpec};
-use crate::xray::figure_presets::{FigureErrorLibrary, FigureErrorSpec};
+use crate::xray::figure_presets::FigureErrorLibrary;
 use crate::xray::{Coating, CoatingLibrary, Foil};
 use serde::Deserialize;
 use std::collections::{BTreeMap, BTreeSet};
@@ -51,23 +52,17 @@ pub struct FoilDesc {
     pub thickness_nm: f64,
 }
 
+/// The keys of a mirror material besides its surface's (for messages).
+pub const MIRROR_KEYS: [&str; 1] = ["side"];
+
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MirrorDesc {
     #[serde(default)]
     pub side: SideDesc,
-    /// Name of a coating (data/coatings.toml or this file's `[coatings]`); without
-    /// one the mirror is perfect (R = 1).
-    #[serde(default)]
-    pub coating: Option<String>,
-    /// Figure errors: a preset name (data/figure_errors.toml or this file's
-    /// `[figure_errors]`, "none") or the parameters inline; default none.
-    #[serde(default)]
-    pub figure_error: Option<FigureErrorSpec>,
-    /// Scatter from microroughness: a PSD over a band of spatial frequencies
-    /// (`xray::roughness`), or "none"; default none.
-    #[serde(default)]
-    pub roughness: Option<crate::xray::roughness::RoughnessSpec>,
+    /// Its coating, figure errors and roughness.
+    #[serde(flatten)]
+    pub surface: MirrorSurfaceDesc,
 }
 
 #[derive(Debug, Deserialize)]
@@ -154,9 +149,7 @@ impl Materials {
             "mirror".into(),
             builtin(MaterialDesc::Mirror(MirrorDesc {
                 side: SideDesc::Both,
-                coating: None,
-                figure_error: None,
-                roughness: None,
+                surface: MirrorSurfaceDesc::default(),
             })),
         );
         entries.insert(
@@ -253,7 +246,8 @@ impl Materials {
                 }
                 Err(m) => Err(fail(m.to_string())),
             },
-            MaterialDesc::Mirror(m) => {
+            MaterialDesc::Mirror(mirror) => {
+                let m = &mirror.surface;
                 let figure_error = match &m.figure_error {
                     None => None,
                     Some(spec) => match self.figure_errors.resolve(spec) {
@@ -293,7 +287,7 @@ impl Materials {
                     },
                 };
                 Ok(Material::Mirror {
-                    side: m.side.into(),
+                    side: mirror.side.into(),
                     reflectivity,
                     figure_error,
                     roughness,

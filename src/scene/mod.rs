@@ -20,6 +20,7 @@ pub mod inputs;
 pub mod load;
 pub mod magnet;
 mod materials;
+mod mirror_surface;
 mod objects;
 mod placement;
 mod shapes;

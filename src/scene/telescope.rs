@@ -9,8 +9,8 @@
 //! `nested_telescope` assembly, `telescope_parts` expands it into scene
 //! objects; tests and studies read the shipped data through [`Telescope::shipped`].
 
+use super::mirror_surface::MirrorSurfaceDesc;
 use crate::geometry::wolter::WolterShell;
-use crate::xray::figure_presets::FigureErrorSpec;
 use serde::Deserialize;
 
 // The telescopes traxer ships, by the name a scene gives (`telescope =
@@ -36,6 +36,18 @@ pub enum Profile {
 /// One shell. Radii in mm: R1 at the entrance, R2 at the front mirror's other
 /// end, R3 at the intersection plane, R4 and R5 at the rear mirror's ends.
 /// Cones give R1, R2, R4, R5; Wolter-I shells give R3.
+/// The keys of a shell besides its surface's (for messages).
+pub const SHELL_KEYS: [&str; 8] = [
+    "r1_mm",
+    "r2_mm",
+    "r3_mm",
+    "r4_mm",
+    "r5_mm",
+    "thickness_mm",
+    "mirror_length_mm",
+    "azimuth_span_deg",
+];
+
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Shell {
@@ -53,14 +65,11 @@ pub struct Shell {
     /// telescope's `wall_thickness_mm`.
     #[serde(default)]
     pub thickness_mm: Option<f64>,
-    /// Coating of both mirrors (data/coatings.toml or the scene's); default
-    /// the telescope's `coating`.
-    #[serde(default)]
-    pub coating: Option<String>,
-    /// This shell's figure errors (a preset or inline), where they differ
-    /// from shell to shell; a scene's `figure_error` replaces them.
-    #[serde(default)]
-    pub figure_error: Option<FigureErrorSpec>,
+    /// Both mirrors' surface: coating (data/coatings.toml or the scene's;
+    /// default the telescope's `coating`), and figure errors and roughness
+    /// where they differ from shell to shell (a scene's replace them).
+    #[serde(flatten)]
+    pub surface: MirrorSurfaceDesc,
     /// This shell's mirror length (mm); default the telescope's.
     #[serde(default)]
     pub mirror_length_mm: Option<f64>,
@@ -167,6 +176,7 @@ impl Telescope {
     /// Shell i's coating.
     pub fn coating(&self, i: usize) -> &str {
         self.shells[i]
+            .surface
             .coating
             .as_deref()
             .or(self.coating.as_deref())
@@ -359,7 +369,7 @@ impl Telescope {
                     .into(),
             );
         }
-        if s.coating.is_none() && self.coating.is_none() {
+        if s.surface.coating.is_none() && self.coating.is_none() {
             return Err("give a coating (coating, or the telescope's coating = \"NAME\")".into());
         }
         match self.profile {

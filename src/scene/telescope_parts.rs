@@ -10,21 +10,19 @@
 //! `nested_telescope` assembly; the scene build then builds the parts like any
 //! other objects.
 
+use super::mirror_surface::MirrorSurfaceDesc;
 use super::placement::TransformStep;
 use super::shapes::{ConeDesc, DiskDesc, HyperboloidDesc, ParaboloidDesc, ShapeDesc};
 use super::telescope::{Profile, Telescope};
 use crate::history::MirrorStage;
-use crate::xray::figure_presets::FigureErrorSpec;
 
 /// What an expanded object is made of.
 #[derive(Clone, Debug)]
 pub enum PartMaterial {
-    /// A reflecting mirror face with this coating and, where the shell has its
-    /// own, these figure errors.
-    Mirror {
-        coating: String,
-        figure_error: Option<FigureErrorSpec>,
-    },
+    /// A reflecting mirror face with the shell's surface (its coating
+    /// resolved: the scene's for every shell, the shell's or the telescope's;
+    /// its own figure errors and roughness where the data gives them).
+    Mirror(MirrorSurfaceDesc),
     /// A wall's back or end, a spider arm, the central stop.
     Absorber,
 }
@@ -87,10 +85,10 @@ impl Telescope {
         let mut parts = Vec::new();
         for i in 0..self.shells.len() {
             let az = segment(i);
-            let material = PartMaterial::Mirror {
-                coating: choices.coating.unwrap_or(self.coating(i)).to_string(),
-                figure_error: self.shells[i].figure_error.clone(),
-            };
+            let material = PartMaterial::Mirror(MirrorSurfaceDesc {
+                coating: Some(choices.coating.unwrap_or(self.coating(i)).to_string()),
+                ..self.shells[i].surface.clone()
+            });
             for m in self.mirrors(i, az) {
                 self.push_mirror(&mut parts, i, m, &material, az);
             }

@@ -260,6 +260,45 @@ fn a_shell_keeps_its_own_figure_errors_unless_the_scene_gives_every_mirror_one()
     }
 }
 
+/// Whether the mirror object `name` scatters from microroughness.
+fn is_rough(scene: &traxer::scene::Scene, name: &str) -> bool {
+    let o = scene.objects.iter().find(|o| o.name == name).unwrap();
+    match o.material {
+        traxer::material::Material::Mirror { roughness, .. } => roughness.is_some(),
+        other => panic!("{name} is no mirror: {other:?}"),
+    }
+}
+
+#[test]
+fn a_shell_may_declare_its_whole_surface_and_the_scene_replaces_it_for_every_mirror() {
+    // A shell declares the same surface as a mirror material: coating, figure
+    // errors and roughness.
+    let own = ", coating = \"perfect\", roughness = \"slumped_glass_limit\"";
+    let scene = two_shell_scene(own, "");
+    assert!(!is_rough(&scene, "t_front_1") && !is_rough(&scene, "t_rear_1"));
+    assert!(is_rough(&scene, "t_front_2") && is_rough(&scene, "t_rear_2"));
+    let reflectivity = |name: &str| {
+        let o = scene.objects.iter().find(|o| o.name == name).unwrap();
+        match o.material {
+            traxer::material::Material::Mirror { reflectivity, .. } => reflectivity,
+            _ => unreachable!(),
+        }
+    };
+    assert!(
+        reflectivity("t_front_1").is_some(),
+        "shell 1: the telescope's gold"
+    );
+    assert!(
+        reflectivity("t_front_2").is_none(),
+        "shell 2: its own perfect coating"
+    );
+    // The scene's roughness = "none" replaces the shell's own on every mirror.
+    let scene = two_shell_scene(own, "roughness = \"none\"");
+    for name in ["t_front_1", "t_rear_1", "t_front_2", "t_rear_2"] {
+        assert!(!is_rough(&scene, name), "{name}");
+    }
+}
+
 #[test]
 fn a_traxer_axis_placement_is_refused_for_full_circle_shells() {
     let dir = tempfile::tempdir().unwrap();
