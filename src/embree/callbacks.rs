@@ -2,8 +2,32 @@
 //! intersect and occluded. They never unwind into C and only read the shape
 //! through the pointer to data the scene owns.
 
-use super::scene::QueryContext;
-use super::{sys, UserGeometry};
+use super::{sys, version, UserGeometry};
+use std::cell::Cell;
+
+/// Our ray-query context: Embree's context first, so that the pointer Embree hands
+/// to callbacks can be cast back to this (the documented way to pass per-ray data).
+#[repr(C)]
+pub(super) struct QueryContext {
+    pub(super) rtc: version::Context,
+    pub(super) origin: [f64; 3],
+    pub(super) dir: [f64; 3],
+    pub(super) start_geometry: u32,
+    // Written by the intersect callback: exact t of the last accepted user hit.
+    pub(super) user_geometry: Cell<u32>,
+    pub(super) user_t: Cell<f64>,
+}
+
+impl QueryContext {
+    /// The pointer Embree takes as its context: to the whole of this value
+    /// (Embree's context is its first field), so that the callbacks may read
+    /// the rest through it.
+    pub(super) fn as_context(&self) -> *mut version::Context {
+        (self as *const QueryContext)
+            .cast::<version::Context>()
+            .cast_mut()
+    }
+}
 
 pub(super) unsafe extern "C" fn bounds_callback<U: UserGeometry>(
     args: *const sys::RTCBoundsFunctionArguments,

@@ -1,8 +1,6 @@
 //! The Embree device: created once, with an error callback whose first error is
 //! kept and checked after each commit; scenes are started from it.
 
-use super::scene::SceneBuilder;
-use super::UserGeometry;
 use super::{sys, EmbreeError, EMBREE_MAJOR};
 use std::ffi::{c_void, CStr, CString};
 use std::os::raw::c_char;
@@ -152,11 +150,6 @@ impl Device {
             tasking_system,
             robust_mode: true,
         }
-    }
-
-    /// Starts a new scene. `U` is the type of the analytic shapes it may hold.
-    pub fn scene<U: UserGeometry>(&self) -> SceneBuilder<U> {
-        SceneBuilder::new(self.clone())
     }
 
     /// The raw handle, for the scenes built from this device.

@@ -1,7 +1,7 @@
 //! Embree scenes: assembled from triangle meshes and user geometry, committed into
 //! a read-only [`CommittedScene`] that answers one f64 ray query at a time.
 
-use super::callbacks::{bounds_callback, intersect_callback, occluded_callback};
+use super::callbacks::{bounds_callback, intersect_callback, occluded_callback, QueryContext};
 use super::device::Device;
 use super::{sys, version, EmbreeError, Hit, Query, UserGeometry, EMBREE_FLT_LARGE, INVALID_ID};
 use std::cell::Cell;
@@ -24,6 +24,14 @@ impl<U: UserGeometry> Drop for SceneBuilder<U> {
             // SAFETY: the builder owns one reference to the scene.
             unsafe { sys::rtcReleaseScene(self.raw) };
         }
+    }
+}
+
+impl Device {
+    /// Starts a new scene. `U` is the type of the analytic shapes it may hold.
+    /// (Here, not in `device`: the device knows nothing of scenes.)
+    pub fn scene<U: UserGeometry>(&self) -> SceneBuilder<U> {
+        SceneBuilder::new(self.clone())
     }
 }
 
@@ -184,19 +192,6 @@ impl<U: UserGeometry> Drop for CommittedScene<U> {
     }
 }
 
-/// Our ray-query context: Embree's context first, so that the pointer Embree hands
-/// to callbacks can be cast back to this (the documented way to pass per-ray data).
-#[repr(C)]
-pub(super) struct QueryContext {
-    pub(super) rtc: version::Context,
-    pub(super) origin: [f64; 3],
-    pub(super) dir: [f64; 3],
-    pub(super) start_geometry: u32,
-    // Written by the intersect callback: exact t of the last accepted user hit.
-    pub(super) user_geometry: Cell<u32>,
-    pub(super) user_t: Cell<f64>,
-}
-
 impl<U: UserGeometry> CommittedScene<U> {
     /// Nearest hit of `q`, or `None` if the ray leaves the scene.
     #[inline]
@@ -249,7 +244,7 @@ impl<U: UserGeometry> CommittedScene<U> {
         }
         // SAFETY: the scene is committed; `ctx` and `rh` live on this stack frame
         // for the whole call; callbacks only touch `ctx` through Cells.
-        unsafe { version::intersect1(self.raw, &ctx, &mut rh) };
+        unsafe { version::intersect1(self.raw, ctx.as_context(), &mut rh) };
         if rh.hit.geomID == INVALID_ID {
             return None;
         }

@@ -1,5 +1,4 @@
 //! Embree 3: `rtcIntersect1(scene, context, rayhit)` with an RTCIntersectContext.
-use super::scene::QueryContext;
 use super::{sys, INVALID_ID};
 
 pub type Context = sys::RTCIntersectContext;
@@ -18,10 +17,11 @@ pub fn new_context() -> Context {
 }
 
 /// # Safety
-/// `scene` must be committed; `ctx` and `rh` valid for the call.
+/// `scene` must be committed; `ctx` (a traxer `QueryContext`'s, see
+/// `callbacks`) and `rh` valid for the call.
 #[inline]
-pub unsafe fn intersect1(scene: sys::RTCScene, ctx: &QueryContext, rh: &mut sys::RTCRayHit) {
+pub unsafe fn intersect1(scene: sys::RTCScene, ctx: *mut Context, rh: &mut sys::RTCRayHit) {
     // SAFETY: forwarded from the caller. Embree takes a mutable context pointer
     // but does not write the base context during traversal.
-    unsafe { sys::rtcIntersect1(scene, &ctx.rtc as *const Context as *mut Context, rh) }
+    unsafe { sys::rtcIntersect1(scene, ctx, rh) }
 }

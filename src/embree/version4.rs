@@ -1,6 +1,5 @@
 //! Embree 4: `rtcIntersect1(scene, rayhit, args)`, the context travels inside
 //! RTCIntersectArguments.
-use super::scene::QueryContext;
 use super::{sys, INVALID_ID};
 
 pub type Context = sys::RTCRayQueryContext;
@@ -25,14 +24,15 @@ fn init_inst_prim_id(c: &mut Context) {
 fn init_inst_prim_id(_: &mut Context) {}
 
 /// # Safety
-/// `scene` must be committed; `ctx` and `rh` valid for the call.
+/// `scene` must be committed; `ctx` (a traxer `QueryContext`'s, see
+/// `callbacks`) and `rh` valid for the call.
 #[inline]
-pub unsafe fn intersect1(scene: sys::RTCScene, ctx: &QueryContext, rh: &mut sys::RTCRayHit) {
+pub unsafe fn intersect1(scene: sys::RTCScene, ctx: *mut Context, rh: &mut sys::RTCRayHit) {
     // Rust version of the inline `rtcInitIntersectArguments`.
     let mut args = sys::RTCIntersectArguments {
         flags: sys::RTC_RAY_QUERY_FLAG_INCOHERENT,
         feature_mask: sys::RTC_FEATURE_FLAG_ALL,
-        context: &ctx.rtc as *const Context as *mut Context,
+        context: ctx,
         ..Default::default()
     };
     // SAFETY: forwarded from the caller; `args` lives for the call.

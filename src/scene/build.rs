@@ -61,13 +61,13 @@ pub(super) fn build(
     }
 
     let mut sources = build_sources(at, &desc, dir, &inputs)?;
-    let bore = super::magnet::find_bore(at, &desc)?;
+    let bore = super::magnet_in_scene::find_bore(at, &desc)?;
     (materials.processes, materials.masses) = (
         sources
             .first()
             .map(|s| s.process_names())
             .unwrap_or_default(),
-        super::magnet::scan_masses(&desc, bore.is_some()),
+        super::magnet_in_scene::scan_masses(&desc, bore.is_some()),
     );
     let mut objects = Vec::new();
     let mut builder = ObjectBuilder::new(at, dir, representation, &inputs);
@@ -83,7 +83,8 @@ pub(super) fn build(
             })?;
         objects.push(object);
     }
-    let magnet = super::magnet::attach(at, &desc, bore, &objects, &mut sources, dir, &inputs)?;
+    let magnet =
+        super::magnet_in_scene::attach(at, &desc, bore, &objects, &mut sources, dir, &inputs)?;
     if let Some((name, span)) = materials.unused() {
         return Err(at.error(span, format!("material `{name}` is not used by any object")));
     }

@@ -9,11 +9,11 @@
 //! turns it into a `Scene`.
 
 use super::appearance::{AppearanceDesc, SkyDesc};
-use super::assemblies::AssemblyDesc;
+use super::assembly_desc::AssemblyDesc;
 use super::camera::CameraDesc;
 use super::materials::MaterialDesc;
 use super::placement::TransformStep;
-use super::shapes::ShapeDesc;
+use super::shapes::{ShapeDesc, TessellateDesc};
 use crate::history::MirrorStage;
 use crate::source::SourceDesc;
 use serde::Deserialize;
@@ -141,27 +141,6 @@ impl ShellLabel {
         match self {
             ShellLabel::Number(n) => n.to_string(),
             ShellLabel::Name(s) => s.clone(),
-        }
-    }
-}
-
-/// Tessellation resolution of an analytic shape.
-#[derive(Debug, Deserialize, Clone, Copy)]
-#[serde(deny_unknown_fields)]
-pub struct TessellateDesc {
-    /// Divisions around the azimuth range (x divisions for a rectangle, along
-    /// the first in-plane axis of each face of a box).
-    pub segments: usize,
-    /// Divisions along the axis (radial for a disk, y for a rectangle, the
-    /// second in-plane axis of a box face, pole to pole for a sphere).
-    pub rings: usize,
-}
-
-impl From<TessellateDesc> for crate::geometry::Resolution {
-    fn from(t: TessellateDesc) -> Self {
-        crate::geometry::Resolution {
-            segments: t.segments,
-            rings: t.rings,
         }
     }
 }

@@ -3,7 +3,7 @@
 //! buffer gas, the axion mass and the coupling. Built into a
 //! [`crate::magnet::Magnet`] that the scene's Sun applies to every photon.
 //!
-//! Data flow: `scene::build` finds the bore among the objects, calls
+//! Data flow: `scene::magnet_in_scene` finds the bore among the objects, calls
 //! [`build`] and hands the magnet to the Sun source.
 
 use super::placement::{transform, TransformStep};
@@ -239,15 +239,6 @@ fn check_scan(masses: &[f64]) -> Result<(), String> {
     Ok(())
 }
 
-/// The mass scan the sensors record: the `[magnet]` table's `masses_ev` when
-/// the magnet is on (`enabled`, with its bore found).
-pub(super) fn scan_masses(desc: &super::desc::SceneDesc, enabled: bool) -> Vec<f64> {
-    match (&desc.magnet, enabled) {
-        (Some(m), true) => m.get_ref().masses_ev.clone(),
-        _ => Vec::new(),
-    }
-}
-
 /// Refuses a coupling or mass whose P is below the smallest normal double on
 /// the bore's axis at 1, 4 and 10 keV: images of zeros, not a result.
 fn check_representable(m: &Magnet) -> Result<(), String> {
@@ -313,98 +304,6 @@ fn check_coverage(
         ));
     }
     Ok(())
-}
-
-/// The bore's index among the scene's objects and its cylinder, when the
-/// scene has a magnet (found before the objects are built).
-pub(super) fn find_bore(
-    at: super::error::SceneText,
-    desc: &super::desc::SceneDesc,
-) -> Result<Option<(usize, super::shapes::CylinderDesc)>, super::SceneError> {
-    if let Some(m) = desc
-        .magnet
-        .as_ref()
-        .filter(|m| !m.get_ref().enabled && !m.get_ref().masses_ev.is_empty())
-    {
-        return Err(at.error(
-            m.span(),
-            "magnet: masses_ev (a mass scan) needs the magnet on: enabled = false leaves the axions unconverted (-D magnet=true in the shipped scenes)",
-        ));
-    }
-    let Some(m) = desc.magnet.as_ref().filter(|m| m.get_ref().enabled) else {
-        return Ok(None);
-    };
-    let name = &m.get_ref().bore;
-    let named = |o: &&Spanned<super::desc::ObjectDesc>| o.get_ref().name.as_deref() == Some(name);
-    let Some((k, object)) = desc.objects.iter().enumerate().find(|(_, o)| named(o)) else {
-        let names: Vec<&str> = desc
-            .objects
-            .iter()
-            .filter_map(|o| o.get_ref().name.as_deref())
-            .take(12)
-            .collect();
-        return Err(at.error(
-            m.span(),
-            format!(
-                "magnet: bore = \"{name}\" names no object (objects: {})",
-                names.join(", ")
-            ),
-        ));
-    };
-    match object.get_ref().shape.get_ref() {
-        super::shapes::ShapeDesc::Cylinder(c) if c.azimuth.is_none() => Ok(Some((k, c.clone()))),
-        other => Err(at.error(
-            m.span(),
-            format!(
-                "magnet: bore = \"{name}\" is a {}, not a bore: the field fills a whole cylinder (shape = {{ type = \"cylinder\", radius, z_start, z_end }}, no azimuth)",
-                other.kind()
-            ),
-        )),
-    }
-}
-
-/// Builds the magnet on the built bore and hands it to the scene's Sun.
-pub(super) fn attach(
-    at: super::error::SceneText,
-    desc: &super::desc::SceneDesc,
-    bore: Option<(usize, super::shapes::CylinderDesc)>,
-    objects: &[super::Object],
-    sources: &mut [crate::source::Source],
-    dir: &Path,
-    inputs: &super::inputs::InputFiles,
-) -> Result<Option<Arc<Magnet>>, super::SceneError> {
-    let (Some(m), Some((k, c))) = (&desc.magnet, bore) else {
-        return Ok(None);
-    };
-    let fail = |msg: String| at.error(m.span(), format!("magnet: {msg}"));
-    let bore = Bore {
-        name: &m.get_ref().bore,
-        radius: c.radius,
-        z_start: c.z_start,
-        z_end: c.z_end,
-        to_world: objects[k].transform,
-    };
-    let magnet = Arc::new(build(m.get_ref(), &bore, dir, &|p| inputs.note(p)).map_err(fail)?);
-    match sources {
-        [crate::source::Source::Sun(sun)] => {
-            // One coupling produces and converts the Primakoff axions.
-            if let Some((_, g)) = sun.productions.iter().find(|(p, _)| p == "primakoff") {
-                if (g - magnet.g_agamma_gev).abs() > 1e-9 * g {
-                    return Err(fail(format!(
-                        "g_agamma = {:e} GeV⁻¹, but the Sun produces its Primakoff axions with g_agamma = {g:e}: one coupling makes and converts them (give both the same value, e.g. one scene variable)",
-                        magnet.g_agamma_gev
-                    )));
-                }
-            }
-            sun.magnet = Some(magnet.clone())
-        }
-        _ => {
-            return Err(fail(
-                "a magnet converts axions: the scene's source must be a `sun`".into(),
-            ))
-        }
-    }
-    Ok(Some(magnet))
 }
 
 /// A magnet without a scene (`traxer conversion`): a uniform field over

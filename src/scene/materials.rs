@@ -52,9 +52,6 @@ pub struct FoilDesc {
     pub thickness_nm: f64,
 }
 
-/// The keys of a mirror material besides its surface's (for messages).
-pub const MIRROR_KEYS: [&str; 1] = ["side"];
-
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MirrorDesc {

@@ -30,6 +30,39 @@ pub struct MirrorSurfaceDesc {
 /// A surface's keys, as they appear in every table it is flattened into.
 pub const SURFACE_KEYS: [&str; 3] = ["coating", "figure_error", "roughness"];
 
+/// The keys of a mirror material (`materials::MirrorDesc`) besides its surface's.
+pub const MIRROR_KEYS: [&str; 1] = ["side"];
+
+/// The keys of a nested telescope (`assembly_desc::NestedTelescopeDesc`) besides
+/// its surface's.
+pub const NESTED_TELESCOPE_KEYS: [&str; 12] = [
+    "name",
+    "telescope",
+    "data",
+    "azimuth_center",
+    "shell_axes",
+    "spider",
+    "spider_distance",
+    "central_stop",
+    "omit",
+    "tessellate",
+    "mesh",
+    "transform",
+];
+
+/// The keys of a prescription's shell (`telescope::Shell`) besides its
+/// surface's.
+pub const SHELL_KEYS: [&str; 8] = [
+    "r1_mm",
+    "r2_mm",
+    "r3_mm",
+    "r4_mm",
+    "r5_mm",
+    "thickness_mm",
+    "mirror_length_mm",
+    "azimuth_span_deg",
+];
+
 /// The keys of the tables that flatten a surface in: serde cannot list them
 /// when it refuses an unknown key (it names the key alone), so the scene's
 /// error names them from here, by where the table is. `tests` keeps each
@@ -43,11 +76,11 @@ pub fn keys_of_table_with_surface(table: &str) -> Option<Vec<&'static str>> {
             .is_some_and(|i| i.chars().all(|c| c.is_ascii_digit()))
     };
     let own: &[&'static str] = if indexed("assemblies") {
-        &super::assemblies::NESTED_TELESCOPE_KEYS
+        &NESTED_TELESCOPE_KEYS
     } else if indexed("shells") {
-        &super::telescope::SHELL_KEYS
+        &SHELL_KEYS
     } else if table.starts_with("materials.") {
-        &super::materials::MIRROR_KEYS
+        &MIRROR_KEYS
     } else {
         return None;
     };
@@ -108,7 +141,7 @@ mod tests {
         let mirror: super::super::materials::MaterialDesc =
             toml::from_str("type = \"mirror\"").unwrap();
         assert_eq!(fields(&format!("{mirror:?}")), listed("materials.m"));
-        let telescope: super::super::assemblies::AssemblyDesc =
+        let telescope: super::super::assembly_desc::AssemblyDesc =
             toml::from_str("type = \"nested_telescope\"").unwrap();
         let mut got = fields(&format!("{telescope:?}"));
         // The transform's steps and the omit list print no field names of

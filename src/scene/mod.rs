@@ -11,6 +11,7 @@
 
 mod appearance;
 mod assemblies;
+mod assembly_desc;
 mod build;
 mod camera;
 pub mod desc;
@@ -19,6 +20,7 @@ mod error;
 pub mod inputs;
 pub mod load;
 pub mod magnet;
+mod magnet_in_scene;
 mod materials;
 mod mirror_surface;
 mod objects;
@@ -31,7 +33,7 @@ mod vars;
 pub use vars::merged_overrides;
 
 pub use appearance::{Appearance, AppearanceDesc, Sky, SkyDesc};
-pub use assemblies::{AssemblyDesc, NestedTelescopeDesc};
+pub use assembly_desc::{AssemblyDesc, NestedTelescopeDesc};
 pub use build::{analytic_shapes, inline_shape, NamedShape, TABLE_THETA_MAX};
 pub use camera::{Camera, CameraDesc};
 pub use embree_binding::{AnalyticPieces, ShellSearch};

@@ -315,3 +315,24 @@ pub struct MeshDesc {
     #[serde(default)]
     pub part: Option<String>,
 }
+
+/// Tessellation resolution of an analytic shape.
+#[derive(Debug, Deserialize, Clone, Copy)]
+#[serde(deny_unknown_fields)]
+pub struct TessellateDesc {
+    /// Divisions around the azimuth range (x divisions for a rectangle, along
+    /// the first in-plane axis of each face of a box).
+    pub segments: usize,
+    /// Divisions along the axis (radial for a disk, y for a rectangle, the
+    /// second in-plane axis of a box face, pole to pole for a sphere).
+    pub rings: usize,
+}
+
+impl From<TessellateDesc> for crate::geometry::Resolution {
+    fn from(t: TessellateDesc) -> Self {
+        crate::geometry::Resolution {
+            segments: t.segments,
+            rings: t.rings,
+        }
+    }
+}

@@ -36,18 +36,6 @@ pub enum Profile {
 /// One shell. Radii in mm: R1 at the entrance, R2 at the front mirror's other
 /// end, R3 at the intersection plane, R4 and R5 at the rear mirror's ends.
 /// Cones give R1, R2, R4, R5; Wolter-I shells give R3.
-/// The keys of a shell besides its surface's (for messages).
-pub const SHELL_KEYS: [&str; 8] = [
-    "r1_mm",
-    "r2_mm",
-    "r3_mm",
-    "r4_mm",
-    "r5_mm",
-    "thickness_mm",
-    "mirror_length_mm",
-    "azimuth_span_deg",
-];
-
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Shell {

@@ -34,8 +34,14 @@ pub fn builtin_shares() -> &'static ProcessShares {
     static SHARES: OnceLock<ProcessShares> = OnceLock::new();
     SHARES.get_or_init(|| {
         Arc::new(
-            parse(SHARES_CSV, super::builtin::abc_table().rates.len())
-                .expect("the shipped ABC process shares are valid (tested)"),
+            parse(
+                SHARES_CSV,
+                super::tables::tables(super::tables::BuiltinModel::B16Agss09met)
+                    .abc
+                    .rates
+                    .len(),
+            )
+            .expect("the shipped ABC process shares are valid (tested)"),
         )
     })
 }

@@ -9,6 +9,7 @@
 //! source's `solar_model` and `traxer solar-flux --solar-model` pick the model.
 
 use super::emission::EmissionTable;
+use super::model::SolarDataError;
 use std::path::Path;
 use std::sync::OnceLock;
 
@@ -97,7 +98,7 @@ pub fn tables(model: BuiltinModel) -> &'static ModelTables {
             .expect("the shipped Primakoff tables are valid (tested)");
         let abc = EmissionTable::parse_csv(a_text, Path::new(a_path))
             .expect("the shipped ABC tables are valid (tested)");
-        let abc_spectra = super::builtin::parse_process_spectra(s_text, &abc.energies)
+        let abc_spectra = parse_process_spectra(s_text, &abc.energies)
             .expect("the shipped ABC spectra are valid (tested)");
         let title = model.title();
         ModelTables {
@@ -108,4 +109,54 @@ pub fn tables(model: BuiltinModel) -> &'static ModelTables {
             abc_description: format!("axion–electron ABC emission (atomic from Opacity Project cross sections, electron–ion and electron–electron bremsstrahlung, Compton; Redondo 2013) of the {title} standard solar model, {a_path}"),
         }
     })
+}
+
+/// Reads the per-process columns `flux_<process>_per_cm2_s_keV` of a
+/// `traxer solar-flux` spectrum.csv whose energies are `energies`.
+pub fn parse_process_spectra(
+    text: &str,
+    energies: &[f64],
+) -> Result<[Vec<f64>; 4], SolarDataError> {
+    let mut reader = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    let headers = reader
+        .headers()
+        .map_err(|e| SolarDataError(format!("spectrum: {e}")))?
+        .clone();
+    let column = |name: &str| {
+        headers
+            .iter()
+            .position(|h| h == name)
+            .ok_or_else(|| SolarDataError(format!("spectrum: no column {name}")))
+    };
+    let energy = column("energy_keV")?;
+    let columns: Vec<usize> = super::abc::PROCESSES
+        .iter()
+        .map(|p| column(&format!("flux_{p}_per_cm2_s_keV")))
+        .collect::<Result<_, _>>()?;
+    let mut out: [Vec<f64>; 4] = Default::default();
+    for (k, record) in reader.records().enumerate() {
+        let record = record.map_err(|e| SolarDataError(format!("spectrum: {e}")))?;
+        let value = |i: usize| -> Result<f64, SolarDataError> {
+            record
+                .get(i)
+                .and_then(|v| v.parse().ok())
+                .ok_or_else(|| SolarDataError(format!("spectrum row {}: not a number", k + 2)))
+        };
+        let e = value(energy)?;
+        if energies.get(k).is_none_or(|x| (x - e).abs() > 1e-9) {
+            return Err(SolarDataError(format!(
+                "spectrum row {}: energy {e} is not the table's",
+                k + 2
+            )));
+        }
+        for (o, &c) in out.iter_mut().zip(&columns) {
+            o.push(value(c)?);
+        }
+    }
+    if out[0].len() != energies.len() {
+        return Err("spectrum: not one row per energy of the table".into());
+    }
+    Ok(out)
 }
