@@ -159,6 +159,27 @@ class Scene:
         point: Ctrl-C stops it after the current point, and ``resume=True``
         takes up the recorded points.
         """
+    def compare(
+        self,
+        resolutions: Optional[list[str]] = None,
+        also: Optional[list[_Path]] = None,
+        photons: Optional[int | float] = None,
+        seed: int = 1,
+        threads: int = 0,
+        sensor: Optional[str] = None,
+        progress: bool = False,
+        out: Optional[_Path] = None,
+        resume: bool = False,
+    ) -> Comparison:
+        """The analytic scene against meshes of it, as ``traxer compare``: the
+        scene traced with its analytic objects exact, then tessellated at each
+        of ``resolutions`` ("SEGMENTSxRINGS" strings, e.g. "120x4"; default
+        those of the command), then each scene file of ``also`` as written
+        (with this scene's variables), all with the same photons (default
+        2 000 000 per run). With ``out`` (a folder) the comparison writes the
+        files of ``traxer compare --out`` there and records each row: Ctrl-C
+        stops it after the current row, and ``resume=True`` takes up the
+        recorded ones."""
     def systematics(
         self,
         photons: Optional[int | float] = None,
@@ -454,6 +475,25 @@ class Systematics:
         """Writes the files of ``traxer systematics`` into ``folder``:
         systematics.csv, systematics.json, systematics.fits, the map_*.npy and
         the PNGs, all at once."""
+
+class Comparison:
+    """The analytic scene against meshes of it (``Scene.compare``)."""
+
+    @property
+    def rows(self) -> list[dict[str, Any]]:
+        """One dict per traced variant, the analytic scene first: its
+        representation, scene, triangles, image_quality (centroid and 50/80/90 %
+        diameters), the differences to the analytic row in per cent, photons on
+        the sensor, photons per second and seconds (the rows of compare.json)."""
+    @property
+    def markdown(self) -> str:
+        """The table ``traxer compare`` prints."""
+    @property
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the comparison."""
+    def save(self, folder: _Path) -> None:
+        """Writes the files of ``traxer compare`` into ``folder``: compare.csv
+        and compare.json, both at once."""
 
 class SolarEmission:
     """A solar axion emission table w(r, E) on a radius × energy grid."""

@@ -12,6 +12,7 @@
 #![deny(unsafe_code)]
 
 mod analysis;
+mod compare;
 mod convert;
 mod effective_area;
 mod errors;
@@ -61,6 +62,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<effective_area::EffectiveArea>()?;
     m.add_class::<psf::PsfLibrary>()?;
     m.add_class::<systematics::Systematics>()?;
+    m.add_class::<compare::Comparison>()?;
     m.add_class::<solar::SolarEmission>()?;
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;

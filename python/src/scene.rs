@@ -302,6 +302,57 @@ impl Scene {
         crate::psf::run(py, self.loaded.clone(), grid, (out, resume), progress)
     }
 
+    /// The analytic scene against meshes of it, as `traxer compare`: the scene
+    /// traced with its analytic objects exact, then tessellated at each of
+    /// `resolutions` ("SEGMENTSxRINGS" strings, e.g. "120x4"; default those of
+    /// the command), then each scene file of `also` as written (with this
+    /// scene's variables), all with the same photons (default 2 000 000 per
+    /// run). With `out` (a folder) the comparison writes the files of `traxer
+    /// compare --out` there and records each row: Ctrl-C stops it after the
+    /// current row, and `resume=True` takes up the recorded ones. Returns a
+    /// `traxer.Comparison`.
+    #[pyo3(signature = (resolutions = None, also = None, photons = None, seed = 1, threads = 0, sensor = None, progress = false, out = None, resume = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn compare(
+        &self,
+        py: Python<'_>,
+        resolutions: Option<Vec<String>>,
+        also: Option<Vec<PathBuf>>,
+        photons: Option<&Bound<'_, PyAny>>,
+        seed: u64,
+        threads: usize,
+        sensor: Option<String>,
+        progress: bool,
+        out: Option<PathBuf>,
+        resume: bool,
+    ) -> PyResult<crate::compare::Comparison> {
+        use traxer::studies::compare::{DEFAULT_PHOTONS, DEFAULT_RESOLUTIONS};
+        let resolutions = resolutions
+            .unwrap_or_else(|| DEFAULT_RESOLUTIONS.split(',').map(String::from).collect())
+            .iter()
+            .map(|r| {
+                r.parse()
+                    .map_err(|e: String| crate::errors::input(format!("resolutions: {e}")))
+            })
+            .collect::<PyResult<Vec<_>>>()?;
+        let runs = crate::compare::Variants {
+            resolutions,
+            also: also.unwrap_or_default(),
+        };
+        let mut sampling = sampling(photons, seed, threads, sensor)?;
+        if photons.is_none() {
+            sampling.photons = DEFAULT_PHOTONS;
+        }
+        crate::compare::run(
+            py,
+            self.loaded.clone(),
+            runs,
+            sampling,
+            (out, resume),
+            progress,
+        )
+    }
+
     /// The image's systematic uncertainty, as `traxer systematics`: the scene
     /// traced under each source of uncertainty with the same photons. Sources
     /// (default: every one the scene's variables support): "figure" (

@@ -30,8 +30,8 @@ pub struct CompareArgs {
     #[command(flatten)]
     pub scene: SceneArgs,
     /// Tessellations to compare, SEGMENTSxRINGS (comma separated).
-    #[arg(value_name = "SxR", long, value_delimiter = ',', value_parser = parse_resolution,
-          default_value = "4x1,8x1,15x1,30x1,60x2,120x4")]
+    #[arg(value_name = "SxR", long, value_delimiter = ',', value_parser = str::parse::<Resolution>,
+          default_value = traxer::studies::compare::DEFAULT_RESOLUTIONS)]
     pub resolutions: Vec<Resolution>,
     /// Other scene files to trace and compare (repeatable), e.g. a scene built
     /// from exported meshes; they get the same -D overrides.
@@ -50,17 +50,6 @@ pub struct CompareArgs {
     pub resume: bool,
 }
 
-fn parse_resolution(s: &str) -> Result<Resolution, String> {
-    let bad = || format!("expected SEGMENTSxRINGS with positive integers, e.g. 120x4, got `{s}`");
-    let (a, b) = s.trim().split_once(['x', 'X']).ok_or_else(bad)?;
-    let segments: usize = a.trim().parse().map_err(|_| bad())?;
-    let rings: usize = b.trim().parse().map_err(|_| bad())?;
-    if segments == 0 || rings == 0 {
-        return Err(bad());
-    }
-    Ok(Resolution { segments, rings })
-}
-
 pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let cfg = a.run.config()?;
     let device = Device::new()?;
@@ -76,7 +65,13 @@ pub fn run(a: CompareArgs) -> anyhow::Result<()> {
     let analytic = load(&a.scene.scene, Representation::Analytic)?;
     traxer::studies::require_sources(&analytic)?;
     let runs = variants(&a.scene.scene, &a.resolutions, &a.also);
-    let study = CompareStudy::new(runs, cfg.clone(), a.sensor.clone(), &load);
+    let sampling = traxer::studies::Sampling {
+        photons: cfg.photons,
+        seed: cfg.seed,
+        threads: cfg.threads,
+        sensor: a.sensor.clone(),
+    };
+    let study = CompareStudy::new(runs, sampling, &load);
     let places = (&a.scene, &a.output);
     let (rows, out) = super::study::run_loaded(&study, (&device, &analytic), places, a.resume)?;
     say!("{}", compare_markdown(&rows));

@@ -16,6 +16,24 @@ pub struct Resolution {
     pub rings: usize,
 }
 
+impl std::str::FromStr for Resolution {
+    type Err = String;
+
+    /// `SEGMENTSxRINGS` with positive integers, e.g. `120x4` (`traxer compare
+    /// --resolutions`, Python's `Scene.compare`).
+    fn from_str(s: &str) -> Result<Resolution, String> {
+        let bad =
+            || format!("expected SEGMENTSxRINGS with positive integers, e.g. 120x4, got `{s}`");
+        let (a, b) = s.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+        let segments: usize = a.trim().parse().map_err(|_| bad())?;
+        let rings: usize = b.trim().parse().map_err(|_| bad())?;
+        if segments == 0 || rings == 0 {
+            return Err(bad());
+        }
+        Ok(Resolution { segments, rings })
+    }
+}
+
 /// An analytic surface in its own local frame (documented per shape), with a
 /// front side: the side [`Surface::normal`] points to.
 pub trait Surface {

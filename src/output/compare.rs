@@ -126,23 +126,7 @@ pub fn write_compare(
             ]
         }),
     )?;
-    let json_rows: Vec<_> = rows
-        .iter()
-        .zip(&rel)
-        .map(|(r, x)| {
-            json!({
-                "representation": r.label,
-                "scene": r.path.display().to_string(),
-                "triangles": r.triangles,
-                "image_quality": r.measured.quality,
-                "diameter_diff_pct": { "hpd": x.diff_pct[0], "d80": x.diff_pct[1], "d90": x.diff_pct[2] },
-                "photons_on_sensor": r.measured.on_sensor,
-                "photons_on_sensor_diff_pct": x.on_sensor_pct,
-                "photons_per_s": r.measured.photons_per_second(),
-                "trace_seconds": r.measured.seconds,
-            })
-        })
-        .collect();
+    let json_rows = compare_rows_json(rows);
     let json_path = dir.join(COMPARE_FILES[1]);
     write_json(
         &json_path,
@@ -157,4 +141,27 @@ pub fn write_compare(
         }),
     )?;
     Ok(vec![csv, json_path])
+}
+
+/// The rows as compare.json holds them: each representation's scene,
+/// triangles, image quality, differences to the first row (per cent), photons
+/// on the sensor and speed.
+pub fn compare_rows_json(rows: &[Row]) -> Vec<serde_json::Value> {
+    let (rel, _) = relative(rows);
+    rows.iter()
+        .zip(&rel)
+        .map(|(r, x)| {
+            json!({
+                "representation": r.label,
+                "scene": r.path.display().to_string(),
+                "triangles": r.triangles,
+                "image_quality": r.measured.quality,
+                "diameter_diff_pct": { "hpd": x.diff_pct[0], "d80": x.diff_pct[1], "d90": x.diff_pct[2] },
+                "photons_on_sensor": r.measured.on_sensor,
+                "photons_on_sensor_diff_pct": x.on_sensor_pct,
+                "photons_per_s": r.measured.photons_per_second(),
+                "trace_seconds": r.measured.seconds,
+            })
+        })
+        .collect()
 }

@@ -52,7 +52,7 @@ pub use systematics::{
 pub use crate::colormap::Scale;
 pub use crate::sensor::{class_file_names, file_stem, SensorFiles};
 pub use arf::{arf_name, energy_bins, sixte_vignetting_refused, SIXTE_VIGNETTING};
-pub use compare::{compare_markdown, write_compare, COMPARE_FILES};
+pub use compare::{compare_markdown, compare_rows_json, write_compare, COMPARE_FILES};
 pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
 pub use effective_area::{effective_area_files, write_effective_area, EFFECTIVE_AREA_FILES};

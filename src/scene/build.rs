@@ -96,6 +96,7 @@ pub(super) fn build(
     let warnings = [expanded.warnings, builder.warnings].concat();
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
     Ok(Scene {
+        representation,
         path: path.to_path_buf(),
         title: desc.title.clone(),
         text_sha256: sha256,

@@ -100,6 +100,9 @@ pub struct Scene {
     /// Seconds Embree took to build the scene's BVH (`traxer bench` reports it).
     pub bvh_seconds: f64,
     pub triangle_count: usize,
+    /// How its analytic objects were given to Embree (`traxer compare` traces
+    /// one scene in several).
+    pub representation: Representation,
 }
 
 /// What a unit of a scene's images counts.

@@ -15,6 +15,13 @@ use crate::trace::RunConfig;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
+/// The tessellations compared by default (`traxer compare`, Python's
+/// `Scene.compare`): from coarse to converged on the shipped telescopes.
+pub const DEFAULT_RESOLUTIONS: &str = "4x1,8x1,15x1,30x1,60x2,120x4";
+
+/// Photons per variant by default (the same as `traxer compare -n`'s).
+pub const DEFAULT_PHOTONS: u64 = 2_000_000;
+
 /// One traced variant: its label, scene file and representation.
 #[derive(Clone, Debug)]
 pub struct Variant {
@@ -80,21 +87,17 @@ fn labels<S: serde::Serializer>(variants: &[Variant], s: S) -> Result<S::Ok, S::
 }
 
 impl<'a> CompareStudy<'a> {
-    /// `variants` traced with `cfg`'s photons, seed and threads, measured on
-    /// `sensor` (default: each scene's only one); `load` builds each.
+    /// `variants` traced with `sampling`'s photons, seed and threads, measured
+    /// on its sensor (default: each scene's only one); `load` builds each.
     pub fn new(
         variants: Vec<Variant>,
-        cfg: RunConfig,
-        sensor: Option<String>,
+        sampling: Sampling,
         load: VariantLoader<'a>,
     ) -> CompareStudy<'a> {
+        let mut cfg = RunConfig::new(sampling.photons, sampling.seed);
+        cfg.threads = sampling.threads;
         CompareStudy {
-            sampling: Sampling {
-                photons: cfg.photons,
-                seed: cfg.seed,
-                threads: cfg.threads,
-                sensor,
-            },
+            sampling,
             variants,
             cfg,
             load,
@@ -122,8 +125,7 @@ impl StudyKind for CompareStudy<'_> {
     }
 
     /// Traces every variant and measures its sensor. The first row (the
-    /// analytic scene, as the front end loaded it) is the reference and must
-    /// have an image.
+    /// analytic scene) is the reference and must have an image.
     fn run(
         &self,
         scene: &Scene,
@@ -172,17 +174,17 @@ impl StudyKind for CompareStudy<'_> {
 }
 
 impl CompareStudy<'_> {
-    /// One variant traced: the analytic one on `analytic` (the front end's
-    /// load), the others loaded here.
+    /// One variant traced: on `shown` (the front end's load) when it is that
+    /// variant, else on a scene loaded here.
     fn trace(
         &self,
-        analytic: &Scene,
+        shown: &Scene,
         v: &Variant,
         progress: &dyn Progress,
     ) -> Result<Row, StudyError> {
         let loaded;
-        let scene = if v.representation == Representation::Analytic && v.path == analytic.path {
-            analytic
+        let scene = if v.representation == shown.representation && v.path == shown.path {
+            shown
         } else {
             loaded = (self.load)(&v.path, v.representation)?;
             &loaded

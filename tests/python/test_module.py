@@ -1010,3 +1010,53 @@ def test_a_python_psf_library_into_a_folder_writes_the_cli_files(tmp_path):
     assert sorted(p.name for p in (tmp_path / "py").iterdir()) == names
     assert (tmp_path / "py" / "psf.npy").read_bytes() == (tmp_path / "cli" / "psf.npy").read_bytes()
     assert np.load(tmp_path / "py" / "psf.npy").tobytes() == lib.images.tobytes()
+
+
+def test_compare_in_python_measures_what_the_cli_does_and_stops_and_resumes(tmp_path):
+    """`Scene.compare` traces the rows of `traxer compare` with the same
+    photons: the same measured columns of compare.csv (the speed columns aside);
+    into a folder it stops on Ctrl-C after a row and resume=True ends with the
+    uninterrupted rows."""
+    scene = REPO / "scenes" / "panter_al_ka.toml"
+    s = traxer.Scene(scene)
+    c = s.compare(["4x1", "30x1"], photons=100_000, seed=2)
+    rows = c.rows
+    assert [r["representation"] for r in rows] == ["analytic", "mesh 4x1", "mesh 30x1"]
+    assert rows[0]["diameter_diff_pct"]["hpd"] == 0.0
+    assert rows[1]["triangles"] < rows[2]["triangles"]
+    # 4 segments per shell are far from the cones: the HPD moves by far more
+    # than the 100 000 photons' noise (common photons: differences are not noise).
+    assert abs(rows[1]["diameter_diff_pct"]["hpd"]) > abs(rows[2]["diameter_diff_pct"]["hpd"])
+    assert "| analytic |" in c.markdown
+    cli("compare", scene, "--resolutions", "4x1,30x1", "-n", 100_000, "--seed", 2,
+        "--out", tmp_path / "cli", "-q")
+    c.save(tmp_path / "py")
+
+    def measured(folder):
+        lines = (folder / "compare.csv").read_text().splitlines()
+        return [line.rsplit(",", 2)[0] for line in lines]
+
+    assert measured(tmp_path / "py") == measured(tmp_path / "cli")
+    with pytest.raises(traxer.InputError, match="SEGMENTSxRINGS"):
+        s.compare(["30"], photons=1000)
+    # Into a folder: stopped after a row, resumed to the same measurement.
+    out = tmp_path / "stopped"
+    many = [f"{k}x1" for k in range(4, 40)]
+    timer = threading.Timer(1.0, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt) as stopped:
+        s.compare(many, photons=100_000, seed=2, out=out)
+    timer.cancel()
+    assert "--resume" in " ".join(getattr(stopped.value, "__notes__", []))
+    done = (out / "compare_checkpoint.jsonl").read_text().count('"label"')
+    assert 0 < done < len(many) + 1, done
+    resumed = s.compare(many, photons=100_000, seed=2, out=out, resume=True)
+    whole = s.compare(many, photons=100_000, seed=2)
+    assert [r["image_quality"] for r in resumed.rows] == [r["image_quality"] for r in whole.rows]
+    assert measured(out)[1:] == [line.rsplit(",", 2)[0] for line in
+                                 _compare_csv_lines(whole, tmp_path / "whole")][1:]
+
+
+def _compare_csv_lines(comparison, folder):
+    comparison.save(folder)
+    return (folder / "compare.csv").read_text().splitlines()
