@@ -235,28 +235,54 @@ impl SensorImage {
         sum_bands(&self.flux(), spec.pixel_count())
     }
 
-    /// One photon: its pixel (band included), weight and its shares among the
-    /// process images, path class and first and last mirror, and for a gas
-    /// detector its energy and conversion.
+    // A photon is recorded in three parts, which a chunk's photons pass
+    // through one part at a time (`trace::Tally::add_records`): each part is
+    // a short loop, so the processor keeps many pixels' memory in flight at
+    // once, where one long loop body waited for each. The sums are exact
+    // integers: their order does not change a bit.
+
+    /// A photon's part in the image and counts: its pixel (band included)
+    /// and weight.
     #[inline]
-    pub fn record(
+    pub fn record_flux(&mut self, pixel: u32, weight: f64) {
+        self.flux_sum
+            .get_mut(pixel as usize)
+            .add(WeightSum::of(weight));
+        *self.counts.get_mut(pixel as usize) += 1;
+    }
+
+    /// A photon's part in the process and mass images: its shares among the
+    /// processes and its weight factor per mass.
+    #[inline]
+    pub fn record_split(
         &mut self,
-        (pixel, weight, shares, mass_factors): (u32, f64, &crate::source::ProcessWeights, &[f64]),
-        class: PathClass,
-        (first, last): (u32, u32),
+        (pixel, weight): (u32, f64),
+        shares: &crate::source::ProcessWeights,
+        mass_factors: &[f64],
+    ) {
+        let in_plane = pixel as usize % self.plane.max(1);
+        self.processes
+            .record(in_plane, (weight, WeightSum::of(weight)), shares);
+        self.masses
+            .record((pixel as usize, in_plane), weight, mass_factors, shares);
+    }
+
+    /// A photon's part in the path tallies (its class and first and last
+    /// mirror) and, for a gas detector, the conversions (its energy and
+    /// conversion).
+    #[inline]
+    pub fn record_path(
+        &mut self,
+        (pixel, weight): (u32, f64),
+        (class, first, last): (PathClass, u32, u32),
         (energy_kev, conversion): (f64, Option<&ConversionRecord>),
     ) {
         if let (Some(tally), Some(c)) = (&mut self.conversion, conversion) {
             tally.record(weight, energy_kev, c);
         }
-        let fixed = WeightSum::of(weight);
-        self.flux_sum.get_mut(pixel as usize).add(fixed);
-        *self.counts.get_mut(pixel as usize) += 1;
         let in_plane = pixel as usize % self.plane.max(1);
-        self.processes.record(in_plane, (weight, fixed), shares);
-        self.masses
-            .record((pixel as usize, in_plane), weight, mass_factors, shares);
-        self.paths.record(in_plane, fixed, class, (first, last));
+        self.paths
+            .record(in_plane, WeightSum::of(weight), class, (first, last));
     }
 
     /// Adds the image of another part of the same run (exact, in any order).

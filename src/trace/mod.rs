@@ -150,15 +150,21 @@ impl Tally {
     pub fn add_records(&mut self, scene: &Scene, chunk: &Chunk) {
         let emission = scene.sun_emission();
         let masses = chunk.mass_factors.len() / chunk.records.len().max(1);
+        // One part of each photon's record at a time (see `SensorImage::record_flux`).
+        for r in &chunk.records {
+            self.images[r.sensor as usize].record_flux(r.pixel, r.weight);
+        }
         for (i, r) in chunk.records.iter().enumerate() {
-            let h = &r.history;
             let shares =
                 emission.map_or_else(Default::default, |e| e.process_weights(r.process, r.cell));
             let factors = &chunk.mass_factors[i * masses..(i + 1) * masses];
-            self.images[r.sensor as usize].record(
-                (r.pixel, r.weight, &shares, factors),
-                h.class(),
-                (h.first_mirror, h.last_mirror),
+            self.images[r.sensor as usize].record_split((r.pixel, r.weight), &shares, factors);
+        }
+        for r in &chunk.records {
+            let h = &r.history;
+            self.images[r.sensor as usize].record_path(
+                (r.pixel, r.weight),
+                (h.class(), h.first_mirror, h.last_mirror),
                 (r.energy, r.conversion.as_ref()),
             );
         }
