@@ -11,9 +11,10 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use traxer::analysis::FinishedImage;
 use traxer::history::PathClass;
-use traxer::output::{flux_unit, photon_list_npy, sources_json, statistics_json, Provenance};
+use traxer::output::{flux_unit, photon_list_npy, statistics_json, Provenance};
 use traxer::run::{save_results, StateHeader};
 use traxer::sensor::SensorSpec;
+use traxer::source::sources_json;
 use traxer::trace::Tally;
 
 /// One sensor's image of a trace.
@@ -305,7 +306,7 @@ impl TraceResult {
                 .clone()
                 .into_result(header.identity.photon_list, header.seconds, threads);
         let statistics = json(py, &statistics_json(scene, &result))?;
-        let sources = json(py, &sources_json(scene, emitted))?;
+        let sources = json(py, &sources_json(&scene.sources, emitted))?;
         let photons = if header.identity.photon_list > 0 {
             let bytes = photon_list_npy(&result.photons, absolute.unwrap_or(1.0)).map_err(lib)?;
             let buffer = py.import("io")?.call_method1("BytesIO", (bytes,))?;

@@ -70,7 +70,5 @@ pub use npy::{read_image, read_npy, write_npy_f64, write_npy_u64, NpyError, NpyI
 pub use plot::{line_plot, Series};
 pub use png::{write_png, write_rgb_png};
 pub use provenance::{sidecar_path, write_sidecar, Provenance};
-pub use run_files::{
-    flux_unit, run_file_names, sources_json, statistics_json, write_json, write_run, Outputs,
-};
+pub use run_files::{flux_unit, run_file_names, statistics_json, write_json, write_run, Outputs};
 pub use solar_flux::{cast2007_flux, write_solar_flux, SolarFluxInfo, SOLAR_FLUX_FILES};

@@ -23,7 +23,6 @@ use crate::files::atomic_write;
 use crate::scene::Counted;
 use crate::scene::Scene;
 use crate::sensor::{fits_file_name, grid_fits_file_name, GridFiles, SensorFiles, SUMMARY_FILE};
-use crate::source::Source;
 use crate::studies::sky::SkyCalibration;
 use crate::trace::RunResult;
 use serde_json::{json, Value};
@@ -73,7 +72,7 @@ pub fn write_run(
     let mut written = Vec::new();
     let stats = statistics_json(scene, result);
     let photons = result.stats.photons_emitted;
-    let sources = sources_json(scene, photons);
+    let sources = crate::source::sources_json(&scene.sources, photons);
     // A Sun makes images in axions per second (it is then the only source).
     let absolute = scene.rate_per_unit_weight(photons);
     let mut sensor_summaries = Vec::new();
@@ -507,64 +506,5 @@ pub fn statistics_json(scene: &Scene, r: &RunResult) -> Value {
         "threads": r.threads,
         "photons_per_second": s.photons_emitted as f64 / r.seconds.max(1e-9),
         "sensor_photons_per_second": s.reached_sensor as f64 / r.seconds.max(1e-9),
-    })
-}
-
-/// The scene's sources as `summary.json` describes them, for a run of `photons`.
-pub fn sources_json(scene: &Scene, photons: u64) -> Value {
-    Value::Array(
-        scene
-            .sources
-            .iter()
-            .map(|s| match s {
-                Source::Parallel(p) => json!({
-                    "type": "parallel",
-                    "aperture": sector_json(&p.aperture),
-                    "direction": p.direction.to_array(),
-                    "spectrum_keV": p.spectrum,
-                    "weight": s.describe_weight(),
-                }),
-                Source::Point(p) => json!({
-                    "type": "point",
-                    "position_mm": p.position.to_array(),
-                    "radius_mm": p.radius,
-                    "target": sector_json(&p.target),
-                    "spectrum_keV": p.spectrum,
-                    "weight": s.describe_weight(),
-                }),
-                Source::Sun(sun) => json!({
-                    "type": "sun",
-                    "emission": sun.emission,
-                    "coupling": sun.coupling,
-                    "productions": sun.productions.iter().map(|(p, g)| json!({
-                        "process": p,
-                        "coupling": if p == "primakoff" { "g_agamma" } else { "g_ae" },
-                        "value": g,
-                    })).collect::<Vec<_>>(),
-                    "couplings_not_used": sun.couplings_not_used,
-                    "distance_au": sun.distance_mm / (crate::constants::AU_CM * 10.0),
-                    "toward_sun": sun.toward_sun.to_array(),
-                    "offset_arcmin": sun.offset_arcmin,
-                    "target": sector_json(&sun.target),
-                    "energy_range_keV": [sun.energy_range.0, sun.energy_range.1],
-                    "luminosity_per_s": sun.emission_draw.luminosity,
-                    "flux_at_target_per_cm2_s": sun.flux_per_mm2() * 100.0,
-                    "rate_through_target_per_s": sun.rate_through_target(),
-                    "rate_per_unit_weight_per_s": sun.rate_per_unit_weight(photons),
-                    "weight": s.describe_weight(),
-                    "magnet": sun.magnet.as_deref().map(crate::magnet::Magnet::describe),
-                }),
-            })
-            .collect(),
-    )
-}
-
-fn sector_json(a: &crate::source::AnnulusSector) -> Value {
-    json!({
-        "center_mm": a.center.to_array(),
-        "radius_mm": a.radius,
-        "inner_radius_mm": a.inner_radius,
-        "azimuth_deg": [a.phi_start.to_degrees(), (a.phi_start + a.phi_span).to_degrees()],
-        "area_mm2": a.area(),
     })
 }

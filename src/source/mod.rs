@@ -10,6 +10,7 @@ mod annulus;
 mod parallel;
 mod point;
 mod spectrum;
+mod summary;
 pub mod sun;
 
 pub use annulus::{AnnulusSector, ApertureDesc};
@@ -17,6 +18,8 @@ pub use parallel::{ParallelBeam, ParallelDesc};
 pub use point::{PointDesc, PointSource};
 pub use spectrum::{EnergyDesc, Spectrum, SpectrumTable};
 pub use sun::{ProcessWeights, SunDesc, SunEmission, SunSource};
+
+pub use summary::sources_json;
 
 use crate::geometry::{within_world, WORLD_LIMIT_MM};
 use crate::random::PhotonRng;

@@ -5,9 +5,11 @@
 //! which traces a run or a part of one (a shard, a resumed sitting, a
 //! systematics variation) over rayon, and [`run_part_with`], the same loop
 //! with a study's own way of tracing a chunk (a PSF point's tilted beam and
-//! tables); [`live`] feeds the live window. The effective area and the sky
-//! calibration still run their own chunk loops (tests/it/layout.rs names them). The life of a run
-//! around it (results folder, checkpoints, shards, provenance) is `run`'s.
+//! tables); [`map_chunks`], the same chunks for a study that keeps per photon
+//! what a tally does not (the effective area's path steps, the sky
+//! calibration's positions); [`live`] feeds the live window. No other file
+//! loops over photon chunks (tests/it/layout.rs). The life of a run around it
+//! (results folder, checkpoints, shards, provenance) is `run`'s.
 //!
 //! Data flow: photon indices are cut into fixed chunks; rayon traces chunks in
 //! parallel, photon i with the random stream (seed, i) ([`crate::random`]); each
