@@ -159,6 +159,28 @@ class Scene:
         point: Ctrl-C stops it after the current point, and ``resume=True``
         takes up the recorded points.
         """
+    def focus(
+        self,
+        start: float,
+        stop: float,
+        var: str = "sensor_z",
+        steps: int = 13,
+        photons: Optional[int | float] = None,
+        seed: int = 1,
+        threads: int = 0,
+        sensor: Optional[str] = None,
+        progress: bool = False,
+        out: Optional[_Path] = None,
+        resume: bool = False,
+    ) -> FocusScan:
+        """The focus scan, as ``traxer focus``: the scene traced at ``steps``
+        values of the variable ``var`` (declared in its [vars], e.g.
+        "sensor_z"), evenly spaced from ``start`` to ``stop``, ``photons``
+        photons each (default 1 000 000), the diameters measured and a defocus
+        curve fitted to each. With ``out`` (a folder) the scan writes the files
+        of ``traxer focus --out`` there and records each position: Ctrl-C stops
+        it after the current position, and ``resume=True`` takes up the
+        recorded ones."""
     def compare(
         self,
         resolutions: Optional[list[str]] = None,
@@ -475,6 +497,38 @@ class Systematics:
         """Writes the files of ``traxer systematics`` into ``folder``:
         systematics.csv, systematics.json, systematics.fits, the map_*.npy and
         the PNGs, all at once."""
+
+class FocusScan:
+    """A focus scan: the image's diameters at each value of the scene variable
+    that places the sensor (``Scene.focus``)."""
+
+    variable: str
+    """The scene variable swept."""
+    sensor: str
+    """The sensor measured."""
+    values: npt.NDArray[np.float64]
+    """The variable's values."""
+    hpd_mm: npt.NDArray[np.float64]
+    """Half-power diameter (mm) at each value (NaN without an image)."""
+    d80_mm: npt.NDArray[np.float64]
+    """80 % diameter (mm) at each value."""
+    d90_mm: npt.NDArray[np.float64]
+    """90 % diameter (mm) at each value."""
+    photons_on_sensor: npt.NDArray[np.uint64]
+    """Photons recorded on the sensor at each value."""
+    clipped: list[float]
+    """The values where the image is probably larger than the sensor."""
+    @property
+    def fits(self) -> dict[str, dict[str, Any]]:
+        """The defocus fit of each diameter ("hpd", "d80", "d90"): z0 (the
+        best focus), z0_std_error, d0, slope, ... (as focus.json's fit_*), or
+        {"error": why} where the fit failed."""
+    @property
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the scan."""
+    def save(self, folder: _Path) -> None:
+        """Writes the files of ``traxer focus`` into ``folder``: focus.csv,
+        focus.json and focus.png, all at once."""
 
 class Comparison:
     """The analytic scene against meshes of it (``Scene.compare``)."""

@@ -16,6 +16,7 @@ mod compare;
 mod convert;
 mod effective_area;
 mod errors;
+mod focus;
 mod grid;
 mod magnet;
 mod psf;
@@ -63,6 +64,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<psf::PsfLibrary>()?;
     m.add_class::<systematics::Systematics>()?;
     m.add_class::<compare::Comparison>()?;
+    m.add_class::<focus::FocusScan>()?;
     m.add_class::<solar::SolarEmission>()?;
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;

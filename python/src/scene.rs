@@ -302,6 +302,53 @@ impl Scene {
         crate::psf::run(py, self.loaded.clone(), grid, (out, resume), progress)
     }
 
+    /// The focus scan, as `traxer focus`: the scene traced at `steps` values
+    /// of the variable `var` (declared in its [vars], e.g. "sensor_z"),
+    /// evenly spaced from `start` to `stop`, `photons` photons each (default
+    /// 1 000 000), the diameters measured and a defocus curve fitted to each.
+    /// With `out` (a folder) the scan writes the files of `traxer focus --out`
+    /// there and records each position: Ctrl-C stops it after the current
+    /// position, and `resume=True` takes up the recorded ones. Returns a
+    /// `traxer.FocusScan`.
+    #[pyo3(signature = (start, stop, var = "sensor_z", steps = 13, photons = None, seed = 1, threads = 0, sensor = None, progress = false, out = None, resume = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn focus(
+        &self,
+        py: Python<'_>,
+        start: f64,
+        stop: f64,
+        var: &str,
+        steps: usize,
+        photons: Option<&Bound<'_, PyAny>>,
+        seed: u64,
+        threads: usize,
+        sensor: Option<String>,
+        progress: bool,
+        out: Option<PathBuf>,
+        resume: bool,
+    ) -> PyResult<crate::focus::FocusScan> {
+        let s = sampling(photons, seed, threads, sensor)?;
+        let mut cfg = traxer::trace::RunConfig::new(s.photons, s.seed);
+        if photons.is_none() {
+            cfg.photons = 1_000_000;
+        }
+        cfg.threads = s.threads;
+        let sweep = traxer::studies::focus::FocusSweep {
+            var: var.to_string(),
+            from: start,
+            to: stop,
+            steps,
+            sensor: s.sensor,
+        };
+        crate::focus::run(
+            py,
+            self.loaded.clone(),
+            (sweep, cfg),
+            (out, resume),
+            progress,
+        )
+    }
+
     /// The analytic scene against meshes of it, as `traxer compare`: the scene
     /// traced with its analytic objects exact, then tessellated at each of
     /// `resolutions` ("SEGMENTSxRINGS" strings, e.g. "120x4"; default those of

@@ -1060,3 +1060,23 @@ def test_compare_in_python_measures_what_the_cli_does_and_stops_and_resumes(tmp_
 def _compare_csv_lines(comparison, folder):
     comparison.save(folder)
     return (folder / "compare.csv").read_text().splitlines()
+
+
+def test_focus_in_python_equals_the_cli(tmp_path):
+    """`Scene.focus` traces the positions of `traxer focus` with the same
+    photons: the same diameters bit for bit, and `save` writes the same
+    focus.csv; the HPD's fitted best focus lies inside the sweep, which
+    brackets the shipped scene's sensor."""
+    scene = REPO / "scenes" / "panter_al_ka.toml"
+    f = traxer.Scene(scene).focus(-1534, -1504, steps=5, photons=50_000, seed=2)
+    assert f.values.tolist() == [-1534.0, -1526.5, -1519.0, -1511.5, -1504.0]
+    assert f.hpd_mm.shape == (5,) and (f.hpd_mm > 0).all()
+    assert (f.d80_mm > f.hpd_mm).all() and (f.d90_mm > f.d80_mm).all()
+    z0 = f.fits["hpd"]["z0"]
+    assert -1534 < z0 < -1504, z0
+    cli("focus", scene, "--from", -1534, "--to", -1504, "--steps", 5, "-n", 50_000,
+        "--seed", 2, "--out", tmp_path / "cli", "-q")
+    f.save(tmp_path / "py")
+    assert (tmp_path / "py" / "focus.csv").read_bytes() == (tmp_path / "cli" / "focus.csv").read_bytes()
+    with pytest.raises(traxer.InputError, match="steps"):
+        traxer.Scene(scene).focus(-1534, -1504, steps=2, photons=1000)
