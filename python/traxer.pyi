@@ -159,6 +159,42 @@ class Scene:
         point: Ctrl-C stops it after the current point, and ``resume=True``
         takes up the recorded points.
         """
+    def fit_figure_error(
+        self,
+        target_hpd: float,
+        target_c80: float,
+        target_c90: float,
+        bounds: Optional[dict[str, tuple[float, float] | float]] = None,
+        global_evals: int = 150,
+        local_evals: int = 60,
+        local_algorithm: str = "sbplx",
+        check_seeds: int = 3,
+        target_error: float = 2.0,
+        predict: Optional[list[_Path]] = None,
+        predict_seeds: int = 4,
+        name: str = "fitted",
+        photons: Optional[int | float] = None,
+        seed: int = 1,
+        threads: int = 0,
+        sensor: Optional[str] = None,
+        progress: bool = False,
+        out: Optional[_Path] = None,
+        resume: bool = False,
+    ) -> FigureErrorFit:
+        """The figure-error fit, as ``traxer fit-figure-error``: the
+        figure-error parameters of every mirror fitted to the measured
+        ``target_hpd``, ``target_c80`` and ``target_c90`` (arcsec), each
+        evaluation traced with the same ``photons`` (default 1 000 000) and
+        ``seed``; DIRECT-L over ``bounds`` ({name: (low, high)} or {name:
+        value} to hold it; defaults in_plane_narrow 0–120, in_plane_wide
+        0–900, wide_fraction 0–0.6, out_of_plane 0) for ``global_evals``, then
+        ``local_algorithm`` ("sbplx", "bobyqa" or "nelder_mead") for
+        ``local_evals``; then the spread over ``check_seeds`` more seeds, the
+        parameters' errors for a ``target_error`` (per cent) and each scene of
+        ``predict`` with ``predict_seeds`` seeds. With ``out`` (a folder) the
+        fit writes the files of ``traxer fit-figure-error --out`` there and
+        records each evaluation: Ctrl-C stops it, and ``resume=True`` takes up
+        the recorded evaluations."""
     def focus(
         self,
         start: float,
@@ -497,6 +533,30 @@ class Systematics:
         """Writes the files of ``traxer systematics`` into ``folder``:
         systematics.csv, systematics.json, systematics.fits, the map_*.npy and
         the PNGs, all at once."""
+
+class FigureErrorFit:
+    """A figure-error fit (``Scene.fit_figure_error``)."""
+
+    @property
+    def summary(self) -> dict[str, Any]:
+        """fit.json as a dict."""
+    @property
+    def best(self) -> dict[str, float]:
+        """The best parameters: in_plane_narrow, in_plane_wide, out_of_plane
+        (arcsec) and wide_fraction."""
+    @property
+    def history(self) -> list[dict[str, Any]]:
+        """Every evaluation in order: its index, stage, parameters, diameters
+        and error (history.csv as dicts)."""
+    @property
+    def preset(self) -> str:
+        """figure_error.toml's text."""
+    @property
+    def provenance(self) -> dict[str, Any]:
+        """The provenance record of the fit."""
+    def save(self, folder: _Path) -> None:
+        """Writes the files of ``traxer fit-figure-error`` into ``folder``:
+        history.csv, figure_error.toml and fit.json, all at once."""
 
 class FocusScan:
     """A focus scan: the image's diameters at each value of the scene variable

@@ -16,6 +16,7 @@ mod compare;
 mod convert;
 mod effective_area;
 mod errors;
+mod fit;
 mod focus;
 mod grid;
 mod magnet;
@@ -65,6 +66,7 @@ fn traxer_module(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<systematics::Systematics>()?;
     m.add_class::<compare::Comparison>()?;
     m.add_class::<focus::FocusScan>()?;
+    m.add_class::<fit::FigureErrorFit>()?;
     m.add_class::<solar::SolarEmission>()?;
     m.add_function(wrap_pyfunction!(run::resume, m)?)?;
     m.add_function(wrap_pyfunction!(analysis::reflectivity, m)?)?;

@@ -302,6 +302,116 @@ impl Scene {
         crate::psf::run(py, self.loaded.clone(), grid, (out, resume), progress)
     }
 
+    /// The figure-error fit, as `traxer fit-figure-error`: the figure-error
+    /// parameters of every mirror fitted to the measured `target_hpd`,
+    /// `target_c80` and `target_c90` (arcsec), each evaluation traced with the
+    /// same `photons` (default 1 000 000) and `seed`; DIRECT-L over `bounds`
+    /// ({name: (low, high)} or {name: value} to hold it; defaults
+    /// in_plane_narrow 0–120, in_plane_wide 0–900, wide_fraction 0–0.6,
+    /// out_of_plane 0) for `global_evals`, then `local_algorithm` ("sbplx",
+    /// "bobyqa" or "nelder_mead") for `local_evals`; then the spread over
+    /// `check_seeds` more seeds, the parameters' errors for a `target_error`
+    /// (per cent) and each scene of `predict` with `predict_seeds` seeds. With
+    /// `out` (a folder) the fit writes the files of `traxer fit-figure-error
+    /// --out` there and records each evaluation: Ctrl-C stops it, and
+    /// `resume=True` takes up the recorded evaluations. Returns a
+    /// `traxer.FigureErrorFit`.
+    #[pyo3(signature = (target_hpd, target_c80, target_c90, bounds = None, global_evals = 150, local_evals = 60, local_algorithm = "sbplx", check_seeds = 3, target_error = 2.0, predict = None, predict_seeds = 4, name = "fitted", photons = None, seed = 1, threads = 0, sensor = None, progress = false, out = None, resume = false))]
+    #[allow(clippy::too_many_arguments)]
+    fn fit_figure_error(
+        &self,
+        py: Python<'_>,
+        target_hpd: f64,
+        target_c80: f64,
+        target_c90: f64,
+        bounds: Option<std::collections::BTreeMap<String, Bound<'_, PyAny>>>,
+        global_evals: u32,
+        local_evals: u32,
+        local_algorithm: &str,
+        check_seeds: u64,
+        target_error: f64,
+        predict: Option<Vec<PathBuf>>,
+        predict_seeds: u64,
+        name: &str,
+        photons: Option<&Bound<'_, PyAny>>,
+        seed: u64,
+        threads: usize,
+        sensor: Option<String>,
+        progress: bool,
+        out: Option<PathBuf>,
+        resume: bool,
+    ) -> PyResult<crate::fit::FigureErrorFit> {
+        use traxer::studies::fit::{Bounds, LocalAlgorithm, PARAMETERS};
+        let s = sampling(photons, seed, threads, sensor.clone())?;
+        let mut run = traxer::trace::RunConfig::new(s.photons, s.seed);
+        if photons.is_none() {
+            run.photons = 1_000_000;
+        }
+        run.threads = s.threads;
+        let mut b = Bounds::default();
+        for (key, value) in bounds.unwrap_or_default() {
+            let Some(i) = PARAMETERS.iter().position(|p| *p == key) else {
+                return Err(crate::errors::input(format!(
+                    "bounds: {key:?} is not a parameter (expected one of {})",
+                    PARAMETERS.join(", ")
+                )));
+            };
+            let (lo, hi) = match value.extract::<(f64, f64)>() {
+                Ok(pair) => pair,
+                Err(_) => {
+                    let v: f64 = value.extract().map_err(|_| {
+                        crate::errors::input(format!(
+                            "bounds[{key:?}]: expected (low, high) or a value"
+                        ))
+                    })?;
+                    (v, v)
+                }
+            };
+            b.lower[i] = lo;
+            b.upper[i] = hi;
+        }
+        let local_algorithm = match local_algorithm {
+            "sbplx" => LocalAlgorithm::Sbplx,
+            "bobyqa" => LocalAlgorithm::Bobyqa,
+            "nelder_mead" => LocalAlgorithm::NelderMead,
+            other => {
+                return Err(crate::errors::input(format!(
+                    "local_algorithm {other:?}: expected \"sbplx\", \"bobyqa\" or \"nelder_mead\""
+                )))
+            }
+        };
+        let scene = &self.loaded.scene;
+        let settings = traxer::studies::fit::FitSettings {
+            bounds: b,
+            target: traxer::studies::Diameters {
+                hpd: target_hpd,
+                d80: target_c80,
+                d90: target_c90,
+            },
+            run,
+            sensor: traxer::studies::pick_sensor(scene, sensor.as_deref())
+                .map_err(crate::errors::lib)?,
+            global_evaluations: global_evals,
+            local_evaluations: local_evals,
+            local_algorithm,
+        };
+        let after = traxer::studies::fit_study::AfterFit {
+            check_seeds,
+            target_fraction: target_error / 100.0,
+            predict_seeds,
+            preset_name: name.to_string(),
+        };
+        let predict = (predict.unwrap_or_default(), sensor);
+        crate::fit::run(
+            py,
+            self.loaded.clone(),
+            (settings, after),
+            predict,
+            (out, resume),
+            progress,
+        )
+    }
+
     /// The focus scan, as `traxer focus`: the scene traced at `steps` values
     /// of the variable `var` (declared in its [vars], e.g. "sensor_z"),
     /// evenly spaced from `start` to `stop`, `photons` photons each (default

@@ -144,6 +144,16 @@ pub fn write_fit(
             ]
         }),
     )?;
+    let toml_path = dir.join(FIT_FILES[1]);
+    atomic_write(&toml_path, fit_preset_toml(report, provenance).as_bytes())?;
+    let json_path = dir.join(FIT_FILES[2]);
+    write_json(&json_path, &fit_json(report, provenance))?;
+    Ok(vec![history, toml_path, json_path])
+}
+
+/// figure_error.toml: the fitted parameters as a preset, with how they were
+/// obtained and their covariance.
+pub fn fit_preset_toml(report: &FitReport, provenance: &Provenance) -> String {
     let source = report.source(provenance);
     let p = &report.result.best.parameters;
     let preset = format!(
@@ -155,14 +165,15 @@ pub fn write_fit(
         p.out_of_plane,
         toml::Value::String(source.clone())
     );
-    let preset = preset + &covariance_toml(report);
-    let toml_path = dir.join(FIT_FILES[1]);
-    atomic_write(&toml_path, preset.as_bytes())?;
+    preset + &covariance_toml(report)
+}
+
+/// fit.json: the targets, the best evaluation, the seed check, the
+/// parameters' errors, the predictions and the provenance.
+pub fn fit_json(report: &FitReport, provenance: &Provenance) -> serde_json::Value {
+    let source = report.source(provenance);
     let (s, sp) = (report.settings, report.spread);
-    let json_path = dir.join(FIT_FILES[2]);
-    write_json(
-        &json_path,
-        &json!({
+    json!({
             "provenance": provenance,
             "scene": provenance.scene_path,
             "overrides": provenance.overrides,
@@ -182,7 +193,5 @@ pub fn write_fit(
             "parameter_errors": report.errors,
             "predictions": report.predictions,
             "source": source,
-        }),
-    )?;
-    Ok(vec![history, toml_path, json_path])
+    })
 }

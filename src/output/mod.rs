@@ -56,7 +56,7 @@ pub use compare::{compare_markdown, compare_rows_json, write_compare, COMPARE_FI
 pub use csv_table::{csv_text, write_csv};
 pub use eef_plot::write_eef_plot;
 pub use effective_area::{effective_area_files, write_effective_area, EFFECTIVE_AREA_FILES};
-pub use fit::{write_fit, FitReport, FIT_FILES};
+pub use fit::{fit_json, fit_preset_toml, write_fit, FitReport, FIT_FILES};
 pub use fits::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
 pub use fits_read::{read_fits_image, FitsImage};
 pub use focus::{plotted_diameter, write_focus, FOCUS_FILES};

@@ -1080,3 +1080,22 @@ def test_focus_in_python_equals_the_cli(tmp_path):
     assert (tmp_path / "py" / "focus.csv").read_bytes() == (tmp_path / "cli" / "focus.csv").read_bytes()
     with pytest.raises(traxer.InputError, match="steps"):
         traxer.Scene(scene).focus(-1534, -1504, steps=2, photons=1000)
+
+
+def test_figure_error_fit_in_python_equals_the_cli(tmp_path):
+    """`Scene.fit_figure_error` runs the evaluations of `traxer
+    fit-figure-error` with the same photons: history.csv bit for bit, the
+    same best parameters; its preset names itself; bad bounds are refused."""
+    scene = REPO / "scenes" / "panter_al_ka.toml"
+    args = dict(global_evals=6, local_evals=3, check_seeds=1, photons=20_000, seed=2)
+    fit = traxer.Scene(scene).fit_figure_error(206, 397, 549, name="py_fit", **args)
+    assert len(fit.history) == 9
+    assert fit.best == fit.summary["best"]["parameters"]
+    assert "[figure_errors.py_fit]" in fit.preset
+    cli("fit-figure-error", scene, "--target-hpd", 206, "--target-c80", 397, "--target-c90", 549,
+        "--global-evals", 6, "--local-evals", 3, "--check-seeds", 1, "-n", 20_000, "--seed", 2,
+        "--out", tmp_path / "cli", "-q")
+    fit.save(tmp_path / "py")
+    assert (tmp_path / "py" / "history.csv").read_bytes() == (tmp_path / "cli" / "history.csv").read_bytes()
+    with pytest.raises(traxer.InputError, match="not a parameter"):
+        traxer.Scene(scene).fit_figure_error(206, 397, 549, bounds={"narrow": (0, 10)}, **args)
