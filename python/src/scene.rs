@@ -251,7 +251,7 @@ impl Scene {
                 Some(a) => numbers("angles_arcmin", a, Unit::Arcmin)?,
                 None => vec![0.0],
             },
-            sampling: sampling(photons, seed, threads, sensor)?,
+            sampling: sampling((photons, 200_000), seed, threads, sensor)?,
             radius_mm: optional("radius_mm", radius_mm, Unit::Mm)?,
         };
         let place = (out, resume);
@@ -296,7 +296,7 @@ impl Scene {
             energies: numbers("energies_keV", energies_keV, Unit::KeV)?,
             angles_arcmin: listed("angles_arcmin", angles_arcmin, Unit::Arcmin)?,
             azimuths_deg: listed("azimuths_deg", azimuths_deg, Unit::Degree)?,
-            sampling: sampling(photons, seed, threads, sensor)?,
+            sampling: sampling((photons, 200_000), seed, threads, sensor)?,
             window,
         };
         crate::psf::run(py, self.loaded.clone(), grid, (out, resume), progress)
@@ -342,12 +342,7 @@ impl Scene {
         resume: bool,
     ) -> PyResult<crate::fit::FigureErrorFit> {
         use traxer::studies::fit::{Bounds, LocalAlgorithm, PARAMETERS};
-        let s = sampling(photons, seed, threads, sensor.clone())?;
-        let mut run = traxer::trace::RunConfig::new(s.photons, s.seed);
-        if photons.is_none() {
-            run.photons = 1_000_000;
-        }
-        run.threads = s.threads;
+        let run = run_config(&sampling((photons, 1_000_000), seed, threads, None)?);
         let mut b = Bounds::default();
         for (key, value) in bounds.unwrap_or_default() {
             let Some(i) = PARAMETERS.iter().position(|p| *p == key) else {
@@ -437,12 +432,8 @@ impl Scene {
         out: Option<PathBuf>,
         resume: bool,
     ) -> PyResult<crate::focus::FocusScan> {
-        let s = sampling(photons, seed, threads, sensor)?;
-        let mut cfg = traxer::trace::RunConfig::new(s.photons, s.seed);
-        if photons.is_none() {
-            cfg.photons = 1_000_000;
-        }
-        cfg.threads = s.threads;
+        let s = sampling((photons, 1_000_000), seed, threads, sensor)?;
+        let cfg = run_config(&s);
         let sweep = traxer::studies::focus::FocusSweep {
             var: var.to_string(),
             from: start,
@@ -496,10 +487,7 @@ impl Scene {
             resolutions,
             also: also.unwrap_or_default(),
         };
-        let mut sampling = sampling(photons, seed, threads, sensor)?;
-        if photons.is_none() {
-            sampling.photons = DEFAULT_PHOTONS;
-        }
+        let sampling = sampling((photons, DEFAULT_PHOTONS), seed, threads, sensor)?;
         crate::compare::run(
             py,
             self.loaded.clone(),
@@ -641,10 +629,10 @@ impl Scene {
     }
 }
 
-/// A study's sampling block from its keyword arguments (photons default
-/// 200 000, an int or a whole float).
+/// A study's sampling block from its keyword arguments (photons: an int or a
+/// whole float; `default` when not given).
 fn sampling(
-    photons: Option<&Bound<'_, PyAny>>,
+    (photons, default): (Option<&Bound<'_, PyAny>>, u64),
     seed: u64,
     threads: usize,
     sensor: Option<String>,
@@ -652,10 +640,17 @@ fn sampling(
     Ok(traxer::studies::Sampling {
         photons: match photons {
             Some(p) => crate::convert::count("photons", p, 2)?,
-            None => 200_000,
+            None => default,
         },
         seed,
         threads: self::threads(threads)?,
         sensor,
     })
+}
+
+/// The run of each point of a study that traces whole runs (focus, fit).
+fn run_config(s: &traxer::studies::Sampling) -> traxer::trace::RunConfig {
+    let mut cfg = traxer::trace::RunConfig::new(s.photons, s.seed);
+    cfg.threads = s.threads;
+    cfg
 }
