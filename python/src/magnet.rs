@@ -7,7 +7,7 @@ use crate::units::{numbers, Unit};
 use pyo3::prelude::*;
 use traxer::magnet::buffer_gas::BufferGasDesc;
 use traxer::magnet::probe::{self, Where};
-use traxer::scene::magnet::{standalone, MagnetDesc};
+use traxer::scene::magnet::{check_probe_masses, standalone, MagnetDesc};
 
 /// conversion_probability(energies_keV, masses_eV=None, field_t=None, length_m=None, field_map=None, gas=None, pressure_mbar=None, temperature_k=None, g_agamma=1e-10, at=(0.0, 0.0), bore_average=False, step_mm=None)
 ///
@@ -47,9 +47,6 @@ pub fn conversion_probability<'py>(
         None => vec![0.0],
         Some(m) => numbers("masses_eV", m, Unit::Dimensionless)?,
     };
-    if let Some(m) = masses.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
-        return Err(input(format!("masses_eV: {m} eV: a mass is ≥ 0")));
-    }
     if field_t.is_some() == field_map.is_some() {
         return Err(input(
             "give the field: field_t (with length_m) or field_map, one of them",
@@ -82,6 +79,12 @@ pub fn conversion_probability<'py>(
         gas,
     };
     let magnet = standalone(&desc, length_m.map(|l| l * 1000.0)).map_err(input)?;
+    check_probe_masses(&magnet, "masses_eV", &masses).map_err(input)?;
+    if bore_average && at != (0.0, 0.0) {
+        return Err(input(
+            "at= places one axial line; bore_average=True averages over the whole bore: give one of them",
+        ));
+    }
     let place = match bore_average {
         true => Where::BoreAverage { rings: 16 },
         false => Where::Line([at.0, at.1]),

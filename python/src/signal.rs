@@ -5,6 +5,7 @@
 
 use crate::convert::{array, json};
 use crate::errors::input;
+use crate::units::{numbers, Unit};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -87,20 +88,39 @@ pub fn signal<'py>(
 #[allow(clippy::too_many_arguments)]
 pub fn reach<'py>(
     py: Python<'py>,
-    runs: Vec<PathBuf>,
+    runs: &Bound<'py, PyAny>,
     background: f64,
     tracking_hours: &Bound<'py, PyAny>,
     radius_mm: Option<f64>,
     fraction: Option<f64>,
     center: Option<(f64, f64)>,
-    window: Option<(f64, f64)>,
+    window: Option<&Bound<'py, PyAny>>,
     bores: f64,
     efficiency: f64,
     sensor: Option<String>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // One folder (a str or a path) or a list of them.
+    let runs: Vec<PathBuf> = match runs.extract::<PathBuf>() {
+        Ok(one)
+            if !runs.is_instance_of::<pyo3::types::PyList>()
+                && !runs.is_instance_of::<pyo3::types::PyTuple>() =>
+        {
+            vec![one]
+        }
+        _ => runs
+            .extract::<Vec<PathBuf>>()
+            .map_err(|_| input("runs: a results folder (str or path) or a list of them"))?,
+    };
     if runs.is_empty() {
         return Err(input("runs: give at least one results folder"));
     }
+    let window = match window.filter(|w| !w.is_none()) {
+        None => None,
+        Some(w) => match numbers("window", w, Unit::KeV)?.as_slice() {
+            [lo, hi] => Some((*lo, *hi)),
+            _ => return Err(input("window: two energies (lo, hi) in keV")),
+        },
+    };
     let region = region(radius_mm, fraction, center)?;
     let hours = match tracking_hours.extract::<f64>() {
         Ok(h) => vec![h],
@@ -120,6 +140,11 @@ pub fn reach<'py>(
         .map_err(|e| input(e.0))?;
     let r = reach_of(&runs, &region, window.map(|(a, b)| [a, b]), &exposures)
         .map_err(|e| input(e.0))?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for w in &r.warnings {
+        let message = std::ffi::CString::new(w.as_str()).unwrap_or_default();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
     let curves = pyo3::types::PyList::empty(py);
     for c in &r.curves {
         let d = PyDict::new(py);

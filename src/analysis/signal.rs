@@ -114,10 +114,16 @@ pub fn signal(run: &RunSignal, region: &Region) -> Result<Signal, RegionError> {
             super::radius_holding(&run.reference, g, centre, f)
                 .ok_or_else(|| RegionError("the image at the scene's mass holds no flux".into()))?
         }
-        Size::RadiusMm(r) => return Err(RegionError(format!("radius {r} mm: a radius is > 0"))),
+        Size::RadiusMm(r) => {
+            return Err(RegionError(format!(
+                "--radius-mm {}: a radius is > 0 (mm)",
+                crate::text::number(r)
+            )))
+        }
         Size::Fraction(f) => {
             return Err(RegionError(format!(
-                "fraction {f}: the region holds a fraction in (0, 1) of the flux"
+                "--fraction {}: the region holds a fraction in (0, 1) of the flux",
+                crate::text::number(f)
             )))
         }
     };
@@ -141,10 +147,25 @@ pub fn signal(run: &RunSignal, region: &Region) -> Result<Signal, RegionError> {
     let (x0, y0) = (g.origin_mm[0] - centre[0], g.origin_mm[1] - centre[1]);
     let (x1, y1) = (x0 + g.nx as f64 * g.pitch[0], y0 + g.ny as f64 * g.pitch[1]);
     let total: f64 = run.reference.iter().sum();
+    let area_mm2 = rectangle_in_disk(x0, x1, y0, y1, radius);
+    if area_mm2.is_nan() || area_mm2 <= 0.0 {
+        // A region off the sensor counts nothing and no background: its
+        // zeros would read as a result.
+        return Err(RegionError(format!(
+            "the circle of {} mm about ({}, {}) mm lies off the sensor (x {} to {} mm, y {} to {} mm in its frame): give --center inside it",
+            crate::text::number(radius),
+            crate::text::number(centre[0]),
+            crate::text::number(centre[1]),
+            crate::text::number(g.origin_mm[0]),
+            crate::text::number(g.origin_mm[0] + g.nx as f64 * g.pitch[0]),
+            crate::text::number(g.origin_mm[1]),
+            crate::text::number(g.origin_mm[1] + g.ny as f64 * g.pitch[1]),
+        )));
+    }
     Ok(Signal {
         centre_mm: centre,
         radius_mm: radius,
-        area_cm2: rectangle_in_disk(x0, x1, y0, y1, radius) * 1e-2,
+        area_cm2: area_mm2 * 1e-2,
         fraction: if total > 0.0 {
             within(&run.reference) / total
         } else {

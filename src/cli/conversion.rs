@@ -91,9 +91,7 @@ pub fn run(a: ConversionArgs) -> anyhow::Result<()> {
         Some(m) => parse_values("masses", m)?,
         None => vec![magnet.axion_mass_ev],
     };
-    if let Some(m) = masses.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
-        return Err(InputError(format!("--masses: {m} eV: a mass is ≥ 0")).into());
-    }
+    traxer::scene::magnet::check_probe_masses(&magnet, "--masses", &masses).map_err(InputError)?;
     let at = match (a.bore_average, a.at) {
         (true, _) => Where::BoreAverage { rings: 16 },
         (false, p) => Where::Line(p.unwrap_or([0.0, 0.0])),
@@ -159,17 +157,9 @@ fn magnet(a: &ConversionArgs) -> anyhow::Result<Magnet> {
             standalone(&desc, a.length_m.map(|l| l * 1000.0)).map_err(InputError)?
         }
     };
-    if let Some(g) = a.g_agamma {
-        if !(g.is_finite() && g > 0.0) {
-            return Err(InputError(format!("--g-agamma {g}: a coupling is > 0 (GeV⁻¹)")).into());
-        }
-        m.g_agamma_gev = g;
-    }
-    if let Some(step) = a.step_mm {
-        if !(step.is_finite() && step > 0.0) {
-            return Err(InputError(format!("--step-mm {step}: a step is > 0")).into());
-        }
-        m.step_mm = step;
+    // The options given replace the scene's, checked as the scene's are.
+    if a.g_agamma.is_some() || a.step_mm.is_some() {
+        m = traxer::scene::magnet::revised(&m, a.g_agamma, a.step_mm).map_err(InputError)?;
     }
     Ok(m)
 }

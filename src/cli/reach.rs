@@ -74,13 +74,18 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
         curves,
         coupling: kind,
         window,
+        warnings,
     } = reach(&runs, &region, window, &exposures).map_err(fail)?;
+    for w in &warnings {
+        tell!("warning: {w}");
+    }
     let out = a
         .output
         .out
         .clone()
         .unwrap_or_else(|| a.runs[0].join("reach"));
-    let folder = traxer::run::results_folder(&out, &REACH_FILES)?;
+    let read: Vec<&std::path::Path> = a.runs.iter().map(|r| r.as_path()).collect();
+    let folder = traxer::run::results_folder_reading(&out, &REACH_FILES, &read)?;
     let provenance = Provenance::of_table(&super::invocation());
     traxer::run::write_results_folder(folder, |dir| {
         write_reach(dir, &curves, kind, (&exposures[0], window), &provenance)
@@ -100,15 +105,27 @@ fn print_limits(
     quiet: bool,
 ) {
     if !quiet {
-        let c = &curves[0].region;
         tell!(
-            "energy window {}–{} keV; signal region of the first run: a circle of {:.4} mm, {:.4} cm² ({:.1} % of its flux at the scene's mass); counts for the whole exposure",
+            "energy window {}–{} keV; counts for the whole exposure; signal regions:",
             traxer::text::number(window[0]),
             traxer::text::number(window[1]),
-            c["radius_mm"].as_f64().unwrap_or(f64::NAN),
-            c["area_cm2"].as_f64().unwrap_or(f64::NAN),
-            100.0 * c["fraction"].as_f64().unwrap_or(f64::NAN)
         );
+        for curve in curves {
+            let c = &curve.region;
+            let centre = c["center_mm"].as_array().map_or(vec![], |v| {
+                v.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect()
+            });
+            tell!(
+                "  {}: a circle of {:.4} mm about ({:.4}, {:.4}) mm, {:.4} cm² ({:.1} % of its flux at the scene's mass) [{}]",
+                curve.label,
+                c["radius_mm"].as_f64().unwrap_or(f64::NAN),
+                centre.first().copied().unwrap_or(f64::NAN),
+                centre.get(1).copied().unwrap_or(f64::NAN),
+                c["area_cm2"].as_f64().unwrap_or(f64::NAN),
+                100.0 * c["fraction"].as_f64().unwrap_or(f64::NAN),
+                curve.run
+            );
+        }
     }
     say!(
         "{:<28} {:>10} {:>12} {:>12} {:>10} {:>12}",

@@ -32,21 +32,18 @@ pub struct SignalArgs {
 
 /// Where the signal region lies on the sensor.
 #[derive(clap::Args, Clone, Debug)]
+#[group(skip)]
+#[command(group(clap::ArgGroup::new("region_size").required(true).multiple(false)))]
 pub struct RegionArgs {
     /// The sensor (default: the run's only sensor).
     #[arg(value_name = "NAME", long)]
     pub sensor: Option<String>,
     /// The region's radius (mm on the sensor).
-    #[arg(
-        value_name = "MM",
-        long,
-        conflicts_with = "fraction",
-        required_unless_present = "fraction"
-    )]
+    #[arg(value_name = "MM", long, group = "region_size")]
     pub radius_mm: Option<f64>,
     /// The radius holding this fraction of the flux of the image at the
     /// scene's mass (e.g. 0.8).
-    #[arg(value_name = "F", long)]
+    #[arg(value_name = "F", long, group = "region_size")]
     pub fraction: Option<f64>,
     /// The region's centre (mm, x,y in the sensor's frame, as the printed
     /// centroid); default: the centroid of the image at the scene's mass.
@@ -87,7 +84,7 @@ impl RegionArgs {
 pub fn run(a: SignalArgs) -> anyhow::Result<()> {
     let (run, s) = a.region.measure(&a.run)?;
     let out = a.output.out.clone().unwrap_or_else(|| a.run.join("signal"));
-    let folder = traxer::run::results_folder(&out, &SIGNAL_FILES)?;
+    let folder = traxer::run::results_folder_reading(&out, &SIGNAL_FILES, &[a.run.as_path()])?;
     let provenance = Provenance::of_table(&super::invocation());
     traxer::run::write_results_folder(folder, |dir| write_signal(dir, &run, &s, &provenance))?;
     say!(

@@ -78,6 +78,36 @@ pub fn atomic_write(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result.map_err(with_path)
 }
 
+/// Refuses an output folder `out` that is one of the folders a command reads
+/// (`inputs`) or holds one of them: the results replace the output folder's
+/// contents, so the command would delete what it read. A folder inside an
+/// input (`RUN/signal`, the default) is fine.
+pub fn refuse_replacing_inputs(out: &Path, inputs: &[&Path]) -> Result<(), OutputLocationError> {
+    let Ok(target) = std::fs::canonicalize(out) else {
+        return Ok(()); // does not exist yet: it holds nothing
+    };
+    for input in inputs {
+        let Ok(read) = std::fs::canonicalize(input) else {
+            continue;
+        };
+        if read.starts_with(&target) {
+            let what = if read == target {
+                "is".to_string()
+            } else {
+                format!("holds {}, which", input.display())
+            };
+            return Err(OutputLocationError {
+                path: out.to_path_buf(),
+                message: format!(
+                    "the output folder {what} is a folder this command reads ({}): the results replace the output folder's contents and would delete it; give another --out (the default is a folder inside the run)",
+                    input.display()
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Why an output location cannot take a command's results (exit code 2).
 #[derive(Debug, thiserror::Error)]
 #[error("{}: {message}", path.display())]

@@ -42,6 +42,10 @@ pub struct BufferGasDesc {
     pub temperature_k: f64,
 }
 
+/// The densest buffer gas traxer takes (molecules per m³): half liquid
+/// helium's 2.2e28, a hundred times BabyIAXO's densest helium setting.
+pub const MAX_NUMBER_DENSITY_M3: f64 = 1e28;
+
 message_error!(
     /// A buffer gas that cannot be, with what is wrong.
     InvalidBufferGas
@@ -86,6 +90,14 @@ impl BufferGas {
         }
         let electrons: f64 = atoms.iter().map(|(z, n)| *z as f64 * n).sum();
         let number_density_m3 = desc.pressure_mbar * 100.0 / (K_B_J_PER_K * desc.temperature_k);
+        if number_density_m3.is_nan() || number_density_m3 > MAX_NUMBER_DENSITY_M3 {
+            return bad(format!(
+                "pressure_mbar = {} at temperature_k = {}: {:.3e} molecules per m³ by the ideal gas law, denser than a liquid (liquid helium holds 2.2e28): neither the ideal gas law nor the plasma-frequency photon mass holds there (a buffer gas is below {MAX_NUMBER_DENSITY_M3:e} per m³; BabyIAXO's densest helium setting is about 1e26)",
+                crate::text::number(desc.pressure_mbar),
+                crate::text::number(desc.temperature_k),
+                number_density_m3
+            ));
+        }
         let electron_density_m3 = number_density_m3 * electrons;
         // n_e in eV³: (ħc)³ turns m⁻³ into eV³.
         let n_e_ev3 = electron_density_m3 * HBAR_C_EV_M.powi(3);

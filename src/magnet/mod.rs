@@ -15,6 +15,7 @@
 pub mod buffer_gas;
 pub mod conversion;
 pub mod field_map;
+pub mod helium_vapour;
 pub mod probe;
 
 use crate::constants::{INV_EV_PER_METRE, TESLA_EV2};

@@ -80,8 +80,8 @@ pub(super) fn load(path: &Path) -> Result<(Vec<MeshPart>, ImportReport), MeshErr
     Ok((vec![part], report))
 }
 
-/// A binary STL holds the triangles its header counts: a shorter file was cut
-/// off (a download, a full disk).
+/// A binary STL holds the triangles its header counts, no fewer (a file cut
+/// off: a download, a full disk) and no more (a wrong count).
 fn check_binary_size(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
     if bytes.len() < BINARY_HEADER {
         return Err(MeshError::invalid(
@@ -100,6 +100,19 @@ fn check_binary_size(path: &Path, bytes: &[u8]) -> Result<(), MeshError> {
             format!(
                 "binary STL cut off: its header counts {count} triangles ({expected} bytes), but the file has {} bytes",
                 bytes.len()
+            ),
+        ));
+    }
+    if bytes.len() > expected {
+        // Reading up to the count would drop the rest without a word.
+        let extra = bytes.len() - expected;
+        return Err(MeshError::invalid(
+            path,
+            format!(
+                "binary STL longer than its header says: the header counts {count} triangles ({expected} bytes), but the file has {} bytes ({} triangles{}); the count is wrong or the file is not one STL",
+                bytes.len(),
+                (bytes.len() - BINARY_HEADER) / BINARY_TRIANGLE,
+                if extra.is_multiple_of(BINARY_TRIANGLE) { String::new() } else { format!(" and {} bytes", (bytes.len() - BINARY_HEADER) % BINARY_TRIANGLE) }
             ),
         ));
     }

@@ -20,6 +20,17 @@ pub fn results_folder<S: AsRef<str>>(
     OutputFolder::prepare(out, names)
 }
 
+/// [`results_folder`] for a command that reads the folders `inputs` (runs,
+/// shards): refuses an `out` that is one of them or holds one.
+pub fn results_folder_reading<S: AsRef<str>>(
+    out: &Path,
+    names: &[S],
+    inputs: &[&Path],
+) -> Result<OutputFolder, crate::files::OutputLocationError> {
+    crate::files::refuse_replacing_inputs(out, inputs)?;
+    OutputFolder::prepare(out, names)
+}
+
 /// Saves a finished run (its tally, in memory) into the results folder `out`,
 /// as `traxer trace` would have: `run_state.bin` and every result file. A
 /// folder holding a run of other inputs is refused unless `replace`.

@@ -47,6 +47,8 @@ impl MergeJob<'_> {
             ))
             .into());
         }
+        let read: Vec<&Path> = self.shards.iter().map(|d| d.as_path()).collect();
+        crate::files::refuse_replacing_inputs(out, &read)?;
         let shards = self
             .shards
             .iter()

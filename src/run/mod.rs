@@ -35,8 +35,8 @@ pub mod study;
 mod study_job;
 
 pub use finished::{
-    results_file_names, results_folder, save_results, save_traced, write_results,
-    write_results_folder,
+    results_file_names, results_folder, results_folder_reading, save_results, save_traced,
+    write_results, write_results_folder,
 };
 pub use job::{
     open_finished, open_stopped, Finished, Found, InMemory, Resumable, RunControl, RunError,

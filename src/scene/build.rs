@@ -93,7 +93,8 @@ pub(super) fn build(
     check_gas(at, &materials.sensors, &sources)?;
     let (embree, shell_search, bvh_seconds) = commit(at, device, embree, &objects)?;
     let (cameras, sky) = cameras_and_sky(at, &desc, &sources)?;
-    let warnings = [expanded.warnings, builder.warnings].concat();
+    let magnet_warnings = super::magnet_in_scene::warnings(&desc, magnet.as_deref());
+    let warnings = [expanded.warnings, builder.warnings, magnet_warnings].concat();
     let inputs = inputs.hashed(dir).map_err(|m| at.whole(m))?;
     Ok(Scene {
         representation,

@@ -137,7 +137,7 @@ impl SceneText<'_> {
         }
         let line = line_of(self.text, span.start);
         let last = line_of(self.text, span.end.max(span.start));
-        let message = match self.override_used(line, last) {
+        let message = match self.override_used(line, last, &message) {
             Some(d) => format!("{message} (from the variable override {d})"),
             None => message,
         };
@@ -145,8 +145,11 @@ impl SceneText<'_> {
     }
 
     /// The `-D` override of a variable that lines `first..=last` (1-based) of the
-    /// file use, if any (substitution keeps lines where they were).
-    fn override_used(&self, first: usize, last: usize) -> Option<&str> {
+    /// file use, if any (substitution keeps lines where they were). Where the
+    /// lines use several (a whole table), the one given to a key the message
+    /// names (`g_agamma = "$g_agamma"` for "g_agamma = 1e10: ..."); with none
+    /// named, the first.
+    fn override_used(&self, first: usize, last: usize, message: &str) -> Option<&str> {
         let lines: Vec<&str> = self
             .original
             .lines()
@@ -154,13 +157,42 @@ impl SceneText<'_> {
             .take(last + 1 - first)
             .collect();
         let written = lines.join("\n");
-        self.overrides.iter().map(String::as_str).find(|d| {
-            d.split_once('=').is_some_and(|(name, _)| {
-                let name = name.trim();
-                written.contains(&format!("\"${name}\""))
-                    || written.contains(&format!("${{{name}}}"))
+        let uses = |name: &str, text: &str| {
+            text.contains(&format!("\"${name}\"")) || text.contains(&format!("${{{name}}}"))
+        };
+        let used: Vec<&str> = self
+            .overrides
+            .iter()
+            .map(String::as_str)
+            .filter(|d| {
+                d.split_once('=')
+                    .is_some_and(|(name, _)| uses(name.trim(), &written))
             })
-        })
+            .collect();
+        // The key a variable is given to: the word before `=` in front of
+        // its use (`temperature_k = "$helium_k"`).
+        let key_of = |name: &str| -> Option<String> {
+            let at = written
+                .find(&format!("\"${name}\""))
+                .or_else(|| written.find(&format!("${{{name}}}")))?;
+            let before = written[..at].trim_end().strip_suffix('=')?.trim_end();
+            let key: String = before
+                .chars()
+                .rev()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect::<Vec<_>>()
+                .into_iter()
+                .rev()
+                .collect();
+            (!key.is_empty()).then_some(key)
+        };
+        let named = used.iter().copied().find(|d| {
+            let name = d.split_once('=').map_or("", |(n, _)| n.trim());
+            key_of(name).is_some_and(|k| {
+                message.contains(&format!("{k} =")) || message.contains(&format!("{k}:"))
+            })
+        });
+        named.or(used.first().copied())
     }
 
     /// An error about the whole file (no line).

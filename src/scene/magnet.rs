@@ -157,14 +157,24 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
     if !(d.axion_mass_ev.is_finite() && d.axion_mass_ev >= 0.0) {
         return Err(format!(
             "axion_mass_ev = {}: a mass is ≥ 0 (eV)",
-            d.axion_mass_ev
+            crate::text::number(d.axion_mass_ev)
         ));
     }
-    check_scan(&d.masses_ev)?;
+    if d.axion_mass_ev > MAX_MASS_EV {
+        return Err(format!(
+            "axion_mass_ev = {}: {MASS_BOUND}",
+            crate::text::number(d.axion_mass_ev)
+        ));
+    }
+    check_scan(
+        "masses_ev",
+        &d.masses_ev,
+        (MAX_SCAN_MASSES, "each is an image on every sensor"),
+    )?;
     if !(d.g_agamma.is_finite() && d.g_agamma > 0.0) {
         return Err(format!(
             "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
-            d.g_agamma
+            crate::text::number(d.g_agamma)
         ));
     }
     let field = match (d.field_t, &d.field_map, map) {
@@ -178,6 +188,12 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
             // The steps place the map in the bore's frame; points go the other way.
             let to_map = crate::geometry::Transform::from_affine(to_map.to_local);
             check_coverage(&map, &to_map, bore.radius, half_length_mm, name)?;
+            if map.peak_tesla() > MAX_FIELD_T {
+                return Err(format!(
+                    "field_map \"{name}\": its strongest node holds {} T, beyond {MAX_FIELD_T} T: {FIELD_BOUND} (is the map in tesla?)",
+                    crate::text::number(map.peak_tesla())
+                ));
+            }
             Field::Map {
                 map,
                 to_map: Box::new(to_map),
@@ -217,33 +233,173 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
         scan_masses: d.masses_ev.clone(),
         weight_scale,
     };
-    check_representable(&magnet)?;
+    check_magnet(&magnet)?;
     Ok(magnet)
+}
+
+/// `m` with another coupling and path step (`traxer conversion`'s options),
+/// checked as a scene's magnet is.
+pub fn revised(m: &Magnet, g_agamma: Option<f64>, step_mm: Option<f64>) -> Result<Magnet, String> {
+    let mut m = m.clone();
+    if let Some(g) = g_agamma {
+        if !(g.is_finite() && g > 0.0) {
+            return Err(format!(
+                "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
+                crate::text::number(g)
+            ));
+        }
+        m.g_agamma_gev = g;
+        m.weight_scale = Magnet::peak_probability(&m.field, g, 2.0 * m.half_length_mm);
+    }
+    if let Some(step) = step_mm {
+        if !(step.is_finite() && step > 0.0) {
+            return Err(format!(
+                "step_mm = {}: the path integral's step is a length > 0 (mm)",
+                crate::text::number(step)
+            ));
+        }
+        m.step_mm = step;
+    }
+    check_magnet(&m)?;
+    Ok(m)
+}
+
+/// The most masses of one table of P.
+pub const MAX_PROBE_MASSES: usize = 100_000;
+
+/// Checks the masses of a table of P (`traxer conversion --masses`, Python's
+/// `conversion_probability`), named `key`, as a scene's mass scan is checked.
+pub fn check_probe_masses(m: &Magnet, key: &str, masses: &[f64]) -> Result<(), String> {
+    check_scan(
+        key,
+        masses,
+        (
+            MAX_PROBE_MASSES,
+            "each is a row of the table at every energy",
+        ),
+    )?;
+    let probe = Magnet {
+        scan_masses: masses.to_vec(),
+        ..m.clone()
+    };
+    check_representable(&probe).map_err(|e| e.replacen("masses_ev", key, 1))
+}
+
+/// The most samples of the field along one path: a 10 m bore at 1 mm steps,
+/// a hundred times finer than any map's nodes need (Filon's rule is exact
+/// for the trilinear map between node planes), and 10⁴ complex terms per
+/// photon and mass.
+pub const MAX_PATH_SAMPLES: f64 = 10_000.0;
+
+/// The checks every magnet passes, however it was made: the path's samples
+/// bounded, P far below one, and P a finite number on the axis.
+fn check_magnet(m: &Magnet) -> Result<(), String> {
+    if matches!(m.field, Field::Map { .. }) {
+        let samples = 2.0 * m.half_length_mm / m.step_mm;
+        if samples.is_nan() || samples > MAX_PATH_SAMPLES {
+            return Err(format!(
+                "step_mm = {}: {:.3e} samples of the field along each {} m path, more than {MAX_PATH_SAMPLES} (each photon integrates them for every mass); a step of {} mm or more (the default, half the map's finest node spacing, is exact for paths along the axis)",
+                crate::text::number(m.step_mm),
+                samples,
+                crate::text::number(2e-3 * m.half_length_mm),
+                crate::text::number(2.0 * m.half_length_mm / MAX_PATH_SAMPLES)
+            ));
+        }
+    }
+    check_peak(m)?;
+    check_representable(m)
+}
+
+/// Refuses a coupling whose P may come near one (see [`MAX_PEAK_PROBABILITY`]).
+fn check_peak(m: &Magnet) -> Result<(), String> {
+    if m.weight_scale <= MAX_PEAK_PROBABILITY {
+        return Ok(());
+    }
+    let peak = match &m.field {
+        Field::Uniform { tesla, .. } => *tesla,
+        Field::Map { map, .. } => map.peak_tesla(),
+    };
+    Err(format!(
+        "g_agamma = {:e} GeV⁻¹: P(a→γ) may reach (g_aγ B_peak L / 2)² = {:.3e} on the strongest path (B_peak = {:.4} T, L = {} m); traxer's P is the weak-mixing amplitude, which overstates the exact two-state P by about P/3 and passes 1 as g grows, so it refuses P above {MAX_PEAK_PROBABILITY:e} (an error below 4e-7). Helioscope couplings give P ~ 1e-19 (g_aγ = 1e-10): trace there and scale the counts by (g_aγ / 1e-10)⁴",
+        m.g_agamma_gev,
+        m.weight_scale,
+        peak,
+        crate::text::number(2e-3 * m.half_length_mm)
+    ))
 }
 
 /// The most masses one scan takes: each is a whole image (and one per
 /// process) on every sensor.
 pub const MAX_SCAN_MASSES: usize = 1000;
 
-/// Refuses a mass scan with a mass that is not a mass, or too many.
-fn check_scan(masses: &[f64]) -> Result<(), String> {
-    if masses.len() > MAX_SCAN_MASSES {
+/// The heaviest axion traxer converts (eV). P uses q = m_a² / 2E, the
+/// relativistic limit of E − √(E² − m_a²), whose relative error m_a² / 4E² is
+/// 2.5e-5 at 10 eV and 1 keV; a helioscope has lost all coherence long before
+/// (CAST's heaviest helium setting reached 1.17 eV).
+pub const MAX_MASS_EV: f64 = 10.0;
+const MASS_BOUND: &str = "traxer converts axions up to 10 eV (q = m_a²/2E is the relativistic limit, good to m_a²/4E² = 2.5e-5 at 10 eV and 1 keV; no helioscope sees axions that heavy); masses are in eV (20 meV = 0.02)";
+
+/// The strongest field traxer takes (T), far above any magnet's (the strongest
+/// steady laboratory fields are about 45 T): a larger value is a map in other
+/// units, or not a field.
+pub const MAX_FIELD_T: f64 = 1000.0;
+const FIELD_BOUND: &str =
+    "no magnet's field (the strongest steady laboratory fields are about 45 T)";
+
+/// The largest P(a→γ) bound traxer converts with (see `assemble`): the
+/// weak-mixing P differs from the exact two-state sin²(g B L / 2) by P/3.
+pub const MAX_PEAK_PROBABILITY: f64 = 1e-6;
+
+/// Refuses a mass scan with a mass that is not a mass, one given twice, or
+/// too many.
+fn check_scan(key: &str, masses: &[f64], (max, each): (usize, &str)) -> Result<(), String> {
+    if masses.len() > max {
         return Err(format!(
-            "masses_ev: {} masses, more than {MAX_SCAN_MASSES} (each is an image on every sensor)",
+            "{key}: {} masses, more than {max} ({each})",
             masses.len()
         ));
     }
     if let Some(m) = masses.iter().find(|m| !(m.is_finite() && **m >= 0.0)) {
-        return Err(format!("masses_ev: {m} is not a mass ≥ 0 (eV)"));
+        return Err(format!(
+            "{key}: {} is not a mass ≥ 0 (eV)",
+            crate::text::number(*m)
+        ));
+    }
+    if let Some(m) = masses.iter().find(|m| **m > MAX_MASS_EV) {
+        return Err(format!("{key}: {}: {MASS_BOUND}", crate::text::number(*m)));
+    }
+    for (k, m) in masses.iter().enumerate() {
+        if masses[..k].contains(m) {
+            return Err(format!(
+                "{key}: {} is given twice: give each mass once",
+                crate::text::number(*m)
+            ));
+        }
     }
     Ok(())
 }
 
 /// Refuses a coupling or mass whose P is below the smallest normal double on
-/// the bore's axis at 1, 4 and 10 keV: images of zeros, not a result.
+/// the bore's axis at 1, 4 and 10 keV (images of zeros, not a result), and
+/// any mass of the scene or its scan whose P there is not a finite number
+/// (the bounds above are meant to make that impossible; this is the proof).
 fn check_representable(m: &Magnet) -> Result<(), String> {
     let (o, d) = crate::magnet::probe::lines(m, crate::magnet::probe::Where::Line([0.0, 0.0]))[0];
     let path = m.path_of(o, d);
+    for (key, mass) in std::iter::once(("axion_mass_ev", m.axion_mass_ev))
+        .chain(m.scan_masses.iter().map(|&x| ("masses_ev", x)))
+    {
+        for e in [1.0, 4.0, 10.0] {
+            let p = path.probability(m, e, mass);
+            if !(p.is_finite() && (0.0..=1.0).contains(&p)) {
+                return Err(format!(
+                    "{key}: at m_a = {} eV, P(a→γ) on the bore's axis at {e} keV is {}, not a probability: traxer cannot convert at this mass, coupling and gas",
+                    crate::text::number(mass),
+                    crate::text::number(p)
+                ));
+            }
+        }
+    }
     if [1.0, 4.0, 10.0]
         .iter()
         .all(|&e| path.probability(m, e, m.axion_mass_ev) < f64::MIN_POSITIVE)
@@ -259,7 +415,16 @@ fn check_representable(m: &Magnet) -> Result<(), String> {
 /// A uniform field of `b` tesla along `direction` (default +y).
 fn uniform(b: f64, direction: Option<[f64; 3]>) -> Result<Field, String> {
     if !(b.is_finite() && b > 0.0) {
-        return Err(format!("field_t = {b}: a field is > 0 (T)"));
+        return Err(format!(
+            "field_t = {}: a field is > 0 (T)",
+            crate::text::number(b)
+        ));
+    }
+    if b > MAX_FIELD_T {
+        return Err(format!(
+            "field_t = {}: beyond {MAX_FIELD_T} T, {FIELD_BOUND}",
+            crate::text::number(b)
+        ));
     }
     let d = DVec3::from(direction.unwrap_or([0.0, 1.0, 0.0]));
     let Some(direction) = d.try_normalize() else {

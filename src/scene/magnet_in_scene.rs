@@ -116,3 +116,81 @@ pub(super) fn attach(
     }
     Ok(Some(magnet))
 }
+
+/// What a scene's magnet makes doubtful, for the scene's warnings: a buffer
+/// gas the magnet does not use, a helium setting that would be liquid, and
+/// masses at which the magnet has lost its coherence (masses meant in meV,
+/// or a gas far from every mass asked for).
+pub(super) fn warnings(desc: &SceneDesc, magnet: Option<&Magnet>) -> Vec<String> {
+    let mut out = Vec::new();
+    let Some(table) = &desc.magnet else {
+        return out;
+    };
+    let table = table.get_ref();
+    if let Some(g) = table.gas.as_ref().filter(|g| g.pressure_mbar != 0.0) {
+        if !table.enabled {
+            out.push(format!(
+                "magnet: the buffer gas ({} mbar at {} K) is ignored: the magnet is off (enabled = false), so the images are of axions before conversion; switch it on (-D magnet=true in the shipped scenes)",
+                crate::text::number(g.pressure_mbar),
+                crate::text::number(g.temperature_k)
+            ));
+        }
+        if g.mixture.len() == 1 && g.mixture.contains_key("He") {
+            out.extend(crate::magnet::helium_vapour::liquid_helium(
+                g.pressure_mbar,
+                g.temperature_k,
+            ));
+        }
+    }
+    if let Some(m) = magnet {
+        out.extend(coherence_warning(m));
+    }
+    out
+}
+
+/// Below this fraction of P at resonance (at 4 keV on the bore's axis) a
+/// mass has lost the magnet's coherence: (qL/2)⁻² ≈ 1e-6 is qL/2 ≈ 1000.
+const INCOHERENT: f64 = 1e-6;
+
+/// Warns of masses far beyond coherence: P at 4 keV on the axis against P
+/// at resonance (m_a = m_γ, the most this gas gives).
+fn coherence_warning(m: &Magnet) -> Option<String> {
+    let (o, d) = crate::magnet::probe::lines(m, crate::magnet::probe::Where::Line([0.0, 0.0]))[0];
+    let path = m.path_of(o, d);
+    let resonance = m.gas.as_ref().map_or(0.0, |g| g.photon_mass_ev());
+    let best = path.probability(m, 4.0, resonance);
+    let masses: Vec<f64> = std::iter::once(m.axion_mass_ev)
+        .chain(m.scan_masses.iter().copied())
+        .collect();
+    let lost: Vec<f64> = masses
+        .iter()
+        .copied()
+        .filter(|&x| path.probability(m, 4.0, x) < INCOHERENT * best)
+        .collect();
+    if lost.is_empty() || best <= 0.0 {
+        return None;
+    }
+    let list = |v: &[f64]| {
+        let shown: Vec<String> = v.iter().take(6).map(|x| crate::text::number(*x)).collect();
+        format!(
+            "{}{}",
+            shown.join(", "),
+            if v.len() > 6 { ", ..." } else { "" }
+        )
+    };
+    let setting = match &m.gas {
+        None => "in vacuum (coherent up to m_a ≈ 0.02 eV in a 10 m magnet)".to_string(),
+        Some(g) => format!("with the buffer gas's m_γ = {:.4} eV", g.photon_mass_ev()),
+    };
+    Some(if lost.len() == masses.len() {
+        format!(
+            "magnet: every axion mass of the run ({} eV) is far from coherence {setting}: P at 4 keV is below {INCOHERENT:e} of its value at m_a = m_γ, so the images are nearly empty; masses are in eV (20 meV = 0.02), and a gas setting converts the masses near its m_γ",
+            list(&masses)
+        )
+    } else {
+        format!(
+            "magnet: the axion masses {} eV are far from coherence {setting}: P at 4 keV is below {INCOHERENT:e} of its value at m_a = m_γ; masses are in eV (20 meV = 0.02)",
+            list(&lost)
+        )
+    })
+}

@@ -8,7 +8,7 @@
 //! (`output::run_read`) and call [`reach`]; `output::reach` writes what it
 //! returns.
 
-use crate::analysis::reach::{limit, Coupling, Exposure, Limit};
+use crate::analysis::reach::{limit, Background, Coupling, Exposure, Limit, MAX_BACKGROUND_COUNTS};
 use crate::analysis::signal::{signal, Region, RunSignal, Signal};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -31,7 +31,18 @@ pub struct Reach {
     pub curves: Vec<ReachCurve>,
     pub coupling: &'static str,
     pub window: [f64; 2],
+    /// What the inputs make doubtful, for the front end to show.
+    pub warnings: Vec<String>,
 }
+
+/// The most hours of tracking one exposure takes: 11 years of the Sun
+/// around the clock (a helioscope tracks it some 12 h a day).
+pub const MAX_TRACKING_HOURS: f64 = 1e5;
+
+/// Below this many hours in all an exposure is warned about: a helioscope's
+/// campaign is thousands of hours (BabyIAXO's plan: about 1.5 years of
+/// tracking; CAST's vacuum phases, some 1 000 h each).
+pub const FEW_TRACKING_HOURS: f64 = 100.0;
 
 /// Why the reach cannot be computed.
 #[derive(Debug, thiserror::Error)]
@@ -61,6 +72,18 @@ impl Exposure {
         if !(efficiency > 0.0 && efficiency <= 1.0) {
             return Err(ReachError(format!("efficiency {efficiency}: in (0, 1]")));
         }
+        if tracking_hours > MAX_TRACKING_HOURS {
+            return Err(ReachError(format!(
+                "tracking hours {}: more than {MAX_TRACKING_HOURS:e} h, 11 years of the Sun around the clock (the option takes hours)",
+                crate::text::number(tracking_hours)
+            )));
+        }
+        if bores > 100.0 {
+            return Err(ReachError(format!(
+                "bores {}: more than 100 identical bores (IAXO has 8)",
+                crate::text::number(bores)
+            )));
+        }
         Ok(Exposure {
             tracking_hours: positive(tracking_hours, "tracking hours")?,
             bores: positive(bores, "bores")?,
@@ -88,24 +111,56 @@ pub fn reach(
     }
     let mut curves = Vec::new();
     let mut kind = None;
-    let mut edges = [0.0; 2];
+    let mut edges: Option<[f64; 2]> = None;
+    let mut warnings = Vec::new();
+    let total_hours: f64 = match exposures {
+        [one] => one.tracking_hours,
+        each => each.iter().map(|e| e.tracking_hours).sum(),
+    };
+    if total_hours < FEW_TRACKING_HOURS {
+        warnings.push(format!(
+            "--tracking-hours: the whole exposure is {} h of tracking the Sun, where a helioscope's campaign is thousands (BabyIAXO plans about 1.5 years of tracking): the option takes hours",
+            crate::text::number(total_hours)
+        ));
+    }
     for (k, (dir, run)) in runs.iter().enumerate() {
         let exposure = &exposures[k.min(exposures.len() - 1)];
-        let s = signal(run, region).map_err(|e| ReachError(e.0))?;
+        let s =
+            signal(run, region).map_err(|e| ReachError(format!("{}: {}", dir.display(), e.0)))?;
         let coupling = coupling_of(run, dir)?;
         if kind.is_some_and(|k: &'static str| k != coupling.name()) {
             return Err(ReachError("the runs limit different couplings (Primakoff and ABC runs): give runs of one emission".into()));
         }
         kind = Some(coupling.name());
-        let (b0, b1) = window_bands(&s, window)?;
-        edges = [s.band_edges[b0], s.band_edges[b1]];
+        let (b0, b1) = window_bands(&s, window)
+            .map_err(|e| ReachError(format!("{}: {}", dir.display(), e.0)))?;
+        let these = [s.band_edges[b0], s.band_edges[b1]];
+        if let Some(first) = edges.filter(|e| *e != these) {
+            return Err(ReachError(format!(
+                "the runs' energy windows differ ({}: {}–{} keV, {}: {}–{} keV): give --window LO,HI with edges of every run's energy bands, so that every limit counts the same window",
+                dirs[0].display(),
+                crate::text::number(first[0]),
+                crate::text::number(first[1]),
+                dir.display(),
+                crate::text::number(these[0]),
+                crate::text::number(these[1])
+            )));
+        }
+        edges = Some(these);
+        let counts = exposure.background_counts((s.area_cm2, these[1] - these[0]));
+        if counts > MAX_BACKGROUND_COUNTS {
+            return Err(ReachError(format!(
+                "{}: the background is {counts:.3e} counts in the region and window (background × area × width × time × bores), more than {MAX_BACKGROUND_COUNTS:e}: is --background in counts per keV per cm² per second?",
+                dir.display()
+            )));
+        }
+        let background = Background::new(counts);
         let limits = s
             .masses
             .iter()
             .map(|m| {
                 let rate: f64 = m.spectrum[b0..b1].iter().sum();
-                let region = (s.area_cm2, edges[1] - edges[0]);
-                limit(m.mass_ev, rate, coupling, region, exposure)
+                limit(m.mass_ev, rate, coupling, background, exposure)
             })
             .collect();
         curves.push(ReachCurve {
@@ -116,10 +171,22 @@ pub fn reach(
             tracking_hours: exposure.tracking_hours,
         });
     }
+    // Curves of the same setting (runs of other scenes) are told apart by
+    // their runs.
+    let labels: Vec<String> = curves.iter().map(|c| c.label.clone()).collect();
+    for c in &mut curves {
+        if labels.iter().filter(|l| **l == c.label).count() > 1 {
+            let name = Path::new(&c.run)
+                .file_name()
+                .map_or(c.run.clone(), |n| n.to_string_lossy().into_owned());
+            c.label = format!("{} ({name})", c.label);
+        }
+    }
     Ok(Reach {
         curves,
         coupling: kind.unwrap_or("g_agamma"),
-        window: edges,
+        window: edges.unwrap_or([0.0; 2]),
+        warnings,
     })
 }
 

@@ -334,6 +334,17 @@ fn broken_stl_files_say_what_is_wrong() {
         e.contains("cut.stl") && e.contains("cut off") && e.contains("2 triangles"),
         "{e}"
     );
+    // A header that counts one triangle of the two the file holds: not read
+    // up to the count without a word (issue 59).
+    let mut under = square_binary();
+    under[80..84].copy_from_slice(&1u32.to_le_bytes());
+    let p = dir.path().join("under.stl");
+    std::fs::write(&p, &under).unwrap();
+    let e = load(&p).unwrap_err().to_string();
+    assert!(
+        e.contains("under.stl") && e.contains("counts 1 triangles") && e.contains("(2 triangles)"),
+        "{e}"
+    );
     let p = crate::common::write(
         dir.path(),
         "bad.stl",
