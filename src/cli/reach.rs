@@ -15,7 +15,8 @@ use traxer::studies::reach::{reach, Reach, ReachError};
 /// e.g. one per buffer-gas setting, each with a --masses scan) takes the
 /// signal in a signal region (as `traxer signal`) and an energy window, and
 /// gives the median expected 95 % CL upper limit under the background-only
-/// hypothesis: CLs, exact Poisson, one bin; with no background 3.0 counts.
+/// hypothesis: CLs, exact Poisson, one bin; with no background 3.0 counts
+/// (above 10⁶ background counts the normal limit, which meets it to 2e-4).
 /// The signal scales as g_aγ⁴ for a Primakoff run and as (g_ae·g_aγ)² for an
 /// ABC run, so the limit on the counts gives the coupling's. Writes reach.csv,
 /// reach.png (log m_a against log coupling, a curve per run, the vacuum

@@ -144,6 +144,15 @@ impl FieldMap {
             .fold(0.0, f64::max)
     }
 
+    /// The largest field component at any node (T): what a message names
+    /// when |B| itself overflows.
+    pub fn peak_component_tesla(&self) -> f64 {
+        self.field
+            .iter()
+            .flat_map(|b| b.iter().map(|c| c.abs()))
+            .fold(0.0, f64::max)
+    }
+
     /// The grid's far corner (largest x, y, z), mm.
     pub fn end(&self) -> [f64; 3] {
         std::array::from_fn(|a| self.origin[a] + (self.nodes[a] - 1) as f64 * self.spacing[a])

@@ -60,7 +60,7 @@ pub fn write_reach(
     write_plot(&dir.join(REACH_FILES[1]), curves, coupling)?;
     let doc = json!({
         "provenance": provenance,
-        "what": "the median expected 95 % CL upper limit under the background-only hypothesis: CLs (Read 2002), exact Poisson, one bin (the signal region and energy window); n = the median of Poisson(background); the coupling from the counts as the signal's power law (Primakoff: s ∝ g_aγ⁴; ABC: s ∝ (g_ae g_aγ)²)",
+        "what": "the median expected 95 % CL upper limit under the background-only hypothesis: CLs (Read 2002), exact Poisson up to 1e6 background counts and the normal limit above, one bin (the signal region and energy window); n = the median of Poisson(background); the coupling from the counts as the signal's power law (Primakoff: s ∝ g_aγ⁴; ABC: s ∝ (g_ae g_aγ)²)",
         "coupling": coupling,
         "exposure": exposure,
         "exposure_note": "tracking_hours of the first run; each run's own under runs[]",

@@ -188,10 +188,10 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
             // The steps place the map in the bore's frame; points go the other way.
             let to_map = crate::geometry::Transform::from_affine(to_map.to_local);
             check_coverage(&map, &to_map, bore.radius, half_length_mm, name)?;
-            if map.peak_tesla() > MAX_FIELD_T {
+            if map.peak_component_tesla() > MAX_FIELD_T {
                 return Err(format!(
-                    "field_map \"{name}\": its strongest node holds {} T, beyond {MAX_FIELD_T} T: {FIELD_BOUND} (is the map in tesla?)",
-                    crate::text::number(map.peak_tesla())
+                    "field_map \"{name}\": a node's field reaches {} T, beyond {MAX_FIELD_T} T: {FIELD_BOUND} (is the map in tesla?)",
+                    crate::text::number(map.peak_component_tesla())
                 ));
             }
             Field::Map {

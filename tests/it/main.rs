@@ -21,6 +21,7 @@ mod layout;
 mod limits;
 mod llnl;
 mod magnet;
+mod magnet_refusals;
 mod mass_scan;
 mod mesh_io;
 mod meshed_telescope;
