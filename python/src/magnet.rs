@@ -86,7 +86,9 @@ pub fn conversion_probability<'py>(
         ));
     }
     let place = match bore_average {
-        true => Where::BoreAverage { rings: 16 },
+        true => Where::BoreAverage {
+            rings: traxer::magnet::probe::BORE_AVERAGE_RINGS,
+        },
         false => Where::Line([at.0, at.1]),
     };
     let rows = py.detach(|| probe::table(&magnet, place, &energies, &masses));

@@ -488,9 +488,11 @@ fn the_reach_numbers_of_docs_magnet_come_out_of_their_commands() {
         let masses: Vec<String> = (-4..=4)
             .map(|k| format!("{:.6}", m * (1.0 + span * k as f64 / 4.0)))
             .collect();
+        // The scene's mass is the setting's m_γ (the middle one): the region
+        // lies on the resonant image.
         let (he, first) = (
             format!("helium_mbar={p}"),
-            format!("axion_mass_ev={}", masses[0]),
+            format!("axion_mass_ev={}", masses[4]),
         );
         let list = masses.join(",");
         trace(
@@ -522,8 +524,6 @@ fn the_reach_numbers_of_docs_magnet_come_out_of_their_commands() {
             "1e-7",
             "--bores",
             "2",
-            "--efficiency",
-            "0.7",
             "--tracking-hours",
             "6574.5,100,100",
         ],
