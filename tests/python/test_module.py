@@ -275,6 +275,16 @@ def test_signal_and_reach_equal_the_cli(tmp_path):
         traxer.signal(run)
     with pytest.raises(traxer.InputError, match="band"):
         traxer.reach([run], 1e-7, 100.0, radius_mm=3.0, window=(1.5, 7.0))
+    # One run as a str and the window as a list, as the rest of the module
+    # takes them (issue 59: raw type errors before), give the same limits.
+    one = traxer.reach(str(run), background=0.0, tracking_hours=1000.0, radius_mm=3.0, window=[2, 7])
+    assert list(one["curves"][0]["limit"]) == list(curve["limit"])
+    # Hours meant as years get a warning; a background of 1e300 is refused
+    # (it once summed Poisson terms for ever).
+    with pytest.warns(UserWarning, match="tracking-hours"):
+        traxer.reach(run, background=0.0, tracking_hours=1.5, radius_mm=3.0)
+    with pytest.raises(traxer.InputError, match="counts per keV"):
+        traxer.reach(run, background=1e300, tracking_hours=1000.0, radius_mm=3.0)
 
 
 def test_save_writes_the_cli_files(pair):
@@ -961,6 +971,13 @@ def test_conversion_probability_equals_the_cli():
         traxer.conversion_probability(4.0)
     with pytest.raises(traxer.InputError, match="pressure_mbar"):
         traxer.conversion_probability(4.0, field_t=9.0, length_m=9.26, gas="He")
+    # Issue 59: NaN and P > 1 once came back as numbers; now refused by name.
+    with pytest.raises(traxer.InputError, match="g_agamma"):
+        traxer.conversion_probability(4.0, field_t=9.0, length_m=9.26, g_agamma=0.1)
+    with pytest.raises(traxer.InputError, match="masses_eV"):
+        traxer.conversion_probability(4.0, [1e153], field_t=9.0, length_m=9.26)
+    with pytest.raises(traxer.InputError, match="bore_average"):
+        traxer.conversion_probability(4.0, field_map="bykovskiy_201906", at=(100.0, 0.0), bore_average=True)
 
 
 def test_a_python_sweep_into_a_folder_stops_on_ctrl_c_and_resumes(tmp_path):
