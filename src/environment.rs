@@ -35,3 +35,32 @@ pub fn reflectivity_cache_bytes() -> u64 {
         .unwrap_or(DEFAULT_CACHE_MAX_MB);
     (mb * 1e6) as u64
 }
+
+/// Why the environment's settings cannot be taken as given: a
+/// `TRAXER_CACHE_MAX_MB` that is not a number of MB ≥ 0, or a `TRAXER_CACHE`
+/// that names something other than a folder. The front ends refuse to start
+/// on it, where the library would otherwise fall back to its defaults
+/// without a word.
+pub fn check() -> Result<(), String> {
+    if let Ok(v) = std::env::var("TRAXER_CACHE_MAX_MB") {
+        if !v
+            .trim()
+            .parse::<f64>()
+            .is_ok_and(|x| x.is_finite() && x >= 0.0)
+        {
+            return Err(format!(
+                "TRAXER_CACHE_MAX_MB={v}: the reflectivity cache's bound is a number of MB ≥ 0 (unset: {DEFAULT_CACHE_MAX_MB} MB)"
+            ));
+        }
+    }
+    if let Some(v) = std::env::var_os("TRAXER_CACHE").filter(|v| v != "off" && !v.is_empty()) {
+        let p = PathBuf::from(&v);
+        if p.exists() && !p.is_dir() {
+            return Err(format!(
+                "TRAXER_CACHE={}: not a folder (the reflectivity cache is a folder; `off` turns it off)",
+                p.display()
+            ));
+        }
+    }
+    Ok(())
+}

@@ -86,6 +86,10 @@ fn main() -> ExitCode {
     if !cli.command.quiet() {
         traxer::progress::set_notice_sink(|m| cli::tell_line(format_args!("note: {m}")));
     }
+    if let Err(e) = traxer::environment::check() {
+        cli::tell_line(format_args!("error: {e}"));
+        return ExitCode::from(2);
+    }
     let result = match cli.command {
         Command::Trace(a) => cli::trace::run(a),
         Command::Tessellate(a) => cli::tessellate::run(a),

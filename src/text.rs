@@ -14,6 +14,16 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// `x` with four decimals where that is short (|x| < 1e6), else in exponent
+/// form with four: a radius of 1e300 mm is not printed in 305 characters.
+pub fn four_decimals(x: f64) -> String {
+    if x.abs() < 1e6 || !x.is_finite() {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.4e}")
+    }
+}
+
 /// `s` cut to about `max` characters for a message: the start, how many
 /// characters were left out, and the end (a 100 000-character value is not
 /// echoed whole).

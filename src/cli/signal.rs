@@ -88,12 +88,12 @@ pub fn run(a: SignalArgs) -> anyhow::Result<()> {
     let provenance = Provenance::of_table(&super::invocation());
     traxer::run::write_results_folder(folder, |dir| write_signal(dir, &run, &s, &provenance))?;
     say!(
-        "signal region on {}: a circle of {:.4} mm about ({:.4}, {:.4}) mm, {:.4} cm², {:.2} % of the flux at the scene's mass",
+        "signal region on {}: a circle of {} mm about ({:.4}, {:.4}) mm, {} cm², {:.2} % of the flux at the scene's mass",
         run.sensor,
-        s.radius_mm,
+        traxer::text::four_decimals(s.radius_mm),
         s.centre_mm[0],
         s.centre_mm[1],
-        s.area_cm2,
+        traxer::text::four_decimals(s.area_cm2),
         100.0 * s.fraction
     );
     say!("{:>12}  {:>12}  {:>14}", "m_a (eV)", "X-rays/s", "per hour");

@@ -126,7 +126,9 @@ fn mass_scan_define(list: &str) -> Result<String, InputError> {
     let masses = list
         .split(',')
         .map(|m| match m.trim().parse::<f64>() {
-            Ok(v) if v.is_finite() && v >= 0.0 => Ok(v.to_string()),
+            // `{:?}` keeps a float a float in TOML (1e19, not an integer of
+            // 20 digits that TOML cannot hold).
+            Ok(v) if v.is_finite() && v >= 0.0 => Ok(format!("{v:?}")),
             _ => Err(InputError(format!(
                 "--masses {list}: `{m}` is not a mass ≥ 0 in eV (give e.g. --masses 0,0.01,0.02)"
             ))),

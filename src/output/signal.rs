@@ -150,7 +150,7 @@ fn spectrum_fits(
         let mut keys = Keys::default();
         keys.text("TUNIT1", "keV", "");
         keys.text("TUNIT2", "keV", "");
-        keys.text("TUNIT3", "counts/s", "X-rays per second in the region");
+        keys.text("TUNIT3", "ct / s", "X-rays per second in the region");
         keys.int("EXTVER", k as i64 + 1, "one extension per axion mass");
         keys.float("MASS_EV", m.mass_ev, "[eV] axion mass");
         keys.float("G_AGAMMA", run.g_agamma, "[GeV-1] the run's g_agamma");

@@ -432,3 +432,71 @@ fn careless_inputs_get_a_word() {
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("warning: --tracking-hours"), "{e}");
 }
+
+#[test]
+fn loose_ends_say_what_is_wrong() {
+    let dir = tempfile::tempdir().unwrap();
+    // A mass of 1e19 eV reached the scene as a 20-digit TOML integer; now it
+    // is the magnet's bound that speaks, naming the mass.
+    let scene = repo().join("scenes/cast_axion_image.toml");
+    let err = run_fails(
+        traxer()
+            .arg("trace")
+            .arg(&scene)
+            .args(["-n", "100", "-D", "magnet=true", "--masses", "0,1e19", "-o"])
+            .arg(dir.path().join("t")),
+        2,
+    );
+    assert!(err.contains("masses_ev: 1e19"), "{err}");
+    // Environment settings that were silently replaced by defaults.
+    let err = run_fails(
+        traxer()
+            .args([
+                "conversion",
+                "--field-t",
+                "9",
+                "--length-m",
+                "9.26",
+                "--energies",
+                "4",
+            ])
+            .env("TRAXER_CACHE_MAX_MB", "lots"),
+        2,
+    );
+    assert!(err.contains("TRAXER_CACHE_MAX_MB=lots"), "{err}");
+    let file = write(dir.path(), "a_file", "x");
+    let err = run_fails(
+        traxer()
+            .args([
+                "conversion",
+                "--field-t",
+                "9",
+                "--length-m",
+                "9.26",
+                "--energies",
+                "4",
+            ])
+            .env("TRAXER_CACHE", &file),
+        2,
+    );
+    assert!(
+        err.contains("not a folder") && err.contains("a_file"),
+        "{err}"
+    );
+    // A huge radius is printed in a few characters.
+    let run = dir.path().join("run");
+    cast_run(&run, &[]);
+    let out = run_ok(
+        traxer()
+            .arg("signal")
+            .arg(&run)
+            .args(["--radius-mm", "1e300", "-o"])
+            .arg(dir.path().join("s")),
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    let first = text.lines().next().unwrap();
+    assert!(
+        first.len() < 200 && first.contains("1.0000e300 mm"),
+        "{first}"
+    );
+}
