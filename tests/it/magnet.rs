@@ -548,3 +548,27 @@ fn the_bore_average_is_converged_to_1e_3() {
         );
     }
 }
+
+#[test]
+fn the_signal_goes_as_the_couplings_power() {
+    // The same photons (seed, count) traced at g and 2g: the X-rays in the
+    // gas grow 16× for Primakoff (production g², conversion g²) and 4× for
+    // ABC when g_ae doubles (production g_ae², conversion fixed). Restating
+    // g (s/s₀)^¼ in a test cannot see a slip in either; this can. The
+    // weights are scaled, not resampled, so the ratio is exact to rounding.
+    let flux = |extra: &[&str]| {
+        let mut d = vec!["magnet=true", "pixels=50"];
+        d.extend_from_slice(extra);
+        traced_flux("cast_axion_image.toml", &d, 20_000)
+    };
+    let (g1, g2) = (
+        flux(&["emission=primakoff", "g_agamma=1e-10"]),
+        flux(&["emission=primakoff", "g_agamma=2e-10"]),
+    );
+    assert!(rel(g2 / g1, 16.0) < 1e-9, "Primakoff: {}", g2 / g1);
+    let (a1, a2) = (
+        flux(&["emission=abc", "g_ae=1e-13"]),
+        flux(&["emission=abc", "g_ae=2e-13"]),
+    );
+    assert!(rel(a2 / a1, 4.0) < 1e-9, "ABC: {}", a2 / a1);
+}

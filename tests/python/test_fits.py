@@ -12,10 +12,12 @@ import json
 import os
 import pathlib
 import subprocess
+import warnings
 
 import numpy as np
 import pytest
 from astropy.io import fits
+from astropy.table import Table
 from astropy.wcs import WCS
 
 REPO = pathlib.Path(__file__).resolve().parents[2]
@@ -429,3 +431,9 @@ def test_signal_spectrum_fits_holds_the_csv_per_mass(tmp_path):
             mine = [r for r in rows if float(r["axion_mass_ev"]) == mass]
             assert list(h.data["ENERG_LO"]) == [float(r["energy_lo_kev"]) for r in mine]
             assert list(h.data["RATE"]) == [float(r["x_rays_per_s"]) for r in mine]
+            # The FITS spelling of counts per second, which astropy parses
+            # without a UnitsWarning (`counts/s` drew one: issue 59).
+            assert h.columns["RATE"].unit == "ct / s"
+            with warnings.catch_warnings():
+                warnings.simplefilter("error")
+                assert str(Table.read(h).columns["RATE"].unit) in ("ct / s", "ct s-1")
