@@ -215,9 +215,13 @@ fn sixte_vignetting_file(
         .find(|a| a.off_axis_arcmin == 0.0)
         .expect("checked: the sweep holds the axis");
     let (n_e, n_theta) = (lo.len(), r.angles.len());
+    // SIXTE interpolates in THETA, which must rise: the angles in order,
+    // however the sweep was given.
+    let mut angles: Vec<_> = r.angles.iter().collect();
+    angles.sort_by(|a, b| a.off_axis_arcmin.total_cmp(&b.off_axis_arcmin));
     // [φ][θ][E] in memory is FITS's (E, θ, φ) with E varying fastest.
     let mut vignet = Vec::with_capacity(n_e * n_theta);
-    for a in &r.angles {
+    for a in &angles {
         for (p, axis) in a.points.iter().zip(&on_axis.points) {
             // Where nothing reaches the sensor on axis the ARF is 0, and so is
             // SIXTE's product whatever VIGNET says: 0 rather than NaN.
@@ -227,7 +231,7 @@ fn sixte_vignetting_file(
             });
         }
     }
-    let theta_deg: Vec<f64> = r.angles.iter().map(|a| a.off_axis_arcmin / 60.0).collect();
+    let theta_deg: Vec<f64> = angles.iter().map(|a| a.off_axis_arcmin / 60.0).collect();
     let columns: [(&str, Vec<f64>, &str); 5] = [
         ("ENERG_LO", lo, "keV"),
         ("ENERG_HI", hi, "keV"),

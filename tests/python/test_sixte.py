@@ -202,3 +202,20 @@ def test_psf_library_puts_each_image_where_traxer_traced_it_at_any_azimuth(tmp_p
         tolerance = 1e-12 if p["azimuth_deg"] == 0.0 else 0.1 * pitch[0] * 1e-3
         for k in (0, 1):
             assert abs(sixte[k] - traced[k]) <= tolerance, (p, sixte, traced)
+
+
+def test_the_sixte_vignetting_is_in_rising_theta_whatever_order_the_angles_came(tmp_path):
+    """SIXTE interpolates in THETA, which must rise: a sweep given as 5,0
+    writes the table of a sweep given as 0,5 (issue 59: it was written in
+    the given order)."""
+    tables = []
+    for angles in ("5,0", "0,5"):
+        out = tmp_path / angles.replace(",", "_")
+        traxer("effective-area", REPO / "scenes" / "llnl_effective_area.toml",
+               "--energies", "2,4", "--angles", angles, "-n", 20000, "-q", "--out", out)
+        with fits.open(out / "vignetting_sixte.fits") as f:
+            d = f[1].data
+            tables.append((np.array(d["THETA"]).ravel(), np.array(d["VIGNET"]).ravel()))
+    (theta, vig), (theta_sorted, vig_sorted) = tables
+    assert list(theta) == sorted(theta) and list(theta) == list(theta_sorted)
+    assert list(vig) == list(vig_sorted)
