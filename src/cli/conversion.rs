@@ -58,7 +58,7 @@ pub struct ConversionArgs {
     pub masses: Option<String>,
     /// The axial line through this point of the bore's cross-section, mm
     /// [default: the axis].
-    #[arg(long, value_name = "X,Y", conflicts_with = "bore_average", value_parser = super::args::parse_pair)]
+    #[arg(long, value_name = "X,Y", conflicts_with = "bore_average", allow_hyphen_values = true, value_parser = super::args::parse_pair)]
     pub at: Option<[f64; 2]>,
     /// Average P over the bore's cross-section (8 192 axial lines, each for
     /// an equal area: converged to 2e-4 through BabyIAXO's map).

@@ -572,3 +572,82 @@ fn the_signal_goes_as_the_couplings_power() {
     );
     assert!(rel(a2 / a1, 4.0) < 1e-9, "ABC: {}", a2 / a1);
 }
+
+#[test]
+fn the_babyiaxo_map_off_its_axis_is_the_integral_of_its_nodes() {
+    // Axial lines between the map's nodes (50 mm in x and y): the test's own
+    // trilinear map — bilinear in x, y on each node plane, linear in z between
+    // planes, so the trapezoid rule over the planes is exact — gives
+    // ∫B_x dz and ∫B_y dz, and P ∝ (∫B_x)² + (∫B_y)² at m_a = 0. Against
+    // `conversion --at`, as ratios to the axis (the units cancel), to 1e-9:
+    // an x/y swap, a wrong cell or a sign slip in the interpolation moves P
+    // by far more (P at (±340, 0) is about twice the axis value).
+    let text =
+        std::fs::read_to_string(crate::common::repo().join("data/magnets/Bykovskiy_201906.dat"))
+            .unwrap();
+    let mut at: std::collections::HashMap<(i64, i64, i64), [f64; 2]> = Default::default();
+    for l in text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let v: Vec<f64> = l.split_whitespace().map(|x| x.parse().unwrap()).collect();
+        at.insert((v[0] as i64, v[1] as i64, v[2] as i64), [v[3], v[4]]);
+    }
+    let integral = |x: f64, y: f64| -> f64 {
+        let (x0, y0) = ((x / 50.0).floor() * 50.0, (y / 50.0).floor() * 50.0);
+        let (u, w) = ((x - x0) / 50.0, (y - y0) / 50.0);
+        let node = |dx: f64, dy: f64, z: i64| at[&((x0 + dx) as i64, (y0 + dy) as i64, z)];
+        let plane = |z: i64| -> [f64; 2] {
+            let (a, b, c, d) = (
+                node(0., 0., z),
+                node(50., 0., z),
+                node(0., 50., z),
+                node(50., 50., z),
+            );
+            std::array::from_fn(|k| {
+                (1.0 - u) * (1.0 - w) * a[k]
+                    + u * (1.0 - w) * b[k]
+                    + (1.0 - u) * w * c[k]
+                    + u * w * d[k]
+            })
+        };
+        let planes: Vec<[f64; 2]> = (-100..=100).map(|k| plane(50 * k)).collect();
+        let i: Vec<f64> = (0..2)
+            .map(|k| {
+                planes
+                    .windows(2)
+                    .map(|p| 0.5 * (p[0][k] + p[1][k]) * 50.0)
+                    .sum()
+            })
+            .collect();
+        i[0] * i[0] + i[1] * i[1]
+    };
+    let p_at = |x: f64, y: f64| {
+        let place = format!("{x},{y}");
+        conversion(&[
+            "--field-map",
+            "bykovskiy_201906",
+            "--energies",
+            "4",
+            "--at",
+            &place,
+        ])[0]
+    };
+    let axis = p_at(0.0, 0.0);
+    let axis_integral = integral(0.0, 0.0);
+    for (x, y) in [
+        (340.0, 0.0),
+        (-340.0, 0.0),
+        (123.0, -77.0),
+        (0.0, 210.0),
+        (-260.0, 180.0),
+    ] {
+        let traced = p_at(x, y) / axis;
+        let want = integral(x, y) / axis_integral;
+        assert!(rel(traced, want) < 1e-9, "({x}, {y}): {traced} vs {want}");
+    }
+    assert!(
+        integral(340.0, 0.0) / axis_integral > 1.5,
+        "the premise: the field grows off axis"
+    );
+}
