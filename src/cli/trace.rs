@@ -126,9 +126,14 @@ fn mass_scan_define(list: &str) -> Result<String, InputError> {
     let masses = list
         .split(',')
         .map(|m| match m.trim().parse::<f64>() {
-            // `{:?}` keeps a float a float in TOML (1e19, not an integer of
-            // 20 digits that TOML cannot hold).
-            Ok(v) if v.is_finite() && v >= 0.0 => Ok(format!("{v:?}")),
+            // As written before (the override's text is part of a run's
+            // identity), except a huge whole number, which `to_string` spells
+            // as an integer of 20 digits that TOML cannot hold: `{:?}` keeps
+            // it a float (1e19), for the magnet to refuse by its value.
+            Ok(v) if v.is_finite() && v >= 0.0 => Ok(match v.to_string() {
+                s if s.len() > 16 => format!("{v:?}"),
+                s => s,
+            }),
             _ => Err(InputError(format!(
                 "--masses {list}: `{m}` is not a mass ≥ 0 in eV (give e.g. --masses 0,0.01,0.02)"
             ))),
