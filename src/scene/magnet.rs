@@ -149,10 +149,8 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
     )))
     .then(&bore.to_world);
     let half_length_mm = 0.5 * (bore.z_end - bore.z_start).abs();
-    if let Some(step) = d.step_mm.filter(|s| !(s.is_finite() && *s > 0.0)) {
-        return Err(format!(
-            "step_mm = {step}: the path integral's step is a length > 0 (mm)"
-        ));
+    if let Some(step) = d.step_mm {
+        check_step(step)?;
     }
     if !(d.axion_mass_ev.is_finite() && d.axion_mass_ev >= 0.0) {
         return Err(format!(
@@ -171,12 +169,7 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
         &d.masses_ev,
         (MAX_SCAN_MASSES, "each is an image on every sensor"),
     )?;
-    if !(d.g_agamma.is_finite() && d.g_agamma > 0.0) {
-        return Err(format!(
-            "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
-            crate::text::number(d.g_agamma)
-        ));
-    }
+    check_coupling(d.g_agamma)?;
     let field = match (d.field_t, &d.field_map, map) {
         (Some(b), None, _) => uniform(b, d.field_direction)?,
         (None, Some(name), Some(map)) => {
@@ -242,22 +235,12 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
 pub fn revised(m: &Magnet, g_agamma: Option<f64>, step_mm: Option<f64>) -> Result<Magnet, String> {
     let mut m = m.clone();
     if let Some(g) = g_agamma {
-        if !(g.is_finite() && g > 0.0) {
-            return Err(format!(
-                "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
-                crate::text::number(g)
-            ));
-        }
+        check_coupling(g)?;
         m.g_agamma_gev = g;
         m.weight_scale = Magnet::peak_probability(&m.field, g, 2.0 * m.half_length_mm);
     }
     if let Some(step) = step_mm {
-        if !(step.is_finite() && step > 0.0) {
-            return Err(format!(
-                "step_mm = {}: the path integral's step is a length > 0 (mm)",
-                crate::text::number(step)
-            ));
-        }
+        check_step(step)?;
         m.step_mm = step;
     }
     check_magnet(&m)?;
@@ -283,6 +266,29 @@ pub fn check_probe_masses(m: &Magnet, key: &str, masses: &[f64]) -> Result<(), S
         ..m.clone()
     };
     check_representable(&probe).map_err(|e| e.replacen("masses_ev", key, 1))
+}
+
+/// A coupling is a number > 0.
+fn check_coupling(g: f64) -> Result<(), String> {
+    match g.is_finite() && g > 0.0 {
+        true => Ok(()),
+        false => Err(format!(
+            "g_agamma = {}: a coupling is > 0 (GeV⁻¹)",
+            crate::text::number(g)
+        )),
+    }
+}
+
+/// A path step is a length > 0 (its upper bound on the samples is
+/// `check_magnet`'s).
+fn check_step(step: f64) -> Result<(), String> {
+    match step.is_finite() && step > 0.0 {
+        true => Ok(()),
+        false => Err(format!(
+            "step_mm = {}: the path integral's step is a length > 0 (mm)",
+            crate::text::number(step)
+        )),
+    }
 }
 
 /// The most samples of the field along one path: a 10 m bore at 1 mm steps,
