@@ -14,8 +14,9 @@ pub struct FinishedImage {
     /// Flux per pixel ([band][iy][ix]), times `absolute` if given (axions per
     /// second with a Sun).
     pub flux: Vec<f64>,
-    /// The flux summed over bands ([iy][ix]).
-    pub summed: Vec<f64>,
+    /// The flux summed over bands ([iy][ix]) with energy bins; without, the
+    /// flux itself is the sum (not copied: a large sensor's is 32 MB).
+    summed_bands: Option<Vec<f64>>,
     pub geometry: ImageGeometry,
     /// Centroid and diameters, and the encircled-flux curve; `None` without flux.
     pub quality: Option<(ImageQuality, Eef)>,
@@ -23,30 +24,43 @@ pub struct FinishedImage {
     pub absolute: bool,
 }
 
+/// A sensor's image array shape in numpy's order: `[ny, nx]`, or `[bands,
+/// ny, nx]` with energy bins (flux and counts alike).
+pub fn image_shape(spec: &SensorSpec) -> Vec<usize> {
+    let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
+    match spec.energy_bins {
+        Some((_, _, n)) => vec![n as usize, ny, nx],
+        None => vec![ny, nx],
+    }
+}
+
 impl FinishedImage {
     /// The finished image of `image` on `spec`; `absolute` converts weights to
     /// axions per second (a Sun's runs), `None` keeps the weights.
     pub fn of(spec: &SensorSpec, image: &SensorImage, absolute: Option<f64>) -> FinishedImage {
-        let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
-        let shape = match spec.energy_bins {
-            Some((_, _, n)) => vec![n as usize, ny, nx],
-            None => vec![ny, nx],
-        };
         let mut flux = image.flux();
         if let Some(k) = absolute {
             flux.iter_mut().for_each(|f| *f *= k);
         }
-        let summed = sum_bands(&flux, spec.pixel_count());
+        let summed_bands = spec
+            .energy_bins
+            .map(|_| sum_bands(&flux, spec.pixel_count()));
         let geometry = ImageGeometry::of_sensor(spec);
-        let quality = analyse(&summed, &geometry, spec.focal_length);
+        let summed = summed_bands.as_deref().unwrap_or(&flux);
+        let quality = analyse(summed, &geometry, spec.focal_length);
         FinishedImage {
-            shape,
+            shape: image_shape(spec),
             flux,
-            summed,
+            summed_bands,
             geometry,
             quality,
             absolute: absolute.is_some(),
         }
+    }
+
+    /// The flux summed over bands ([iy][ix]).
+    pub fn summed(&self) -> &[f64] {
+        self.summed_bands.as_deref().unwrap_or(&self.flux)
     }
 
     /// The total flux.
@@ -63,7 +77,7 @@ impl FinishedImage {
     /// grid (`pixel_grid`), if it has one.
     pub fn on_grid(&self, spec: &SensorSpec) -> Option<(PixelGrid, Rebinned)> {
         let g = spec.pixel_grid?;
-        Some((g, rebin(&self.summed, spec.size, spec.pixels, &g)))
+        Some((g, rebin(self.summed(), spec.size, spec.pixels, &g)))
     }
 
     /// Pixel centres (mm, sensor frame) along x and along y.

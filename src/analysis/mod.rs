@@ -17,7 +17,7 @@ pub mod reach;
 pub mod signal;
 
 pub use doubts::doubts;
-pub use finished::FinishedImage;
+pub use finished::{image_shape, FinishedImage};
 
 use eef::EncircledFlux;
 

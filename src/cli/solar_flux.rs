@@ -191,6 +191,14 @@ fn emission(
         let text = std::fs::read_to_string(path)
             .map_err(|e| InputError(format!("{}: cannot read: {e}", path.display())))?;
         let table = EmissionTable::parse_csv(&text, path)?;
+        let luminosity = table.luminosity(0.0, f64::INFINITY);
+        if !luminosity.is_finite() {
+            return Err(InputError(format!(
+                "{}: the rates, summed over the Sun's volume, exceed the largest number a double holds: `emRates` are per axion phase-space mode (keV), of order 1e-30 to 1e10 for real emissions: check their unit",
+                path.display()
+            ))
+            .into());
+        }
         Emission {
             table,
             parts: Vec::new(),

@@ -29,6 +29,12 @@ impl StudyControl for CliStudy {
         super::signals::set_stop_message(message.to_string());
     }
 
+    fn resumed(&self, message: &str) {
+        if !self.1 {
+            say!("{message}");
+        }
+    }
+
     fn point_finished(&self, description: &str) {
         if !self.1 {
             self.0.suspend(|| say!("{description}"));

@@ -194,7 +194,7 @@ impl View<'_> {
             .zip(&p.tally.images)
             .map(|(spec, img)| {
                 let finished = FinishedImage::of(spec, img, None);
-                let summed = &finished.summed;
+                let summed = finished.summed();
                 if quality.is_empty() {
                     if let Some(q) = finished.image_quality() {
                         quality = match q.hpd_arcsec {

@@ -22,9 +22,16 @@ pub fn process_images(
 ) -> Vec<(String, Vec<f64>)> {
     spec.processes
         .iter()
-        .zip(image.processes.images())
-        .map(|(name, img)| (name.clone(), img.iter().map(|v| v * scale).collect()))
+        .enumerate()
+        .map(|(k, name)| (name.clone(), process_image(image, k, scale)))
         .collect()
+}
+
+/// Process `k`'s image times `scale`.
+fn process_image(image: &SensorImage, k: usize, scale: f64) -> Vec<f64> {
+    let mut img = image.processes.image(k);
+    img.iter_mut().for_each(|v| *v *= scale);
+    img
 }
 
 /// How each built-in process's image scales with the couplings: its
@@ -43,17 +50,17 @@ fn scales_as(process: &str, magnet: bool) -> Option<&'static str> {
     }
 }
 
-/// Writes the per-process images as `.npy`; returns the JSON entry (`null`
-/// without processes) and adds the paths to `written`. `magnet`: the scene
-/// converts the axions (the images scale with g_aγ² more).
+/// Writes the per-process images as `.npy`, one at a time (a sensor's
+/// images together would double a large run's peak memory); returns the JSON
+/// entry (`null` without processes) and adds the paths to `written`.
+/// `magnet`: the scene converts the axions (the images scale with g_aγ² more).
 pub fn write_process_images(
     dir: &Path,
     (spec, image, magnet): (&SensorSpec, &SensorImage, bool),
-    images: &[(String, Vec<f64>)],
     scale: f64,
     written: &mut Vec<PathBuf>,
 ) -> std::io::Result<Value> {
-    if images.is_empty() {
+    if spec.processes.is_empty() {
         return Ok(Value::Null);
     }
     let shape = [spec.pixels[1] as u64, spec.pixels[0] as u64];
@@ -61,9 +68,9 @@ pub fn write_process_images(
     let totals = image.processes.totals();
     let all = image.total_flux();
     let mut entries = Vec::new();
-    for (k, ((name, img), file)) in images.iter().zip(&files).enumerate() {
+    for (k, (name, file)) in spec.processes.iter().zip(&files).enumerate() {
         let p = dir.join(file);
-        write_npy_f64(&p, &shape, img)?;
+        write_npy_f64(&p, &shape, &process_image(image, k, scale))?;
         written.push(p);
         entries.push(json!({
             "name": name,

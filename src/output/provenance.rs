@@ -35,6 +35,10 @@ pub struct Provenance {
     pub shards: Option<Value>,
     /// Tracing time summed over the shards and over the sittings of a resumed run.
     pub trace_seconds: Option<f64>,
+    /// For a study with a results folder: how many of its points were taken
+    /// from the record of the stopped study it resumed (0 for a fresh one).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub points_from_record: Option<usize>,
     pub command_line: Vec<String>,
     /// Seconds since the Unix epoch when the record was made (the run finished).
     pub finished_unix_s: u64,

@@ -18,7 +18,7 @@ use super::{
     write_csv, write_image_figure, write_npy_f64, write_npy_u64, write_png, Provenance, Scale,
 };
 use super::{write_grid_fits, write_sensor_fits, FluxUnit, SensorFits};
-use crate::analysis::{projections, FinishedImage, ImageGeometry};
+use crate::analysis::{image_shape, projections, FinishedImage, ImageGeometry};
 use crate::files::atomic_write;
 use crate::scene::Counted;
 use crate::scene::Scene;
@@ -143,18 +143,20 @@ fn write_sensor(
 ) -> std::io::Result<(Value, Vec<PathBuf>)> {
     let mut written = Vec::new();
     let (nx, ny) = (spec.pixels[0] as usize, spec.pixels[1] as usize);
-    let finished = FinishedImage::of(spec, image, absolute);
     // [band][iy][ix] with energy bins, [iy][ix] without.
-    let shape: Vec<u64> = finished.shape.iter().map(|&n| n as u64).collect();
-    let (flux, summed) = (&finished.flux[..], &finished.summed);
+    let shape: Vec<u64> = image_shape(spec).iter().map(|&n| n as u64).collect();
     let files = SensorFiles::of(&spec.name);
     let path = |name: &str| dir.join(name);
-    write_npy_f64(&path(&files.flux_npy), &shape, flux)?;
+    // The counts first: their dense copy is gone before the flux's is made.
     write_npy_u64(&path(&files.counts_npy), &shape, &image.counts.to_vec())?;
+    let finished = FinishedImage::of(spec, image, absolute);
+    let (flux, summed) = (&finished.flux[..], finished.summed());
+    write_npy_f64(&path(&files.flux_npy), &shape, flux)?;
     let on_grid = finished.on_grid(spec);
     let scale = absolute.unwrap_or(1.0);
-    let processes = process_images(spec, image, scale);
     if run.fits {
+        // FITS holds every process image in one file.
+        let processes = process_images(spec, image, scale);
         let fits = SensorFits {
             spec,
             flux,
@@ -186,8 +188,7 @@ fn write_sensor(
     write_projections(&path(&files.projections_csv), summed, geometry)?;
     let grid = write_grid_files(dir, scene, spec, on_grid, &finished, run, &mut written)?;
     written.extend(write_class_images(dir, spec, image, scale)?);
-    let (processes, masses) =
-        write_tallies(dir, (scene, spec, image), &processes, scale, &mut written)?;
+    let (processes, masses) = write_tallies(dir, (scene, spec, image), scale, &mut written)?;
     let conversion = write_conversion_files(dir, scene, spec, image, absolute, &mut written)?;
     let sensor = json!({
         "name": spec.name,
@@ -242,13 +243,12 @@ fn write_tallies(
         &crate::sensor::SensorSpec,
         &crate::sensor::SensorImage,
     ),
-    processes: &[(String, Vec<f64>)],
     scale: f64,
     written: &mut Vec<PathBuf>,
 ) -> std::io::Result<(Value, Value)> {
     let magnet = scene.counted() == Counted::XRays;
     Ok((
-        write_process_images(dir, (spec, image, magnet), processes, scale, written)?,
+        write_process_images(dir, (spec, image, magnet), scale, written)?,
         super::masses::write_mass_images(dir, spec, image, scale, written)?,
     ))
 }

@@ -46,7 +46,7 @@ pub fn sensor_figure<'a>(
             finished.total_flux(),
             unit.split(" per pixel").next().unwrap_or_default()
         ),
-        values: Cow::Borrowed(&finished.summed),
+        values: Cow::Borrowed(finished.summed()),
         pixels: [g.nx, g.ny],
         extent_mm: [
             [g.origin_mm[0], g.origin_mm[0] + g.nx as f64 * g.pitch[0]],
@@ -65,11 +65,11 @@ pub fn sensor_figure<'a>(
         top: None,
     };
     if scale == Scale::Linear {
-        if let Some((top, above)) = linear_top(&finished.summed) {
+        if let Some((top, above)) = linear_top(finished.summed()) {
             fig.top = Some(top);
             fig.overlay.corner = Some(format!(
                 "colour scale up to the {TOP_PERCENTILE}th percentile of lit pixels: {above} brighter, up to {:.3e}, in yellow",
-                crate::colormap::max_value(&finished.summed)
+                crate::colormap::max_value(finished.summed())
             ));
         }
     }
@@ -114,7 +114,7 @@ fn frame_on_the_flux(
     (centre, r90): ([f64; 2], f64),
     stem: &str,
 ) {
-    if frame_figure(fig, &f.summed, &f.geometry, (centre, r90)) {
+    if frame_figure(fig, f.summed(), &f.geometry, (centre, r90)) {
         fig.orientation.push_str(&format!(
             " Framed: ±{FRAME_PER_R90} × the 90 % radius ({stem}_pixels.png: all of it)."
         ));

@@ -128,6 +128,13 @@ impl MergeJob<'_> {
 /// A shard's folder and the header of its run state.
 fn read_shard(dir: &Path) -> Result<(PathBuf, StateHeader), RunError> {
     let path = dir.join(RUN_STATE_FILE);
+    if path.exists() && !path.is_file() {
+        return Err(InputError(format!(
+            "{}: is not a file (a folder or a device): a run's {RUN_STATE_FILE} is the file traxer trace writes; put the run's own back",
+            path.display()
+        ))
+        .into());
+    }
     if !path.is_file() {
         let hint = if dir.join(CHECKPOINT_FILE).is_file() {
             format!(

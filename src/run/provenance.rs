@@ -134,6 +134,7 @@ impl Provenance {
             first_photon: None,
             shards: None,
             trace_seconds: None,
+            points_from_record: None,
             command_line: invocation.command_line.clone(),
             finished_unix_s: std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)

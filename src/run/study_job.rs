@@ -12,7 +12,7 @@ use super::{Invocation, RunError, Stopped, Study};
 use crate::output::{Provenance, StudyFiles};
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::studies::StudyError;
+use crate::studies::{PointOrigin, StudyError};
 use std::path::Path;
 
 /// What a front end does for a running study: shows progress, says whether
@@ -25,6 +25,8 @@ pub trait StudyControl: Progress {
     fn stoppable(&self, _message: &str) {}
     /// A point is done; the study describes it so (`StudyKind::describe`).
     fn point_finished(&self, _description: &str) {}
+    /// A resumed study has ended: what it took from the record.
+    fn resumed(&self, _message: &str) {}
 }
 
 /// Where a study's files go: a results folder (with its record, so that a
@@ -82,7 +84,9 @@ pub fn run_study<K: StudyFiles>(
             K::POINTS
         ),
     };
-    let mut on_point = |p: &K::Point| {
+    let mut from_record = 0;
+    let mut on_point = |p: &K::Point, origin: PointOrigin| {
+        from_record += usize::from(origin == PointOrigin::Record);
         if let Some(w) = study.as_ref().and_then(|s| s.point_done(p)) {
             control.warn(&w);
         }
@@ -94,14 +98,23 @@ pub fn run_study<K: StudyFiles>(
         Err(StudyError::Stopped) => return Err(RunError::Stopped(Stopped(stop_message))),
         other => other?,
     };
+    if from_record > 0 {
+        control.resumed(&format!(
+            "resumed: {from_record} {} taken from the record, the rest traced",
+            K::POINTS
+        ));
+    }
     let sampling = kind.sampling();
-    let provenance = kind.provenance(Provenance::of_study(
-        invocation,
-        embree_version,
-        scene,
-        (sampling.photons, sampling.seed),
-        K::threads_used(&output),
-    ));
+    let provenance = kind.provenance(Provenance {
+        points_from_record: study.as_ref().map(|_| from_record),
+        ..Provenance::of_study(
+            invocation,
+            embree_version,
+            scene,
+            (sampling.photons, sampling.seed),
+            K::threads_used(&output),
+        )
+    });
     if let Some(study) = study {
         study.finish(|dir| kind.write(dir, &output, &provenance))?;
     }

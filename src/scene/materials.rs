@@ -98,11 +98,44 @@ struct Entry {
     declared: bool,
 }
 
+/// The thickest foil accepted (nm): 10 mm.
+pub const MAX_FOIL_NM: f64 = 1e7;
+
 /// A problem with a material: the message, where, and whether that place is a
 /// line of the file (built-in materials have none).
 pub struct MaterialError {
     pub span: Range<usize>,
     pub message: String,
+}
+
+impl MaterialError {
+    /// The span narrowed from the material's table to the line of the key
+    /// its message is about ("material `chip`: pixel_grid: ..." points at the
+    /// `pixel_grid = ...` line), when the table writes that key on a line of
+    /// its own.
+    pub fn narrowed(self, text: &str) -> MaterialError {
+        let about = self.message.split_once("`: ").map_or("", |(_, rest)| rest);
+        let key: String = about
+            .chars()
+            .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+            .collect();
+        let Some(table) = text.get(self.span.clone()).filter(|_| !key.is_empty()) else {
+            return self;
+        };
+        let mut offset = self.span.start;
+        for line in table.split_inclusive('\n') {
+            let rest = line.trim_start().strip_prefix(key.as_str());
+            if rest.is_some_and(|r| r.trim_start().starts_with('=')) {
+                let start = offset + line.len() - line.trim_start().len();
+                return MaterialError {
+                    span: start..offset + line.trim_end().len(),
+                    ..self
+                };
+            }
+            offset += line.len();
+        }
+        self
+    }
 }
 
 /// The scene's materials while objects are built: resolves names, builds each
@@ -213,7 +246,16 @@ impl Materials {
                 if !(f.thickness_nm.is_finite() && f.thickness_nm >= 0.0) {
                     return Some(Err(fail(format!(
                         "thickness_nm = {}: expected a thickness ≥ 0 (nm)",
-                        f.thickness_nm
+                        crate::text::number(f.thickness_nm)
+                    ))));
+                }
+                // A foil is thin (windows are nm to µm): a value above 10 mm
+                // is a unit slip (mm or µm meant); a thick absorber is a
+                // shape of an absorber material.
+                if f.thickness_nm > MAX_FOIL_NM {
+                    return Some(Err(fail(format!(
+                        "thickness_nm = {}: at most {MAX_FOIL_NM:e} nm (10 mm) for a foil; thickness_nm is in nanometres (4 µm of Mylar is 4000)",
+                        crate::text::number(f.thickness_nm)
                     ))));
                 }
                 let foil = match self.coating_library.material(&f.material) {

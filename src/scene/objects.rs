@@ -177,7 +177,10 @@ impl<'a> ObjectBuilder<'a> {
         let mname = od.material.get_ref();
         match materials.resolve(mname, index, name) {
             Some(Ok(m)) => Ok(m),
-            Some(Err(e)) => Err(self.at.error(e.span, e.message)),
+            Some(Err(e)) => {
+                let e = e.narrowed(self.at.text);
+                Err(self.at.error(e.span, e.message))
+            }
             None => Err(self.at.error(
                 od.material.span(),
                 format!(

@@ -66,9 +66,20 @@ impl ProcessTally {
         }
     }
 
-    /// Each process's image as floating-point numbers (sums of weights).
-    pub fn images(&self) -> Vec<Vec<f64>> {
-        self.images.iter().map(|i| exact::values(i)).collect()
+    /// How many processes are tallied.
+    pub fn len(&self) -> usize {
+        self.images.len()
+    }
+
+    /// Whether no process is tallied.
+    pub fn is_empty(&self) -> bool {
+        self.images.is_empty()
+    }
+
+    /// Process `k`'s image as floating-point numbers (sums of weights): one
+    /// dense image at a time, since a large sensor's are 12 MB each.
+    pub fn image(&self, k: usize) -> Vec<f64> {
+        exact::values(&self.images[k])
     }
 
     /// Each process's summed weight, exact.

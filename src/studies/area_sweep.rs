@@ -70,8 +70,10 @@ pub fn check(s: &AreaSweep) -> Result<(), StudyError> {
     if s.sampling.photons < 2 {
         return bad("photons must be at least 2 per angle".into());
     }
-    if s.radius_mm.is_some_and(|r| !(r.is_finite() && r > 0.0)) {
-        return bad("the counting radius must be a positive length (mm)".into());
+    if let Some(r) = s.radius_mm.filter(|&r| !(r.is_finite() && r > 0.0)) {
+        return bad(format!(
+            "the counting radius (--radius, radius_mm in Python) is {r}: it must be a positive length in mm"
+        ));
     }
     Ok(())
 }

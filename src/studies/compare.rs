@@ -6,7 +6,8 @@
 //! stopped comparison resumes at the next variant.
 
 use super::{
-    pick_sensor, require_sources, trace_and_measure, Measured, Sampling, StudyError, StudyKind,
+    pick_sensor, require_sources, trace_and_measure, Measured, PointOrigin, Sampling, StudyError,
+    StudyKind,
 };
 use crate::geometry::Resolution;
 use crate::progress::Progress;
@@ -131,18 +132,18 @@ impl StudyKind for CompareStudy<'_> {
         scene: &Scene,
         replay: &[Row],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&Row),
+        on_point: &mut dyn FnMut(&Row, PointOrigin),
     ) -> Result<Vec<Row>, StudyError> {
         let mut rows = Vec::with_capacity(self.variants.len());
         for (k, v) in self.variants.iter().enumerate() {
-            let row = match replay.get(k).filter(|r| r.label == v.label) {
+            let (row, origin) = match replay.get(k).filter(|r| r.label == v.label) {
                 Some(r) => {
                     progress.advance(self.cfg.photons);
-                    r.clone()
+                    (r.clone(), PointOrigin::Record)
                 }
-                None => self.trace(scene, v, progress)?,
+                None => (self.trace(scene, v, progress)?, PointOrigin::Traced),
             };
-            on_point(&row);
+            on_point(&row, origin);
             if k == 0 && row.measured.quality.is_none() {
                 return Err(StudyError::Input(
                     "no photon reached the sensor in the analytic run: nothing to compare".into(),

@@ -25,7 +25,7 @@
 
 pub use super::area_sweep::{check, AreaSweep, MAX_SWEEP_POINTS};
 use super::parallel_beam::{beam, image_stays_on_the_sensor};
-use super::{pick_sensor, StudyError};
+use super::{pick_sensor, PointOrigin, StudyError};
 use crate::analysis::{analyse, ImageGeometry, ImageQuality};
 use crate::history::PathClass;
 use crate::progress::Progress;
@@ -136,7 +136,7 @@ pub fn sweep(
     s: &AreaSweep,
     replay: &[AngleResult],
     progress: &dyn Progress,
-    mut on_angle: impl FnMut(&AngleResult),
+    mut on_angle: impl FnMut(&AngleResult, PointOrigin),
 ) -> Result<AreaResult, StudyError> {
     check(s)?;
     let base = beam(scene, "effective-area")?;
@@ -169,6 +169,10 @@ pub fn sweep(
         let recorded = replay
             .get(i)
             .filter(|r| r.off_axis_arcmin.to_bits() == angle.to_bits() && i == angles.len());
+        let origin = match recorded {
+            Some(_) => PointOrigin::Record,
+            None => PointOrigin::Traced,
+        };
         let result = match recorded {
             Some(r) => r.clone(),
             None => {
@@ -187,7 +191,7 @@ pub fn sweep(
                 }
             }
         };
-        on_angle(&result);
+        on_angle(&result, origin);
         angles.push(result);
         if progress.stop_requested() && angles.len() < s.angles_arcmin.len() {
             return Err(StudyError::Stopped);
@@ -552,7 +556,7 @@ impl super::StudyKind for AreaSweep {
         scene: &Scene,
         replay: &[AngleResult],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&AngleResult),
+        on_point: &mut dyn FnMut(&AngleResult, PointOrigin),
     ) -> Result<AreaResult, StudyError> {
         sweep(scene, self, replay, progress, on_point)
     }

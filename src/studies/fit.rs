@@ -10,7 +10,7 @@
 //! the bounds and targets, checks the Monte Carlo spread with [`seed_spread`], and
 //! `output` writes the history and the preset.
 
-use super::{measure_arcsec, trace_and_measure, Diameters, StudyError};
+use super::{measure_arcsec, trace_and_measure, Diameters, PointOrigin, StudyError};
 use crate::material::Material;
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -125,7 +125,7 @@ pub struct FitResult {
     pub threads: usize,
 }
 
-struct State<'a, P: FnMut(&Evaluation, &Evaluation)> {
+struct State<'a, P: FnMut(&Evaluation, &Evaluation, PointOrigin)> {
     scene: &'a mut Scene,
     settings: &'a FitSettings,
     replay: &'a [Evaluation],
@@ -140,7 +140,7 @@ struct State<'a, P: FnMut(&Evaluation, &Evaluation)> {
     threads: usize,
 }
 
-impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
+impl<P: FnMut(&Evaluation, &Evaluation, PointOrigin)> State<'_, P> {
     fn parameters(&self, x: &[f64]) -> FigureError {
         let mut p = self.settings.bounds.lower;
         for (&i, &v) in self.free.iter().zip(x) {
@@ -185,10 +185,12 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
             return 1e6;
         }
         let fe = self.parameters(x);
+        let mut origin = PointOrigin::Record;
         let diameters = if let Some(d) = self.recorded(&fe) {
             self.replayed += 1;
             d
         } else {
+            origin = PointOrigin::Traced;
             set_figure_error(self.scene, Some(fe));
             let measured = trace_and_measure(
                 self.scene,
@@ -219,7 +221,7 @@ impl<P: FnMut(&Evaluation, &Evaluation)> State<'_, P> {
         if self.best.as_ref().is_none_or(|b| e.error < b.error) {
             self.best = Some(e.clone());
         }
-        (self.progress)(&e, self.best.as_ref().expect("set above"));
+        (self.progress)(&e, self.best.as_ref().expect("set above"), origin);
         self.history.push(e);
         error
     }
@@ -238,7 +240,7 @@ pub fn fit(
     settings: &FitSettings,
     replay: &[Evaluation],
     trace_progress: &dyn Progress,
-    on_evaluation: impl FnMut(&Evaluation, &Evaluation),
+    on_evaluation: impl FnMut(&Evaluation, &Evaluation, PointOrigin),
 ) -> Result<FitResult, StudyError> {
     let b = &settings.bounds;
     for ((name, lo), hi) in PARAMETERS.iter().zip(b.lower).zip(b.upper) {
@@ -310,7 +312,7 @@ pub fn fit(
 
 /// One NLopt stage over the free parameters within `(lower, upper)`, from `x`
 /// (updated in place), for at most `evaluations` evaluations.
-fn optimise<P: FnMut(&Evaluation, &Evaluation)>(
+fn optimise<P: FnMut(&Evaluation, &Evaluation, PointOrigin)>(
     state: &mut State<P>,
     algorithm: nlopt::Algorithm,
     evaluations: u32,

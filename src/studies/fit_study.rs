@@ -8,7 +8,7 @@
 
 use super::fit::{fit, seed_spread, Evaluation, FitResult, FitSettings, Spread};
 use super::fit_errors::{parameter_errors, predict, sensitivity, ParameterErrors, Prediction};
-use super::{Diameters, Sampling, SceneLoader, StudyError, StudyKind};
+use super::{Diameters, PointOrigin, Sampling, SceneLoader, StudyError, StudyKind};
 use crate::material::Material;
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -225,7 +225,7 @@ impl StudyKind for FitStudy<'_> {
         _scene: &Scene,
         replay: &[Evaluation],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&Evaluation),
+        on_point: &mut dyn FnMut(&Evaluation, PointOrigin),
     ) -> Result<FitOutput, StudyError> {
         let mut scene = (self.load)(&[])?;
         let started = Instant::now();
@@ -233,13 +233,19 @@ impl StudyKind for FitStudy<'_> {
             *shown = (None, started, replay.len());
         }
         let photons = self.settings.run.photons;
-        let result = fit(&mut scene, &self.settings, replay, progress, |e, _| {
-            if e.index <= replay.len() {
-                // Taken from the record, not traced: the bar moves on as if.
-                progress.advance(photons);
-            }
-            on_point(e);
-        })?;
+        let result = fit(
+            &mut scene,
+            &self.settings,
+            replay,
+            progress,
+            |e, _, origin| {
+                if origin == PointOrigin::Record {
+                    // Taken from the record, not traced: the bar moves on as if.
+                    progress.advance(photons);
+                }
+                on_point(e, origin);
+            },
+        )?;
         let fit_seconds = started.elapsed().as_secs_f64();
         let (spread, errors, predictions) = self.after_fit(&mut scene, &result, progress)?;
         Ok(FitOutput {

@@ -4,7 +4,7 @@
 //! HPD, 80 % and 90 % diameters fitted with the defocus curve
 //! (`analysis::focus::fit_defocus`). The HPD fit's z₀ is the best focus.
 
-use super::{pick_sensor, trace_and_measure, StudyError};
+use super::{pick_sensor, trace_and_measure, PointOrigin, StudyError};
 use crate::analysis::focus::{fit_defocus, DefocusFit, DefocusFitError};
 use crate::analysis::ImageQuality;
 use crate::progress::Progress;
@@ -100,7 +100,7 @@ pub fn scan(
     cfg: &RunConfig,
     replay: &[FocusStep],
     progress: &dyn Progress,
-    mut on_step: impl FnMut(&FocusStep, &str),
+    mut on_step: impl FnMut(&FocusStep, &str, PointOrigin),
 ) -> Result<FocusScan, StudyError> {
     let values = sweep.values()?;
     let n_values = values.len();
@@ -117,19 +117,20 @@ pub fn scan(
         let recorded = replay
             .get(i)
             .filter(|r| r.value.to_bits() == value.to_bits() && i == steps.len());
-        let step = match recorded {
-            Some(r) => r.clone(),
+        let (step, origin) = match recorded {
+            Some(r) => (r.clone(), PointOrigin::Record),
             None => {
                 let m = trace_and_measure(&scene, sensor, cfg, progress)?;
                 threads = m.threads;
-                FocusStep {
+                let step = FocusStep {
                     value,
                     quality: m.quality,
                     on_sensor: m.on_sensor,
-                }
+                };
+                (step, PointOrigin::Traced)
             }
         };
-        on_step(&step, &sensor_name);
+        on_step(&step, &sensor_name, origin);
         steps.push(step);
         if progress.stop_requested() && steps.len() < n_values {
             return Err(StudyError::Stopped);
@@ -226,7 +227,7 @@ impl super::StudyKind for FocusStudy<'_> {
         _scene: &Scene,
         replay: &[FocusStep],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&FocusStep),
+        on_point: &mut dyn FnMut(&FocusStep, PointOrigin),
     ) -> Result<FocusScan, StudyError> {
         let load = |extra: &[String]| (self.load)(extra);
         scan(
@@ -235,9 +236,9 @@ impl super::StudyKind for FocusStudy<'_> {
             &self.cfg,
             replay,
             progress,
-            |step, sensor| {
+            |step, sensor, origin| {
                 sensor.clone_into(&mut self.sensor.lock().expect("not poisoned"));
-                on_point(step);
+                on_point(step, origin);
             },
         )
     }

@@ -19,6 +19,15 @@ use serde::{de::DeserializeOwned, Deserialize, Serialize};
 /// (studies that trace the scene under other settings: systematics, focus).
 pub type SceneLoader<'a> = &'a (dyn Fn(&[String]) -> Result<Scene, StudyError> + Sync);
 
+/// Where a finished point came from: the record of a stopped study of the
+/// same settings (taken as is), or a trace made now. The job counts the first
+/// kind so that a resumed study says how many it did not trace again.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PointOrigin {
+    Record,
+    Traced,
+}
+
 /// How a study samples each of its points: the block every study shares.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Sampling {
@@ -55,7 +64,8 @@ pub trait StudyKind: Serialize + Sync {
     fn photons_total(&self, scene: &Scene) -> u64;
 
     /// Runs the study: the points of `replay` (recorded before) are taken
-    /// instead of traced; `on_point` is told of each point as it is done; the
+    /// instead of traced; `on_point` is told of each point as it is done and
+    /// whether it came from the record; the
     /// study returns [`StudyError::Stopped`] after a point when
     /// `progress.stop_requested()` and points remain.
     fn run(
@@ -63,7 +73,7 @@ pub trait StudyKind: Serialize + Sync {
         scene: &Scene,
         replay: &[Self::Point],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&Self::Point),
+        on_point: &mut dyn FnMut(&Self::Point, PointOrigin),
     ) -> Result<Self::Output, StudyError>;
 
     /// The worker threads the output was computed with.

@@ -20,7 +20,7 @@ pub mod reach;
 pub mod sky;
 pub mod systematics;
 
-pub use kind::{Sampling, SceneLoader, StudyKind};
+pub use kind::{PointOrigin, Sampling, SceneLoader, StudyKind};
 pub use measure::{measure_arcsec, pick_sensor, trace_and_measure, Diameters, Measured};
 
 use crate::scene::{Scene, SceneError};

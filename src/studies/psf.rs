@@ -13,8 +13,8 @@
 
 use super::area_sweep::{check as check_sweep, first_repeat, AreaSweep, MAX_SWEEP_POINTS};
 use super::parallel_beam::{beam, image_stays_on_the_sensor};
-use super::Sampling;
 use super::{pick_sensor, StudyError};
+use super::{PointOrigin, Sampling};
 use crate::analysis::{analyse, ImageGeometry};
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -161,7 +161,7 @@ pub fn library(
     g: &PsfGrid,
     replay: &[PsfImage],
     progress: &dyn Progress,
-    mut on_point: impl FnMut(&PsfImage),
+    mut on_point: impl FnMut(&PsfImage, PointOrigin),
 ) -> Result<PsfLibrary, StudyError> {
     check(g)?;
     let base = beam(scene, "psf")?;
@@ -194,7 +194,12 @@ pub fn library(
             [r.angle_arcmin, r.azimuth_deg, r.energy_kev].map(f64::to_bits)
                 == [angle, azimuth, energy].map(f64::to_bits)
         };
-        let image = match replay.get(k).filter(same) {
+        let recorded = replay.get(k).filter(same);
+        let origin = match recorded {
+            Some(_) => PointOrigin::Record,
+            None => PointOrigin::Traced,
+        };
+        let image = match recorded {
             Some(r) => r.clone(),
             None => {
                 let tilted = Source::Parallel(ParallelBeam::new(
@@ -212,7 +217,7 @@ pub fn library(
                 windowed(spec, &flux, counts, g.window, (angle, azimuth, energy))?
             }
         };
-        on_point(&image);
+        on_point(&image, origin);
         images.push(image);
         if progress.stop_requested() && images.len() < points(g).len() {
             return Err(StudyError::Stopped);
@@ -351,7 +356,7 @@ impl super::StudyKind for PsfGrid {
         scene: &Scene,
         replay: &[PsfImage],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&PsfImage),
+        on_point: &mut dyn FnMut(&PsfImage, PointOrigin),
     ) -> Result<PsfLibrary, StudyError> {
         library(scene, self, replay, progress, on_point)
     }

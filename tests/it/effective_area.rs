@@ -36,7 +36,7 @@ fn area(scene: &Scene, energies: &[f64], photons: u64, seed: u64) -> AreaResult 
         },
         radius_mm: None,
     };
-    sweep(scene, &s, &[], &(), |_| {}).unwrap()
+    sweep(scene, &s, &[], &(), |_, _| {}).unwrap()
 }
 
 /// One straight piece of a shell's cross-section in the meridional half-plane:
@@ -295,7 +295,7 @@ fn effective_area_command_writes_its_files_the_same_on_any_thread_count() {
 fn effective_area_refuses_what_it_cannot_sweep() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let cases: [(&str, &[&str], &str); 3] = [
+    let cases: [(&str, &[&str], &str); 5] = [
         (
             "scenes/panter_al_ka.toml",
             &[],
@@ -309,7 +309,17 @@ fn effective_area_refuses_what_it_cannot_sweep() {
         (
             "scenes/llnl_effective_area.toml",
             &["--radius=-1"],
-            "counting radius must be a positive length",
+            "(--radius, radius_mm in Python) is -1: it must be a positive length",
+        ),
+        (
+            "scenes/llnl_effective_area.toml",
+            &["--radius", "0"],
+            "(--radius, radius_mm in Python) is 0:",
+        ),
+        (
+            "scenes/llnl_effective_area.toml",
+            &["--radius", "nan"],
+            "(--radius, radius_mm in Python) is NaN:",
         ),
     ];
     for (scene, args, message) in cases {

@@ -289,7 +289,7 @@ fn fit_recovers_the_parameters_it_was_simulated_with() {
         local_evaluations: 40,
         local_algorithm: traxer::studies::fit::LocalAlgorithm::Sbplx,
     };
-    let result = fit(&mut scene, &settings, &[], &(), |_, _| {}).unwrap();
+    let result = fit(&mut scene, &settings, &[], &(), |_, _, _| {}).unwrap();
     let p = result.best.parameters;
     let d = result.best.diameters.unwrap();
     // The same photons as the truth: the diameters are reproduced to 0.5 %...

@@ -206,39 +206,92 @@ fn halving_the_step_changes_p_by_less_than_1e_4() {
     assert!(rel(coarse, fine) < 1e-4, "traced: {coarse:e} vs {fine:e}");
 }
 
+/// Helium's total attenuation μ (1/m) at `e_kev`, read by the test from the
+/// shipped tables themselves: Henke's f2 at one of its own nodes (σ_a = 2 r_e
+/// λ f2, no interpolation) plus FFAST's coherent + incoherent σ, interpolated
+/// log-log between its two nodes, times the ideal-gas density.
+fn helium_mu_per_m(e_kev: f64, n_per_m3: f64) -> f64 {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data");
+    let henke = std::fs::read_to_string(root.join("henke/he.nff")).unwrap();
+    let f2 = henke
+        .lines()
+        .skip(1)
+        .map(|l| {
+            l.split_whitespace()
+                .map(|c| c.parse::<f64>().unwrap())
+                .collect::<Vec<_>>()
+        })
+        .find(|c| (c[0] - 1e3 * e_kev).abs() < 1e-6)
+        .expect("the energy is one of Henke's nodes")[2];
+    let ffast = std::fs::read_to_string(root.join("chantler/scattering.csv")).unwrap();
+    let nodes: Vec<(f64, f64)> = ffast
+        .lines()
+        .filter(|l| l.starts_with("2,He,"))
+        .map(|l| {
+            let c: Vec<&str> = l.split(',').collect();
+            (c[2].parse().unwrap(), c[3].parse().unwrap())
+        })
+        .collect();
+    let i = nodes.iter().position(|&(e, _)| e > e_kev).unwrap();
+    let ((e0, s0), (e1, s1)) = (nodes[i - 1], nodes[i]);
+    let w = (e_kev / e0).ln() / (e1 / e0).ln();
+    let scatter_cm2 = (s0.ln() + w * (s1 / s0).ln()).exp() * 1e-24;
+    let lambda_cm = 1.239_841_98e-7 / e_kev;
+    let photo_cm2 = 2.0 * 2.817_940_326e-13 * lambda_cm * f2;
+    n_per_m3 * (photo_cm2 + scatter_cm2) * 1e-4
+}
+
 #[test]
 fn helium_restores_coherence_at_its_photon_mass_and_absorbs() {
-    // 10 mbar of helium at 1.8 K: m_γ = 0.333 eV. At m_a = m_γ the phase
-    // vanishes and only the absorption is left: P = (gBL/2)² ·
-    // [(1 − e^{−ΓL/2}) / (ΓL/2)]², with Γ from the total attenuation; far
-    // from it (m_a = 0) coherence is lost. Uniform 9 T over 9.26 m.
-    let gas = [
-        "--gas",
-        "He",
-        "--pressure-mbar",
-        "10",
-        "--temperature-k",
-        "1.8",
-    ];
-    let mut a = vec![
+    // 10 mbar of helium at 1.8 K in a uniform 9 T over 9.26 m, at 1, 4 and
+    // 8 keV (Henke's nodes nearest them). m_γ² = 4πα n_e / m_e and μ are
+    // written here from CODATA and the shipped tables, not from traxer's
+    // code; P / P_vacuum is van Bibber's closed form
+    //   [1 + e^{−ΓL} − 2 e^{−ΓL/2} cos qL] / ((q² + Γ²/4) L²),
+    // which at m_a = m_γ is [(1 − e^{−ΓL/2}) / (ΓL/2)]². ΓL is 14.6 at
+    // 1 keV, so P there moves as Γ⁻²: 1e-8 on P checks Γ to 5e-9 (the only
+    // slack is the constants' last digits: the two agree to 3e-11).
+    let hbar_c: f64 = 1.973_269_804e-7; // eV m
+    let n = 1000.0 / (1.380_649e-23 * 1.8); // m⁻³
+    let n_e_ev3 = 2.0 * n * hbar_c.powi(3);
+    let m_gamma = (4.0 * std::f64::consts::PI * 7.297_352_569_3e-3 * n_e_ev3 / 510_998.95).sqrt();
+    let energies = [0.999695, 4.03738, 8.04879];
+    let masses = [0.0, m_gamma, 0.3331, 0.34];
+    let e_list = energies.map(|e| e.to_string()).join(",");
+    let m_list = masses.map(|m| format!("{m:.17}")).join(",");
+    let base = [
         "--field-t",
         "9",
         "--length-m",
         "9.26",
         "--energies",
-        "4",
-        "--masses",
-        "0,0.3331",
+        &e_list,
     ];
-    a.extend_from_slice(&gas);
-    let p = conversion(&a);
-    let vacuum = conversion(&["--field-t", "9", "--length-m", "9.26", "--energies", "4"])[0];
-    assert!(p[0] < 1e-4 * vacuum, "off resonance {:e}", p[0]);
-    // Helium at 4 keV: μ/ρ = 0.848 cm²/g (FFAST total; photoabsorption alone
-    // 0.572), ρ = p M / (R T) = 2.675e-4 g/cm³, over 926 cm.
-    let x: f64 = 0.848 * 2.675e-4 * 926.0 / 2.0;
-    let want = vacuum * ((1.0 - (-x).exp()) / x).powi(2);
-    assert!(rel(p[1], want) < 0.01, "{:e} vs {want:e}", p[1]);
+    let mut with_gas = base.to_vec();
+    with_gas.extend_from_slice(&["--masses", &m_list, "--gas", "He"]);
+    with_gas.extend_from_slice(&["--pressure-mbar", "10", "--temperature-k", "1.8"]);
+    let p = conversion(&with_gas);
+    let vacuum = conversion(&base);
+    assert_eq!((p.len(), vacuum.len()), (12, 3));
+    let l = 9.26 / hbar_c; // eV⁻¹
+    for (i, &e) in energies.iter().enumerate() {
+        let gamma = helium_mu_per_m(e, n) * hbar_c; // eV
+        for (j, &m) in masses.iter().enumerate() {
+            let q = (m * m - m_gamma * m_gamma).abs() / (2e3 * e);
+            let half = (-0.5 * gamma * l).exp();
+            let bracket = 1.0 + half * half - 2.0 * half * (q * l).cos();
+            let want = vacuum[i] * bracket / ((q * q + 0.25 * gamma * gamma) * l * l);
+            let got = p[i * masses.len() + j];
+            assert!(
+                rel(got, want) < 1e-8,
+                "{e} keV, {m} eV: {got:e} vs {want:e}"
+            );
+        }
+    }
+    // Off resonance (m_a = 0) coherence is lost; at resonance 1 keV keeps
+    // only ~2 % of the vacuum P and 8 keV ~97 %.
+    assert!(p[4] < 1e-4 * vacuum[1], "off resonance {:e}", p[4]);
+    assert!(p[1] / vacuum[0] < 0.03 && p[9] / vacuum[2] > 0.9);
 }
 
 #[test]

@@ -357,3 +357,80 @@ fn tables_of_huge_numbers_say_they_overflow_not_that_they_are_empty() {
         "{err}"
     );
 }
+
+#[test]
+fn a_material_error_points_at_its_key_not_its_table() {
+    // Issue 59 §4: a pixel grid of zero pixels was blamed on the material's
+    // first line; the message is about `pixel_grid`, so its line is named.
+    let text = scene("[20, 20]", "[0, 0, -1]", "{ line = 5.0 }", "[]").replace(
+        "pixels = [20, 20]\n",
+        "pixels = [20, 20]\n# a comment\npixel_grid = { pixels = [0, 256], pitch = 0.055 }\n",
+    );
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("pixel_grid"))
+        .unwrap()
+        + 1;
+    let err = trace_error(&text);
+    assert!(
+        err.contains(&format!(
+            "s.toml:{line}: material `detector`: pixel_grid: pixels must be positive"
+        )),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_foil_a_unit_slip_thick_is_refused_short() {
+    // 1e300 nm is a unit slip, not a window, and is printed as 1e300, not in
+    // 301 digits.
+    let text = scene("[20, 20]", "[0, 0, -1]", "{ line = 5.0 }", "[]")
+        + r#"
+[materials.window]
+type = "foil"
+material = "Si3N4"
+thickness_nm = 1e300
+
+[[objects]]
+name = "w"
+material = "window"
+shape = { type = "rectangle", size = [14.0, 14.0] }
+transform = [ { translate = [0, 0, 5] } ]
+"#;
+    let err = trace_error(&text);
+    assert!(
+        err.contains("thickness_nm = 1e300: at most 1e7 nm (10 mm) for a foil"),
+        "{err}"
+    );
+}
+
+#[test]
+fn an_emission_table_whose_rates_overflow_is_bad_input_naming_the_file() {
+    // It said "the table emits nothing" with exit 1.
+    let dir = tempfile::tempdir().unwrap();
+    let rows = "Radius,Energy [keV],emRates\n0.1,1,1e300\n0.1,2,1e300\n0.2,1,1e300\n0.2,2,1e300\n";
+    let path = write(dir.path(), "huge.csv", rows);
+    let err = run_fails(
+        traxer()
+            .args(["solar-flux", "-q", "--table"])
+            .arg(&path)
+            .arg("-o")
+            .arg(dir.path().join("out")),
+        2,
+    );
+    assert!(
+        err.contains("huge.csv: the rates, summed over the Sun's volume, exceed the largest number a double holds"),
+        "{err}"
+    );
+    assert!(!dir.path().join("out").exists());
+    let zero = write(dir.path(), "zero.csv", &rows.replace("1e300", "0"));
+    let err = run_fails(
+        traxer()
+            .args(["solar-flux", "-q", "--table"])
+            .arg(&zero)
+            .arg("-o")
+            .arg(dir.path().join("out")),
+        2,
+    );
+    assert!(err.contains("zero.csv: every emission rate is 0"), "{err}");
+}

@@ -22,7 +22,9 @@ fn trace_images(scene: &Scene, photons: u64, seed: u64) -> Images {
     let scaled = |v: Vec<f64>| v.into_iter().map(|x| x * scale).collect::<Vec<_>>();
     (
         scaled(image.flux()),
-        image.processes.images().into_iter().map(scaled).collect(),
+        (0..image.processes.len())
+            .map(|k| scaled(image.processes.image(k)))
+            .collect(),
         image.processes.counts.clone(),
     )
 }

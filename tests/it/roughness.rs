@@ -173,7 +173,7 @@ fn effective_area_traces_rough_mirrors_at_each_energy() {
             },
             radius_mm: Some(0.3),
         };
-        traxer::studies::effective_area::sweep(&s, &sweep, &[], &(), |_| {})
+        traxer::studies::effective_area::sweep(&s, &sweep, &[], &(), |_, _| {})
             .unwrap()
             .angles
             .remove(0)

@@ -235,6 +235,11 @@ fn merge_refuses_shards_that_are_not_one_run_and_names_the_folder() {
     run_fails(traxer().args(["merge", "-o"]).arg(d("merged")), 2);
     let err = run_fails(&mut merge(&[&dir.path().to_path_buf()], &[]), 2);
     assert!(err.contains("holds no run_state.bin"), "{err}");
+    // A run_state.bin that is a folder is not "none".
+    let odd = dir.path().join("odd");
+    std::fs::create_dir_all(odd.join("run_state.bin")).unwrap();
+    let err = run_fails(&mut merge(&[&odd], &[]), 2);
+    assert!(err.contains("run_state.bin: is not a file"), "{err}");
     let err = run_fails(traxer().args(["merge", "-o"]).arg(&s1).arg(&s1).arg(&s2), 2);
     assert!(err.contains("is the shard folder"), "{err}");
     assert!(!d("merged").exists());

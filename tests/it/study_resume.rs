@@ -115,9 +115,26 @@ fn check_kill_and_resume(
     assert!(killed_at >= n);
     let err = run_fails(&mut command(&out, &[]), 2);
     assert!(err.contains("--resume"), "{err}");
-    run_ok(&mut command(&out, &["--resume"]));
+    let resumed = run_ok(&mut command(&out, &["--resume"]));
     assert_eq!(recorded(&out), 0, "the record stayed");
     assert_same_files(&reference, &out, files);
+    // Deterministic points re-traced would give the same files: the study
+    // says how many it took from the record, and they are all that it held.
+    let json = files.iter().find(|f| f.ends_with(".json")).unwrap();
+    assert_eq!(points_from_record(&reference.join(json)), 0);
+    assert_eq!(points_from_record(&out.join(json)), killed_at);
+    // -q keeps the CLI's line about it (tested in the comparison's test) quiet.
+    assert!(!String::from_utf8_lossy(&resumed.stdout).contains("resumed:"));
+}
+
+/// The provenance's count of points a study took from its record.
+fn points_from_record(json: &Path) -> usize {
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(json).unwrap()).unwrap();
+    v["provenance"]["points_from_record"]
+        .as_u64()
+        .unwrap_or_else(|| panic!("{}: no provenance.points_from_record", json.display()))
+        as usize
 }
 
 #[test]
@@ -322,11 +339,23 @@ fn a_mesh_comparison_killed_and_resumed_measures_what_the_uninterrupted_one_does
     run_ok(&mut command(&reference, &[]));
     let out = dir.path().join("stopped");
     stop_after(command(&out, &[]), &out, 2, "-KILL");
-    assert!(recorded(&out) >= 2);
+    let killed_at = recorded(&out);
+    assert!(killed_at >= 2);
     let err = run_fails(&mut command(&out, &[]), 2);
     assert!(err.contains("--resume"), "{err}");
-    run_ok(&mut command(&out, &["--resume"]));
+    // Without -q the CLI says what it took from the record.
+    let resume = command(&out, &["--resume"]);
+    let loud: Vec<_> = resume.get_args().filter(|a| *a != "-q").collect();
+    let said = run_ok(traxer().args(loud));
+    let said = String::from_utf8_lossy(&said.stdout);
+    assert!(
+        said.contains(&format!(
+            "resumed: {killed_at} variants taken from the record"
+        )),
+        "{said}"
+    );
     assert_eq!(recorded(&out), 0, "the record stayed");
+    assert_eq!(points_from_record(&out.join("compare.json")), killed_at);
     // Every column but the last two (photons per second and seconds: the
     // machine's speed, not the measurement) is the uninterrupted run's.
     let measured = |folder: &Path| -> Vec<String> {

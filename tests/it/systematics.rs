@@ -64,7 +64,7 @@ fn the_figure_draws_spread_the_hpd_as_the_fits_error_propagation_predicts() {
         central_circle: false,
     };
     let load = |_: &[String]| unreachable!("figure draws reuse the loaded scene");
-    let s = systematics::run(&mut scene, &load, &plan, &settings, &[], &(), |_| {}).unwrap();
+    let s = systematics::run(&mut scene, &load, &plan, &settings, &[], &(), |_, _| {}).unwrap();
     let study = s.sources[0].effects[2].sigma;
     let fit = FitSettings {
         bounds: Bounds {
@@ -101,7 +101,7 @@ fn the_figure_draws_spread_the_hpd_as_the_fits_error_propagation_predicts() {
         &settings,
         &s.outcomes[..1],
         &(),
-        |_| {},
+        |_, _| {},
     )
     .unwrap();
     assert_eq!(

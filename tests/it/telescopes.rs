@@ -98,7 +98,7 @@ fn xmm_area(defines: &[&str], photons: u64) -> (f64, f64, f64) {
         },
         radius_mm: None,
     };
-    let r = sweep(&xmm_scene(defines), &s, &[], &(), |_| {}).unwrap();
+    let r = sweep(&xmm_scene(defines), &s, &[], &(), |_, _| {}).unwrap();
     let p = &r.angles[0].points[0];
     let got = p.by_class_cm2[1]; // front then rear
                                  // Binomial error of a fraction of the beam's aperture.

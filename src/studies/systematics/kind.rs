@@ -5,7 +5,7 @@
 use super::{run, Outcome, Plan, Settings, Systematics};
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::studies::{Sampling, SceneLoader, StudyError, StudyKind};
+use crate::studies::{PointOrigin, Sampling, SceneLoader, StudyError, StudyKind};
 use serde::Serialize;
 
 /// The study: serialised, its identity (settings and variations).
@@ -53,7 +53,7 @@ impl StudyKind for SystematicsStudy<'_> {
         _scene: &Scene,
         replay: &[Outcome],
         progress: &dyn Progress,
-        on_point: &mut dyn FnMut(&Outcome),
+        on_point: &mut dyn FnMut(&Outcome, PointOrigin),
     ) -> Result<Systematics, StudyError> {
         let mut nominal = (self.load)(&[])?;
         run(

@@ -20,7 +20,7 @@ pub use plan::{plan, Kind, Plan, Request, SourcePlan, Variation, SOURCES};
 pub use summary::{summarise, Effect, SourceEffect, Systematics, METRICS};
 
 use super::fit::set_figure_error_where;
-use super::{pick_sensor, Diameters, StudyError};
+use super::{pick_sensor, Diameters, PointOrigin, StudyError};
 use crate::analysis::FinishedImage;
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -137,7 +137,7 @@ impl MapFrame {
         }
         let nx = spec.pixels[0] as usize;
         let mut out = vec![0.0; self.pixels[0] * self.pixels[1]];
-        for (i, v) in f.summed.iter().enumerate() {
+        for (i, v) in f.summed().iter().enumerate() {
             let (ix, iy) = (i % nx / self.binning, i / nx / self.binning);
             out[iy * self.pixels[0] + ix] += v;
         }
@@ -150,7 +150,7 @@ impl MapFrame {
 fn central_flux(f: &FinishedImage, side: f64, circle: bool) -> f64 {
     let g = &f.geometry;
     if circle {
-        return crate::analysis::flux_within(&f.summed, g, [0.0, 0.0], &[side])[0];
+        return crate::analysis::flux_within(f.summed(), g, [0.0, 0.0], &[side])[0];
     }
     let overlap = |k: usize, i: usize| {
         let a = g.origin_mm[k] + i as f64 * g.pitch[k];
@@ -162,7 +162,7 @@ fn central_flux(f: &FinishedImage, side: f64, circle: bool) -> f64 {
     for iy in 0..g.ny {
         let wy = overlap(1, iy);
         if wy > 0.0 {
-            let row = &f.summed[iy * g.nx..(iy + 1) * g.nx];
+            let row = &f.summed()[iy * g.nx..(iy + 1) * g.nx];
             sum += wy * row.iter().zip(&wx).map(|(v, w)| v * w).sum::<f64>();
         }
     }
@@ -196,7 +196,7 @@ pub fn run(
     s: &Settings,
     replay: &[Outcome],
     progress: &dyn Progress,
-    mut on_point: impl FnMut(&Outcome),
+    mut on_point: impl FnMut(&Outcome, PointOrigin),
 ) -> Result<Systematics, StudyError> {
     check(s)?;
     let sensor = pick_sensor(nominal, s.sampling.sensor.as_deref())?;
@@ -215,6 +215,10 @@ pub fn run(
         let recorded = replay
             .get(k)
             .filter(|o| o.source == v.source && o.label == v.label);
+        let origin = match recorded {
+            Some(_) => PointOrigin::Record,
+            None => PointOrigin::Traced,
+        };
         let outcome = match recorded {
             Some(o) => o.clone(),
             None => {
@@ -238,7 +242,7 @@ pub fn run(
                 o
             }
         };
-        on_point(&outcome);
+        on_point(&outcome, origin);
         outcomes.push(outcome);
         if progress.stop_requested() && outcomes.len() < plan.variations.len() {
             return Err(StudyError::Stopped);
