@@ -86,7 +86,7 @@ fn main() {
         },
         radius_mm: None,
     };
-    let r = traxer::studies::effective_area::sweep(&scene, &sweep, &[], &(), |_| {})
+    let r = traxer::studies::effective_area::sweep(&scene, &sweep, &[], &(), |_, _| {})
         .expect("shipped scene sweeps");
     println!(
         "effective-area sweep, 91 energies × 5 angles × 200 000 photons: {:.2} s ({:.0} photons/s, {} threads)",

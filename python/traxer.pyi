@@ -710,16 +710,16 @@ def reflectivity(
 def conversion_probability(
     energies_keV: _Numbers,
     masses_eV: Optional[_Numbers] = None,
-    field_t: Optional[float] = None,
-    length_m: Optional[float] = None,
+    field_t: Optional[_Number] = None,
+    length_m: Optional[_Number] = None,
     field_map: Optional[str] = None,
     gas: Optional[str] = None,
-    pressure_mbar: Optional[float] = None,
-    temperature_k: Optional[float] = None,
-    g_agamma: float = 1e-10,
-    at: tuple[float, float] = (0.0, 0.0),
+    pressure_mbar: Optional[_Number] = None,
+    temperature_k: Optional[_Number] = None,
+    g_agamma: _Number = 1e-10,
+    at: Union[tuple[_Number, _Number], _Quantity] = (0.0, 0.0),
     bore_average: bool = False,
-    step_mm: Optional[float] = None,
+    step_mm: Optional[_Number] = None,
 ) -> npt.NDArray[np.float64]:
     """The axion–photon conversion probability P(a→γ) of a magnet, as
     ``traxer conversion``: a uniform field (``field_t`` in T over ``length_m``)
@@ -728,43 +728,52 @@ def conversion_probability(
     buffer gas (``gas`` a formula, "He" for helium-3 or -4, with
     ``pressure_mbar`` and ``temperature_k``), at ``g_agamma`` (GeV⁻¹), along the
     axial line through ``at`` (mm) or averaged over the bore
-    (``bore_average``). ``masses_eV``: a list (default [0]). Returns a float64
-    array [energy, mass]."""
+    (``bore_average``). ``masses_eV``: a list (default [0]). Every number may
+    be an astropy Quantity (masses in eV or as masses, fields in T, °C for the
+    temperature). Returns a float64 array [energy, mass]."""
 
 def signal(
     run: Union[str, os.PathLike[str]],
-    radius_mm: Optional[float] = None,
+    radius_mm: Optional[_Number] = None,
     fraction: Optional[float] = None,
-    center: Optional[tuple[float, float]] = None,
+    center: Optional[Union[tuple[_Number, _Number], _Quantity]] = None,
     sensor: Optional[str] = None,
+    region_mass: Optional[_Number] = None,
 ) -> dict[str, Any]:
     """The expected X-rays in a signal region per axion mass, as ``traxer
     signal``, from the results folder ``run`` of a trace with the magnet on: a
-    circle of ``radius_mm``, or the one holding ``fraction`` of the flux at the
-    scene's mass, about ``center`` (mm, the sensor's frame) or the centroid.
-    Returns a dict: sensor, center_mm, radius_mm, area_cm2, fraction,
-    energy_band_edges_keV, masses_eV, x_rays_per_s [mass], x_rays_per_hour
-    [mass], spectrum_x_rays_per_s [mass, band]."""
+    circle of ``radius_mm``, or the one holding ``fraction`` of the flux of the
+    image that places it — that of ``region_mass`` (eV, one of the run's
+    masses), by default the run's brightest — about ``center`` (mm, the
+    sensor's frame) or that image's centroid. Lengths and the mass may be
+    astropy Quantities. Returns a dict: sensor, center_mm, radius_mm, area_cm2,
+    placed_on_mass_eV, fraction, energy_band_edges_keV, masses_eV,
+    x_rays_per_s [mass], x_rays_per_hour [mass], spectrum_x_rays_per_s
+    [mass, band]."""
 
 def reach(
-    runs: list[Union[str, os.PathLike[str]]],
-    background: float,
-    tracking_hours: Union[float, list[float]],
-    radius_mm: Optional[float] = None,
+    runs: Union[str, os.PathLike[str], list[Union[str, os.PathLike[str]]]],
+    background: _Number,
+    tracking_hours: _Numbers,
+    radius_mm: Optional[_Number] = None,
     fraction: Optional[float] = None,
-    center: Optional[tuple[float, float]] = None,
-    window: Optional[tuple[float, float]] = None,
+    center: Optional[Union[tuple[_Number, _Number], _Quantity]] = None,
+    window: Optional[_Numbers] = None,
     bores: float = 1.0,
     efficiency: float = 1.0,
     sensor: Optional[str] = None,
+    region_mass: Optional[_Number] = None,
 ) -> dict[str, Any]:
     """The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
     g_ae·g_aγ (ABC runs) per axion mass, as ``traxer reach``: CLs, exact
     Poisson, one bin (the region and the energy ``window`` (lo, hi) keV, on the
     run's band edges; default all), ``background`` in counts per keV per cm² per
     second, ``tracking_hours`` for every run or a list with one per run, ``bores`` identical lines,
-    ``efficiency`` beyond the run's. Returns a dict: coupling, window_keV and
-    curves, one per run: setting, run, region, tracking_hours, masses_eV, signal, background,
+    ``efficiency`` beyond the run's; each run's region placed on the image of
+    ``region_mass`` (eV) or of its brightest mass. The background, hours,
+    lengths and the mass may be astropy Quantities. Returns a dict: coupling,
+    window_keV and curves, one per run: setting, run, region (with
+    placed_on_mass_ev), tracking_hours, masses_eV, signal, background,
     counts_limit and limit (NaN without signal)."""
 
 def eef(

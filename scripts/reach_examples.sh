@@ -26,8 +26,9 @@ common=(-n 1e6 -q --replace -D magnet=true -D emission=primakoff -D g_agamma=1e-
 $T trace scenes/babyiaxo_axion_image.toml "${common[@]}" \
   --masses 0,0.001,0.002,0.005,0.01,0.015,0.02,0.03,0.04,0.05,0.07,0.1 -o "$out/babyiaxo_vacuum"
 # Helium at 1.8 K: m_γ = 0.3331 eV × √(p / 10 mbar); masses across each setting's
-# coherence (|m_a² − m_γ²| L / 2E ≲ π). The scene's mass is the setting's m_γ (the
-# middle one), so that each run's signal region lies on its resonant image.
+# coherence (|m_a² − m_γ²| L / 2E ≲ π). The middle one is the setting's m_γ, the
+# brightest, on which reach places each run's signal region (the scene's mass is set
+# to it too, for the run's main image).
 runs=("$out/babyiaxo_vacuum")
 for setting in 1:0.04 4:0.02 10:0.008; do
   p=${setting%:*} span=${setting#*:}

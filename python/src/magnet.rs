@@ -3,7 +3,7 @@
 
 use crate::convert::array;
 use crate::errors::input;
-use crate::units::{numbers, Unit};
+use crate::units::{numbers, optional, Unit};
 use pyo3::prelude::*;
 use traxer::magnet::buffer_gas::BufferGasDesc;
 use traxer::magnet::probe::{self, Where};
@@ -20,23 +20,37 @@ use traxer::scene::magnet::{check_probe_masses, standalone, MagnetDesc};
 /// `at` (mm) or averaged over the bore (`bore_average`). `masses_eV`: a list
 /// (default [0]). Returns a float64 array [energy, mass].
 #[pyfunction]
-#[pyo3(signature = (energies_keV, masses_eV = None, field_t = None, length_m = None, field_map = None, gas = None, pressure_mbar = None, temperature_k = None, g_agamma = 1e-10, at = (0.0, 0.0), bore_average = false, step_mm = None), text_signature = "(energies_keV, masses_eV=None, field_t=None, length_m=None, field_map=None, gas=None, pressure_mbar=None, temperature_k=None, g_agamma=1e-10, at=(0.0, 0.0), bore_average=False, step_mm=None)")]
+#[pyo3(signature = (energies_keV, masses_eV = None, field_t = None, length_m = None, field_map = None, gas = None, pressure_mbar = None, temperature_k = None, g_agamma = None, at = None, bore_average = false, step_mm = None), text_signature = "(energies_keV, masses_eV=None, field_t=None, length_m=None, field_map=None, gas=None, pressure_mbar=None, temperature_k=None, g_agamma=1e-10, at=(0.0, 0.0), bore_average=False, step_mm=None)")]
 #[allow(non_snake_case, clippy::too_many_arguments)]
 pub fn conversion_probability<'py>(
     py: Python<'py>,
     energies_keV: &Bound<'py, PyAny>,
     masses_eV: Option<&Bound<'py, PyAny>>,
-    field_t: Option<f64>,
-    length_m: Option<f64>,
+    field_t: Option<&Bound<'py, PyAny>>,
+    length_m: Option<&Bound<'py, PyAny>>,
     field_map: Option<String>,
     gas: Option<String>,
-    pressure_mbar: Option<f64>,
-    temperature_k: Option<f64>,
-    g_agamma: f64,
-    at: (f64, f64),
+    pressure_mbar: Option<&Bound<'py, PyAny>>,
+    temperature_k: Option<&Bound<'py, PyAny>>,
+    g_agamma: Option<&Bound<'py, PyAny>>,
+    at: Option<&Bound<'py, PyAny>>,
     bore_average: bool,
-    step_mm: Option<f64>,
+    step_mm: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyAny>> {
+    // Plain numbers in the documented units, or astropy Quantities.
+    let field_t = optional("field_t", field_t, Unit::Tesla)?;
+    let length_m = optional("length_m", length_m, Unit::Metre)?;
+    let pressure_mbar = optional("pressure_mbar", pressure_mbar, Unit::Mbar)?;
+    let temperature_k = optional("temperature_k", temperature_k, Unit::Kelvin)?;
+    let g_agamma = optional("g_agamma", g_agamma, Unit::PerGeV)?.unwrap_or(1e-10);
+    let step_mm = optional("step_mm", step_mm, Unit::Mm)?;
+    let at = match at.filter(|a| !a.is_none()) {
+        None => (0.0, 0.0),
+        Some(a) => match numbers("at", a, Unit::Mm)?.as_slice() {
+            [x, y] => (*x, *y),
+            _ => return Err(input("at: two coordinates (x, y) in mm")),
+        },
+    };
     let energies = numbers("energies_keV", energies_keV, Unit::KeV)?;
     if let Some(e) = energies.iter().find(|e| !(0.03..=30.0).contains(*e)) {
         return Err(input(format!(
@@ -45,7 +59,7 @@ pub fn conversion_probability<'py>(
     }
     let masses = match masses_eV {
         None => vec![0.0],
-        Some(m) => numbers("masses_eV", m, Unit::Dimensionless)?,
+        Some(m) => numbers("masses_eV", m, Unit::Ev)?,
     };
     if field_t.is_some() == field_map.is_some() {
         return Err(input(

@@ -5,7 +5,7 @@
 
 use crate::convert::{array, json};
 use crate::errors::input;
-use crate::units::{numbers, Unit};
+use crate::units::{number, numbers, optional, Unit};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -14,12 +14,23 @@ use traxer::analysis::signal::{signal as measure, Centre, Region, Size};
 use traxer::output::run_read::read_run_signal;
 use traxer::studies::reach::reach as reach_of;
 
-/// The region from the keyword arguments.
+/// The region from the keyword arguments (plain numbers in mm and eV, or
+/// astropy Quantities).
 fn region(
-    radius_mm: Option<f64>,
+    radius_mm: Option<&Bound<'_, PyAny>>,
     fraction: Option<f64>,
-    centre: Option<(f64, f64)>,
+    centre: Option<&Bound<'_, PyAny>>,
+    region_mass: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<Region> {
+    let radius_mm = optional("radius_mm", radius_mm, Unit::Mm)?;
+    let centre = match centre.filter(|c| !c.is_none()) {
+        None => None,
+        Some(c) => match numbers("center", c, Unit::Mm)?.as_slice() {
+            [x, y] => Some((*x, *y)),
+            _ => return Err(input("center: two coordinates (x, y) in mm")),
+        },
+    };
+    let on_mass = optional("region_mass", region_mass, Unit::Ev)?;
     let size = match (radius_mm, fraction) {
         (Some(r), None) => Size::RadiusMm(r),
         (None, Some(f)) => Size::Fraction(f),
@@ -28,29 +39,32 @@ fn region(
     Ok(Region {
         centre: centre.map_or(Centre::Centroid, |(x, y)| Centre::At([x, y])),
         size,
+        on_mass,
     })
 }
 
-/// signal(run, radius_mm=None, fraction=None, center=None, sensor=None)
+/// signal(run, radius_mm=None, fraction=None, center=None, sensor=None, region_mass=None)
 ///
 /// The expected X-rays in a signal region per axion mass, as `traxer signal`,
 /// from the results folder `run` of a trace with the magnet on: a circle of
-/// `radius_mm`, or the one holding `fraction` of the flux at the scene's
-/// mass, about `center` (mm, the sensor's frame) or the centroid. Returns a
-/// dict: sensor, center_mm, radius_mm, area_cm2, fraction, energy_band_edges_keV,
+/// `radius_mm`, or the one holding `fraction` of the flux of the image that
+/// places it (that of `region_mass` in eV, default the run's brightest),
+/// about `center` (mm, the sensor's frame) or that image's centroid. Returns a
+/// dict: sensor, center_mm, radius_mm, area_cm2, placed_on_mass_eV, fraction, energy_band_edges_keV,
 /// masses_eV, x_rays_per_s [mass], x_rays_per_hour [mass], spectrum_x_rays_per_s
 /// [mass, band].
 #[pyfunction]
-#[pyo3(signature = (run, radius_mm = None, fraction = None, center = None, sensor = None))]
+#[pyo3(signature = (run, radius_mm = None, fraction = None, center = None, sensor = None, region_mass = None))]
 pub fn signal<'py>(
     py: Python<'py>,
     run: PathBuf,
-    radius_mm: Option<f64>,
+    radius_mm: Option<&Bound<'py, PyAny>>,
     fraction: Option<f64>,
-    center: Option<(f64, f64)>,
+    center: Option<&Bound<'py, PyAny>>,
     sensor: Option<String>,
+    region_mass: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let region = region(radius_mm, fraction, center)?;
+    let region = region(radius_mm, fraction, center, region_mass)?;
     let r = read_run_signal(&run, sensor.as_deref()).map_err(|e| input(e.0))?;
     let s = measure(&r, &region).map_err(|e| input(e.0))?;
     let d = PyDict::new(py);
@@ -60,6 +74,7 @@ pub fn signal<'py>(
     d.set_item("center_mm", (s.centre_mm[0], s.centre_mm[1]))?;
     d.set_item("radius_mm", s.radius_mm)?;
     d.set_item("area_cm2", s.area_cm2)?;
+    d.set_item("placed_on_mass_eV", s.placed_on_mass_ev)?;
     d.set_item("fraction", s.fraction)?;
     d.set_item("energy_band_edges_keV", s.band_edges.clone())?;
     let each = |f: &dyn Fn(&traxer::analysis::signal::MassSignal) -> f64| {
@@ -73,32 +88,36 @@ pub fn signal<'py>(
     Ok(d)
 }
 
-/// reach(runs, background, tracking_hours, radius_mm=None, fraction=None, center=None, window=None, bores=1.0, efficiency=1.0, sensor=None)
+/// reach(runs, background, tracking_hours, radius_mm=None, fraction=None, center=None, window=None, bores=1.0, efficiency=1.0, sensor=None, region_mass=None)
 ///
 /// The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
 /// g_ae·g_aγ (ABC runs) per axion mass, as `traxer reach`: CLs, exact
 /// Poisson, one bin (the region and the energy `window` (lo, hi) keV, on the
 /// run's band edges; default all), `background` in counts per keV per cm² per
 /// second, `tracking_hours` for every run or a list with one per run, `bores` identical lines, `efficiency`
-/// beyond the run's. Returns a dict: coupling, window_keV and curves, one per
+/// beyond the run's; each run's region placed on the image of `region_mass`
+/// (eV) or its brightest. Quantities are taken for the background, hours,
+/// lengths and masses. Returns a dict: coupling, window_keV and curves, one per
 /// run: setting, run, region, tracking_hours, masses_eV, signal, background, counts_limit and
 /// limit (NaN without signal).
 #[pyfunction]
-#[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, center = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None))]
+#[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, center = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None, region_mass = None))]
 #[allow(clippy::too_many_arguments)]
 pub fn reach<'py>(
     py: Python<'py>,
     runs: &Bound<'py, PyAny>,
-    background: f64,
+    background: &Bound<'py, PyAny>,
     tracking_hours: &Bound<'py, PyAny>,
-    radius_mm: Option<f64>,
+    radius_mm: Option<&Bound<'py, PyAny>>,
     fraction: Option<f64>,
-    center: Option<(f64, f64)>,
+    center: Option<&Bound<'py, PyAny>>,
     window: Option<&Bound<'py, PyAny>>,
     bores: f64,
     efficiency: f64,
     sensor: Option<String>,
+    region_mass: Option<&Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    let background = number("background", background, Unit::BackgroundRate)?;
     // One folder (a str or a path) or a list of them.
     let runs: Vec<PathBuf> = match runs.extract::<PathBuf>() {
         Ok(one)
@@ -121,13 +140,8 @@ pub fn reach<'py>(
             _ => return Err(input("window: two energies (lo, hi) in keV")),
         },
     };
-    let region = region(radius_mm, fraction, center)?;
-    let hours = match tracking_hours.extract::<f64>() {
-        Ok(h) => vec![h],
-        Err(_) => tracking_hours
-            .extract::<Vec<f64>>()
-            .map_err(|_| input("tracking_hours: hours of tracking, one number or one per run"))?,
-    };
+    let region = region(radius_mm, fraction, center, region_mass)?;
+    let hours = numbers("tracking_hours", tracking_hours, Unit::Hour)?;
     let exposures = hours
         .iter()
         .map(|&h| Exposure::checked(h, bores, efficiency, background))

@@ -24,6 +24,17 @@ pub enum Unit {
     PerGeV,
     /// A pure number (the axion–electron coupling g_ae).
     Dimensionless,
+    /// An axion mass (eV); a mass Quantity converts by E = m c².
+    Ev,
+    Tesla,
+    Metre,
+    Mbar,
+    /// A temperature; °C converts too.
+    Kelvin,
+    /// Tracking time.
+    Hour,
+    /// A background rate, counts per keV per cm² per second.
+    BackgroundRate,
     /// Solar radii as fractions of the model's R_sun: a length is refused,
     /// because the model's own R_sun, not astropy's, defines the fraction.
     FractionOfRsun,
@@ -40,6 +51,13 @@ impl Unit {
             Unit::Second => "s",
             Unit::Au => "AU",
             Unit::PerGeV => "1 / GeV",
+            Unit::Ev => "eV",
+            Unit::Tesla => "T",
+            Unit::Metre => "m",
+            Unit::Mbar => "mbar",
+            Unit::Kelvin => "K",
+            Unit::Hour => "h",
+            Unit::BackgroundRate => "1 / (keV cm2 s)",
             Unit::Dimensionless | Unit::FractionOfRsun => "",
         }
     }
@@ -54,6 +72,13 @@ impl Unit {
             Unit::Second => "a time (a plain number is seconds)",
             Unit::Au => "a distance (a plain number is AU)",
             Unit::PerGeV => "a coupling in GeV⁻¹ (a plain number is GeV⁻¹)",
+            Unit::Ev => "an axion mass (a plain number is eV; a mass Quantity converts by m c²)",
+            Unit::Tesla => "a magnetic field (a plain number is T)",
+            Unit::Metre => "a length (a plain number is m)",
+            Unit::Mbar => "a pressure (a plain number is mbar)",
+            Unit::Kelvin => "a temperature (a plain number is K)",
+            Unit::Hour => "a time (a plain number is hours)",
+            Unit::BackgroundRate => "a background rate (a plain number is counts keV⁻¹ cm⁻² s⁻¹)",
             Unit::Dimensionless => "a pure number",
             Unit::FractionOfRsun => {
                 "fractions of R_sun (pure numbers: divide a length by the solar model's R_sun)"
@@ -75,9 +100,15 @@ pub fn plain<'py>(name: &str, v: &Bound<'py, PyAny>, unit: Unit) -> PyResult<Bou
     }
     let py = v.py();
     let kwargs = PyDict::new(py);
-    if matches!(unit, Unit::KeV) {
-        let spectral = py.import("astropy.units")?.call_method0("spectral")?;
-        kwargs.set_item("equivalencies", spectral)?;
+    let equivalence = match unit {
+        Unit::KeV => Some("spectral"),
+        Unit::Ev => Some("mass_energy"),
+        Unit::Kelvin => Some("temperature"),
+        _ => None,
+    };
+    if let Some(e) = equivalence {
+        let e = py.import("astropy.units")?.call_method0(e)?;
+        kwargs.set_item("equivalencies", e)?;
     }
     v.call_method("to_value", (unit.astropy(),), Some(&kwargs))
         .map_err(|_| {

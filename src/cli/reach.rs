@@ -117,13 +117,14 @@ fn print_limits(
                 v.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect()
             });
             tell!(
-                "  {}: a circle of {} mm about ({:.4}, {:.4}) mm, {} cm² ({:.1} % of its flux at the scene's mass) [{}]",
+                "  {}: a circle of {} mm about ({:.4}, {:.4}) mm, {} cm² ({:.1} % of its flux at m_a = {} eV) [{}]",
                 curve.label,
                 traxer::text::four_decimals(c["radius_mm"].as_f64().unwrap_or(f64::NAN)),
                 centre.first().copied().unwrap_or(f64::NAN),
                 centre.get(1).copied().unwrap_or(f64::NAN),
                 traxer::text::four_decimals(c["area_cm2"].as_f64().unwrap_or(f64::NAN)),
                 100.0 * c["fraction"].as_f64().unwrap_or(f64::NAN),
+                traxer::text::number(c["placed_on_mass_ev"].as_f64().unwrap_or(f64::NAN)),
                 curve.run
             );
         }

@@ -14,9 +14,11 @@ use traxer::output::{write_signal, Provenance, SIGNAL_FILES};
 /// mass of the run (the scene's, or every mass of a --masses scan), the
 /// X-rays per second and per hour of tracking inside a circle on the sensor,
 /// and their spectrum in the sensor's energy bands (one band without
-/// energy_bins). The circle lies about the centroid of the image at the
-/// scene's mass or about --center, with --radius-mm or the radius holding
-/// --fraction of that image's flux; each pixel's flux is spread over its
+/// energy_bins). The circle is placed on the image of one mass: --region-mass,
+/// or the run's brightest (a helium setting's resonance, the lightest mass in
+/// vacuum); it lies about that image's centroid or about --center, with
+/// --radius-mm or the radius holding --fraction of that image's flux; each
+/// pixel's flux is spread over its
 /// area (no lattice bias). Writes signal.csv, signal_spectrum.csv,
 /// signal_spectrum.fits (one SPECTRUM table per mass: ENERG_LO, ENERG_HI in
 /// keV, RATE in X-rays/s) and signal.json into --out (default RUN/signal).
@@ -41,12 +43,12 @@ pub struct RegionArgs {
     /// The region's radius (mm on the sensor).
     #[arg(value_name = "MM", long, group = "region_size")]
     pub radius_mm: Option<f64>,
-    /// The radius holding this fraction of the flux of the image at the
-    /// scene's mass (e.g. 0.8).
+    /// The radius holding this fraction of the flux of the image that places
+    /// the region (e.g. 0.8).
     #[arg(value_name = "F", long, group = "region_size")]
     pub fraction: Option<f64>,
     /// The region's centre (mm, x,y in the sensor's frame, as the printed
-    /// centroid); default: the centroid of the image at the scene's mass.
+    /// centroid); default: the centroid of the image that places the region.
     #[arg(
         value_name = "X,Y",
         long = "center",
@@ -55,6 +57,10 @@ pub struct RegionArgs {
         allow_hyphen_values = true
     )]
     pub centre: Vec<f64>,
+    /// The axion mass (eV, one of the run's) whose image places the region;
+    /// default: the run's brightest.
+    #[arg(value_name = "EV", long)]
+    pub region_mass: Option<f64>,
 }
 
 impl RegionArgs {
@@ -70,7 +76,11 @@ impl RegionArgs {
             (None, Some(f)) => Size::Fraction(f),
             _ => return Err(InputError("give --radius-mm MM or --fraction F".into())),
         };
-        Ok(Region { centre, size })
+        Ok(Region {
+            centre,
+            size,
+            on_mass: self.region_mass,
+        })
     }
 
     /// The run in `dir` and its signal in this region.
@@ -88,13 +98,14 @@ pub fn run(a: SignalArgs) -> anyhow::Result<()> {
     let provenance = Provenance::of_table(&super::invocation());
     traxer::run::write_results_folder(folder, |dir| write_signal(dir, &run, &s, &provenance))?;
     say!(
-        "signal region on {}: a circle of {} mm about ({:.4}, {:.4}) mm, {} cm², {:.2} % of the flux at the scene's mass",
+        "signal region on {}: a circle of {} mm about ({:.4}, {:.4}) mm, {} cm², {:.2} % of the flux at m_a = {} eV",
         run.sensor,
         traxer::text::four_decimals(s.radius_mm),
         s.centre_mm[0],
         s.centre_mm[1],
         traxer::text::four_decimals(s.area_cm2),
-        100.0 * s.fraction
+        100.0 * s.fraction,
+        traxer::text::number(s.placed_on_mass_ev)
     );
     say!("{:>12}  {:>12}  {:>14}", "m_a (eV)", "X-rays/s", "per hour");
     for m in &s.masses {

@@ -87,7 +87,6 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
         Ok(v)
     };
     let total = read(&files.flux_npy, plane * bands)?;
-    let reference = crate::sensor::sum_bands(&total, plane);
     let scan: Vec<f64> = s["by_mass"]["masses"]
         .as_array()
         .map(|m| {
@@ -116,7 +115,6 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
         band_edges,
         masses,
         images,
-        reference,
         g_agamma: number(&magnet["g_agamma_per_gev"], "magnet.g_agamma_per_gev")?,
         g_ae,
         emission: emission.to_string(),

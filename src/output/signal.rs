@@ -85,13 +85,14 @@ pub fn write_signal(
     write_spectrum_fits(&dir.join(SIGNAL_FILES[2]), run, s, provenance)?;
     let doc = json!({
         "provenance": provenance,
-        "what": "the X-rays per second expected in a circle on the sensor (converting in the detector's gas for a gas detector), for each axion mass of the run at its couplings; each pixel's flux spread over its area (no lattice bias); one region for every mass, placed on the image at the scene's mass",
+        "what": "the X-rays per second expected in a circle on the sensor (converting in the detector's gas for a gas detector), for each axion mass of the run at its couplings; each pixel's flux spread over its area (no lattice bias); one region for every mass, placed on the image of the mass region.placed_on_mass_ev (the one asked for, or the run's brightest)",
         "sensor": run.sensor,
         "region": {
             "center_mm": s.centre_mm,
             "radius_mm": s.radius_mm,
             "area_cm2": s.area_cm2,
-            "fraction_of_flux_at_the_scenes_mass": s.fraction,
+            "placed_on_mass_ev": s.placed_on_mass_ev,
+            "fraction_of_flux_at_that_mass": s.fraction,
         },
         "run": {
             "emission": run.emission,

@@ -167,7 +167,7 @@ pub fn reach(
             label: run.gas.as_ref().map_or("vacuum".into(), |g| format!("He {g}")),
             run: dir.display().to_string(),
             limits,
-            region: json!({"center_mm": s.centre_mm, "radius_mm": s.radius_mm, "area_cm2": s.area_cm2, "fraction": s.fraction}),
+            region: json!({"center_mm": s.centre_mm, "radius_mm": s.radius_mm, "area_cm2": s.area_cm2, "placed_on_mass_ev": s.placed_on_mass_ev, "fraction": s.fraction}),
             tracking_hours: exposure.tracking_hours,
         });
     }

@@ -732,6 +732,15 @@ fn shared_solar_a_radius_outside_the_opacity_project_grid_is_named() {
         2,
     );
     assert!(err.contains("r = 0.95"), "{err}");
+    // Issue 59 §4: and the option, and the radii the tables cover (the
+    // B16 model's shells leave the OP grid between 0.70 and 0.71 R_sun).
+    assert!(err.starts_with("error: --radii: "), "{err}");
+    assert!(
+        err.contains(
+            "the Opacity Project tables cover this model's shells from r = 0.0005 to 0.70"
+        ),
+        "{err}"
+    );
 }
 
 #[test]

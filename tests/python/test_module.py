@@ -285,6 +285,51 @@ def test_signal_and_reach_equal_the_cli(tmp_path):
         traxer.reach(run, background=0.0, tracking_hours=1.5, radius_mm=3.0)
     with pytest.raises(traxer.InputError, match="counts per keV"):
         traxer.reach(run, background=1e300, tracking_hours=1000.0, radius_mm=3.0)
+    # The region lies on the brightest mass (0 here), or on the one named, as
+    # the CLI's --region-mass; it says which.
+    assert s["placed_on_mass_eV"] == 0.0
+    named = traxer.signal(run, fraction=0.8, region_mass=0.02)
+    cli("signal", run, "--fraction", "0.8", "--region-mass", "0.02", "--out", tmp_path / "n", "-q")
+    rows = list(csv.DictReader(open(tmp_path / "n" / "signal.csv")))
+    assert [float(r["x_rays_per_s"]) for r in rows] == pytest.approx(list(named["x_rays_per_s"]), rel=1e-12)
+    assert named["placed_on_mass_eV"] == 0.02 and named["radius_mm"] != s["radius_mm"]
+    with pytest.raises(traxer.InputError, match="not one of the run's masses"):
+        traxer.signal(run, fraction=0.8, region_mass=0.05)
+
+
+def test_signal_reach_and_conversion_take_astropy_quantities(tmp_path):
+    """As the rest of the module does (issue 59 §4: raw type errors before):
+    masses in eV or as masses (m c²), fields in T, temperatures in °C,
+    lengths, hours and background rates, each equal to the plain numbers; a
+    Quantity of the wrong kind is refused by name."""
+    u = pytest.importorskip("astropy.units")
+    plain = traxer.conversion_probability([1.0, 4.0], [0.0, 0.333], field_t=9.0, length_m=9.26,
+                                          gas="He", pressure_mbar=10.0, temperature_k=1.8)
+    with_units = traxer.conversion_probability(
+        [1.0, 4.0] * u.keV, [0.0, 333.0] * u.meV, field_t=9 * u.T, length_m=926 * u.cm,
+        gas="He", pressure_mbar=1000 * u.Pa, temperature_k=1.8 * u.K)
+    assert with_units == pytest.approx(plain, rel=1e-12)
+    # 1 eV/c² as a mass is 1.78266192e-36 kg: the same P.
+    kg = traxer.conversion_probability(4.0, [0.02 * 1.78266192e-36] * u.kg, field_t=9.0, length_m=9.26)
+    ev = traxer.conversion_probability(4.0, [0.02], field_t=9.0, length_m=9.26)
+    assert kg == pytest.approx(ev, rel=1e-6)
+    celsius = traxer.conversion_probability(4.0, [0.333], field_t=9.0, length_m=9.26, gas="He",
+                                            pressure_mbar=10.0, temperature_k=(1.8 - 273.15) * u.deg_C,)
+    assert celsius == pytest.approx(plain[1:, 1:], rel=1e-9)
+    with pytest.raises(traxer.InputError, match="field_t: a Quantity in m is not a magnetic field"):
+        traxer.conversion_probability(4.0, field_t=9 * u.m, length_m=9.26)
+    run = tmp_path / "run"
+    cli("trace", CAST, "-n", 5_000, "-D", "magnet=true", "-D", "pixels=100",
+        "-D", "energy_bins=[1,10,9]", "--masses", "0,0.02", "--out", run, "-q")
+    s = traxer.signal(run, radius_mm=0.3 * u.cm, center=[0.1, -0.2] * u.mm, region_mass=20 * u.meV)
+    t = traxer.signal(run, radius_mm=3.0, center=(0.1, -0.2), region_mass=0.02)
+    assert list(s["x_rays_per_s"]) == list(t["x_rays_per_s"])
+    a = traxer.reach(run, background=1e-7 / (u.keV * u.cm**2 * u.s), tracking_hours=[1 * u.year],
+                     radius_mm=3.0, window=(2, 7) * u.keV)
+    b = traxer.reach(run, background=1e-7, tracking_hours=8766.0, radius_mm=3.0, window=(2, 7))
+    assert list(a["curves"][0]["limit"]) == pytest.approx(list(b["curves"][0]["limit"]), rel=1e-12)
+    with pytest.raises(traxer.InputError, match="region_mass: a Quantity in s is not an axion mass"):
+        traxer.signal(run, radius_mm=3.0, region_mass=1 * u.s)
 
 
 def test_save_writes_the_cli_files(pair):

@@ -232,6 +232,26 @@ pub struct AbcEmission {
     pub total: EmissionTable,
 }
 
+/// Which of the model's radii the OP tables cover (the central ones, out to
+/// where the plasma leaves their grid), said for a refused radius.
+fn covered(model: &SolarModel, species: &[Species], op: &OpacityTables) -> String {
+    // From the centre out, up to the first shell outside the tables' grid.
+    let inside = |s: &&Shell| AbcPlasma::of(s, species, op).is_ok();
+    let first = model.shells.first().filter(inside).map(|s| s.radius);
+    let last = model
+        .shells
+        .iter()
+        .take_while(inside)
+        .last()
+        .map(|s| s.radius);
+    match (first, last) {
+        (Some(a), Some(b)) => format!(
+            "the Opacity Project tables cover this model's shells from r = {a:.4} to {b:.4} R_sun: give --radii within them (the built-in tables use 0.0025:0.6975:0.005)"
+        ),
+        _ => "the Opacity Project tables cover none of this model's shells from its centre".into(),
+    }
+}
+
 /// Computes [`AbcEmission`] for g_ae = [`G_AE_REFERENCE`] at `radii` (fractions
 /// of R_sun, the model interpolated linearly) and `energies` (keV, cell centres;
 /// cells as in [`EmissionTable::energy_edges`]).
@@ -260,7 +280,13 @@ pub fn emission_tables(
     }
     let mut rates: [Vec<f64>; 4] = Default::default();
     for &r in radii {
-        let plasma = AbcPlasma::of(&model.at(r), &species, op)?;
+        let plasma = AbcPlasma::of(&model.at(r), &species, op).map_err(|e| {
+            SolarDataError(format!(
+                "--radii: {}; {}",
+                e.0,
+                covered(model, &species, op)
+            ))
+        })?;
         let mut atomic = vec![0.0; energies.len()];
         for ((w, &(j, n)), rate) in fine.iter().zip(&fine_cell).zip(plasma.atomic(op, &fine, g)) {
             atomic[j] += rate * w * w / n as f64;
