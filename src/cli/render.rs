@@ -248,7 +248,15 @@ fn picture(a: &RenderArgs, scene: &Scene, cam: &Camera, image: &[DVec3]) -> imag
         let labels = part_labels(scene, cam, a.width, a.height);
         let texts: Vec<(&str, (usize, usize))> =
             labels.iter().map(|l| (l.text.as_str(), l.pixel)).collect();
-        draw_labels(&mut png, &texts);
+        let left_out = draw_labels(&mut png, &texts);
+        if !left_out.is_empty() {
+            tell!(
+                "note: {} of {} labels found no free place in the picture and were left out: {} (a larger --width/--height, or a camera nearer the parts, makes room)",
+                left_out.len(),
+                texts.len(),
+                traxer::text::shorten(&left_out.join(", "), 300)
+            );
+        }
     }
     png
 }

@@ -246,7 +246,12 @@ pub fn labels(pixels: &mut [u32], w: usize, h: usize, labels: &[(&str, (usize, u
         .map(|(_, (x, y))| (*x as i32, *y as i32))
         .collect();
     let places = traxer::output::place_labels(&sizes, &dots, (w as i32, h as i32), 4);
-    for (&(text, (x, y)), (left, top)) in labels.iter().zip(places) {
+    // A label with no free place is left out (the window has no room to say so).
+    let placed = labels
+        .iter()
+        .zip(places)
+        .filter_map(|(l, p)| p.map(|p| (l, p)));
+    for (&(text, (x, y)), (left, top)) in placed {
         for (dx, dy) in (0..3).flat_map(|a| (0..3).map(move |b| (a, b))) {
             let (px, py) = ((x + dx).saturating_sub(1), (y + dy).saturating_sub(1));
             if px < w && py < h {
