@@ -147,8 +147,7 @@ fn write_sensor(
     let shape: Vec<u64> = image_shape(spec).iter().map(|&n| n as u64).collect();
     let files = SensorFiles::of(&spec.name);
     let path = |name: &str| dir.join(name);
-    // The counts first: their dense copy is gone before the flux's is made.
-    write_npy_u64(&path(&files.counts_npy), &shape, &image.counts.to_vec())?;
+    write_npy_u64(&path(&files.counts_npy), &shape, &image.counts.to_vec())?; // gone before the flux is made
     let finished = FinishedImage::of(spec, image, absolute);
     let (flux, summed) = (&finished.flux[..], finished.summed());
     write_npy_f64(&path(&files.flux_npy), &shape, flux)?;

@@ -108,6 +108,15 @@ impl Provenance {
         Provenance::new(invocation, None)
     }
 
+    /// The same record with the count of points a resumed study took from its
+    /// record (`None`: a study without a results folder).
+    pub fn with_points_from_record(self, points: Option<usize>) -> Provenance {
+        Provenance {
+            points_from_record: points,
+            ..self
+        }
+    }
+
     /// The same record with the threads that were used (a study knows them at
     /// its end).
     pub fn with_threads(self, threads: usize) -> Provenance {

@@ -105,16 +105,16 @@ pub fn run_study<K: StudyFiles>(
         ));
     }
     let sampling = kind.sampling();
-    let provenance = kind.provenance(Provenance {
-        points_from_record: study.as_ref().map(|_| from_record),
-        ..Provenance::of_study(
+    let provenance = kind.provenance(
+        Provenance::of_study(
             invocation,
             embree_version,
             scene,
             (sampling.photons, sampling.seed),
             K::threads_used(&output),
         )
-    });
+        .with_points_from_record(study.as_ref().map(|_| from_record)),
+    );
     if let Some(study) = study {
         study.finish(|dir| kind.write(dir, &output, &provenance))?;
     }

@@ -101,6 +101,24 @@ struct Entry {
 /// The thickest foil accepted (nm): 10 mm.
 pub const MAX_FOIL_NM: f64 = 1e7;
 
+/// A foil's `thickness_nm`: finite, ≥ 0 and at most [`MAX_FOIL_NM`]. A foil
+/// is thin (windows are nm to µm): a value above 10 mm is a unit slip (mm or µm
+/// meant); a thick absorber is a shape of an absorber material.
+fn check_foil_thickness(nm: f64) -> Result<(), String> {
+    let said = crate::text::number(nm);
+    if !(nm.is_finite() && nm >= 0.0) {
+        return Err(format!(
+            "thickness_nm = {said}: expected a thickness ≥ 0 (nm)"
+        ));
+    }
+    if nm > MAX_FOIL_NM {
+        return Err(format!(
+            "thickness_nm = {said}: at most {MAX_FOIL_NM:e} nm (10 mm) for a foil; thickness_nm is in nanometres (4 µm of Mylar is 4000)"
+        ));
+    }
+    Ok(())
+}
+
 /// A problem with a material: the message, where, and whether that place is a
 /// line of the file (built-in materials have none).
 pub struct MaterialError {
@@ -243,20 +261,8 @@ impl Materials {
         Some(match &entry.desc {
             MaterialDesc::Absorber(_) => Ok(Material::Absorber),
             MaterialDesc::Foil(f) => {
-                if !(f.thickness_nm.is_finite() && f.thickness_nm >= 0.0) {
-                    return Some(Err(fail(format!(
-                        "thickness_nm = {}: expected a thickness ≥ 0 (nm)",
-                        crate::text::number(f.thickness_nm)
-                    ))));
-                }
-                // A foil is thin (windows are nm to µm): a value above 10 mm
-                // is a unit slip (mm or µm meant); a thick absorber is a
-                // shape of an absorber material.
-                if f.thickness_nm > MAX_FOIL_NM {
-                    return Some(Err(fail(format!(
-                        "thickness_nm = {}: at most {MAX_FOIL_NM:e} nm (10 mm) for a foil; thickness_nm is in nanometres (4 µm of Mylar is 4000)",
-                        crate::text::number(f.thickness_nm)
-                    ))));
+                if let Err(e) = check_foil_thickness(f.thickness_nm) {
+                    return Some(Err(fail(e)));
                 }
                 let foil = match self.coating_library.material(&f.material) {
                     Ok(material) => Foil {
