@@ -446,9 +446,7 @@ fn traced_flux(scene: &str, defines: &[&str], photons: u64) -> f64 {
 fn a_uniform_magnet_multiplies_the_cast_image_by_the_closed_form() {
     // The same photons with and without the magnet: every axion's path is
     // the bore's 9.26 m to within 1e-5 (the Sun is 0.27° across), so the
-    // image's ratio is (g B L / 2)² at g_aγ = 1e-10 GeV⁻¹, 9 T. At
-    // m_a = 0.05 eV (qL/2 ≈ 1.2 at 4 keV) coherence is lost: the image
-    // must fall well below it.
+    // image's ratio is (g B L / 2)² at g_aγ = 1e-10 GeV⁻¹, 9 T.
     let scene = "cast_axion_image.toml";
     let without = traced_flux(scene, &[], 4000);
     let with = traced_flux(scene, &["magnet=true"], 4000);
@@ -458,11 +456,89 @@ fn a_uniform_magnet_multiplies_the_cast_image_by_the_closed_form() {
         "{:e} vs P {p:e}",
         with / without
     );
-    let heavy = traced_flux(scene, &["magnet=true", "axion_mass_ev=0.05"], 4000);
+}
+
+#[test]
+fn a_massive_axion_weights_each_photon_by_sinc_squared_of_its_own_energy() {
+    // m_a = 0.02 eV in CAST's 9.26 m: qL/2 = m² L / 4E is 1.17 at 4 keV, so
+    // the loss of coherence depends strongly on each photon's energy. The
+    // image at that mass must be the m_a = 0 image's photons, each weighted
+    // by sinc²(m² L / 4E) of its own energy, written here from m and E
+    // (ħc = 1.97327e-7 eV m), not from traxer's momentum transfer. Tilted
+    // paths are longer by ≤ 1e-5: the tolerance.
+    let path = crate::common::repo().join("scenes/cast_axion_image.toml");
+    let load = |defines: &[&str]| {
+        let d: Vec<String> = defines.iter().map(|d| d.to_string()).collect();
+        traxer::scene::Scene::load(&crate::common::device(), &path, &d).unwrap()
+    };
+    let cfg = traxer::trace::RunConfig {
+        photon_list: 4000,
+        ..traxer::trace::RunConfig::new(4000, 3)
+    };
+    let light = traxer::trace::run(&load(&["magnet=true"]), &cfg).unwrap();
+    let heavy = traxer::trace::run(&load(&["magnet=true", "axion_mass_ev=0.02"]), &cfg).unwrap();
+    let (m, l) = (0.02_f64, 9.26 / 1.973_269_804e-7);
+    let want: f64 = light
+        .photons
+        .iter()
+        .map(|p| {
+            let x = m * m * l / (4.0 * 1e3 * p.record.energy);
+            p.record.weight * (x.sin() / x).powi(2)
+        })
+        .sum();
+    assert!(light.photons.len() > 1000 && light.photons.len() < 4000);
+    let total: f64 = light.photons.iter().map(|p| p.record.weight).sum();
     assert!(
-        heavy < 0.5 * with,
-        "m_a = 0.05 eV loses coherence: {heavy:e} vs {with:e}"
+        rel(total, light.images[0].total_flux()) < 1e-12,
+        "the list is every photon"
     );
+    let got = heavy.images[0].total_flux();
+    assert!(rel(got, want) < 1e-4, "{got:e} vs {want:e}");
+    // Not the trivial answer: the energy spread makes the mean of sinc² differ
+    // from sinc² at the mean energy by more than the tolerance.
+    let mean_e: f64 = light
+        .photons
+        .iter()
+        .map(|p| p.record.weight * p.record.energy)
+        .sum::<f64>()
+        / total;
+    let x = m * m * l / (4.0 * 1e3 * mean_e);
+    assert!(rel(got / total, (x.sin() / x).powi(2)) > 1e-2);
+}
+
+#[test]
+fn the_conversion_at_a_mass_is_the_closed_form_written_from_the_mass() {
+    // `traxer conversion` in CAST's uniform 9 T over 9.26 m at m_a = 0.01,
+    // 0.02, 0.05 eV and 1, 4, 8 keV: (gBL/2)² sinc²(m² L / 4E), with m, E and
+    // the units written here (1 T = 195.353 eV², ħc = 1.97327e-7 eV m): a
+    // factor 2 in q or a keV/eV slip moves these by far more than 1e-6.
+    let p = conversion(&[
+        "--field-t",
+        "9",
+        "--length-m",
+        "9.26",
+        "--energies",
+        "1,4,8",
+        "--masses",
+        "0.01,0.02,0.05",
+    ]);
+    let (hbar_c, tesla): (f64, f64) = (1.973_269_804e-7, 195.353_3);
+    let l = 9.26 / hbar_c;
+    let g: f64 = 1e-19; // 1e-10 GeV⁻¹ in eV⁻¹
+    let vacuum = (g * 9.0 * tesla * l / 2.0).powi(2);
+    let mut k = 0;
+    for e_kev in [1.0, 4.0, 8.0] {
+        for m in [0.01_f64, 0.02, 0.05] {
+            let x = m * m * l / (4.0 * 1e3 * e_kev);
+            let want = vacuum * (x.sin() / x).powi(2);
+            assert!(
+                rel(p[k], want) < 1e-5,
+                "{e_kev} keV, {m} eV: {:e} vs {want:e}",
+                p[k]
+            );
+            k += 1;
+        }
+    }
 }
 
 #[test]
