@@ -203,13 +203,21 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
     /// recorded before. The point is appended as one line, so a study of n
     /// points writes O(n) bytes in all; the file is written whole (atomically)
     /// only by a sitting's first point. The first failure to write is returned
-    /// as a warning to show (the study goes on, but cannot be resumed).
+    /// as a warning to show; the study goes on, and the file keeps the points
+    /// before the failure (nothing more is written to it: a line chained to
+    /// one that is missing would make the whole record read as damaged).
     #[must_use = "a failed write is returned as a warning to show"]
     pub fn add(&mut self, position: usize, item: &T) -> Option<String> {
         if position < self.items.len() {
             return None;
         }
         self.items.push(item.clone());
+        if self.failed {
+            // After a failed write the file stops where it was: a later line
+            // chained to the one that failed would make the whole record read
+            // as damaged, and the points before it could not be resumed.
+            return None;
+        }
         let written = match &self.chain {
             Some(chain) => {
                 let (line, chain) = point_line(chain, item);
@@ -226,7 +234,9 @@ impl<T: Serialize + DeserializeOwned + Clone> Record<T> {
             Err(err) if !self.failed => {
                 self.failed = true;
                 Some(format!(
-                    "cannot record the progress ({err}); it cannot be resumed if stopped"
+                    "cannot record the progress in {} ({err}): the study goes on, but a stop now keeps only the {} point(s) recorded before; that record stays behind in the folder until the study ends (then it is removed) — a resume takes up those points and traces the rest",
+                    self.path.display(),
+                    position
                 ))
             }
             _ => None,
@@ -338,4 +348,39 @@ fn difference(recorded: &Value, now: &Value) -> Option<String> {
 /// A value for a message, at most 120 characters.
 fn short(v: &Value) -> String {
     crate::text::shorten(&v.to_string(), 120)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Record;
+    use serde_json::json;
+
+    #[test]
+    fn a_full_disk_keeps_the_points_before_it_and_says_where_they_are() {
+        // /dev/full fails every write with "No space left on device": the
+        // record's file is pointed at it after two points, then back.
+        let dir = tempfile::tempdir().unwrap();
+        let mut r: Record<u32> = Record::open(dir.path(), "focus", json!({"a": 1}), false).unwrap();
+        assert_eq!(r.add(0, &10), None);
+        assert_eq!(r.add(1, &11), None);
+        let path = dir.path().join(Record::<u32>::file_name("focus"));
+        let before = std::fs::read(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        std::os::unix::fs::symlink("/dev/full", &path).unwrap();
+        let said = r.add(2, &12).expect("the failure is said");
+        assert!(
+            said.contains("No space left on device")
+                && said.contains(&path.display().to_string())
+                && said.contains("keeps only the 2 point(s) recorded before"),
+            "{said}"
+        );
+        // Said once; and nothing more is written once the disk has room.
+        std::fs::remove_file(&path).unwrap();
+        std::fs::write(&path, &before).unwrap();
+        assert_eq!(r.add(3, &13), None);
+        assert_eq!(std::fs::read(&path).unwrap(), before);
+        // What stays behind resumes with its two points.
+        let again: Record<u32> = Record::open(dir.path(), "focus", json!({"a": 1}), true).unwrap();
+        assert_eq!(again.recorded(), &[10, 11]);
+    }
 }
