@@ -406,6 +406,23 @@ fn check_representable(m: &Magnet) -> Result<(), String> {
             }
         }
     }
+    // No field across the bore on its axis: nothing converts, whatever the
+    // coupling (a longitudinal map, or one turned the wrong way).
+    let transverse = match &path {
+        crate::magnet::ConversionPath::Uniform { b_ev2, .. } => *b_ev2 != 0.0,
+        crate::magnet::ConversionPath::Sampled(f) => {
+            f.samples.iter().any(|b| b[0] != 0.0 || b[1] != 0.0)
+        }
+    };
+    if !transverse {
+        let what = match &m.field {
+            crate::magnet::Field::Map { name, .. } => format!("the field map {name}"),
+            crate::magnet::Field::Uniform { .. } => "the uniform field".into(),
+        };
+        return Err(format!(
+            "{what} has no component across the bore along its axis (B⊥ = 0 at every sample: a field along the bore, or a map turned the wrong way by field_map_transform): an axion converts only in a transverse field"
+        ));
+    }
     if [1.0, 4.0, 10.0]
         .iter()
         .all(|&e| path.probability(m, e, m.axion_mass_ev) < f64::MIN_POSITIVE)

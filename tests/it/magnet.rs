@@ -507,41 +507,6 @@ fn a_massive_axion_weights_each_photon_by_sinc_squared_of_its_own_energy() {
 }
 
 #[test]
-fn the_conversion_at_a_mass_is_the_closed_form_written_from_the_mass() {
-    // `traxer conversion` in CAST's uniform 9 T over 9.26 m at m_a = 0.01,
-    // 0.02, 0.05 eV and 1, 4, 8 keV: (gBL/2)² sinc²(m² L / 4E), with m, E and
-    // the units written here (1 T = 195.353 eV², ħc = 1.97327e-7 eV m): a
-    // factor 2 in q or a keV/eV slip moves these by far more than 1e-6.
-    let p = conversion(&[
-        "--field-t",
-        "9",
-        "--length-m",
-        "9.26",
-        "--energies",
-        "1,4,8",
-        "--masses",
-        "0.01,0.02,0.05",
-    ]);
-    let (hbar_c, tesla): (f64, f64) = (1.973_269_804e-7, 195.353_3);
-    let l = 9.26 / hbar_c;
-    let g: f64 = 1e-19; // 1e-10 GeV⁻¹ in eV⁻¹
-    let vacuum = (g * 9.0 * tesla * l / 2.0).powi(2);
-    let mut k = 0;
-    for e_kev in [1.0, 4.0, 8.0] {
-        for m in [0.01_f64, 0.02, 0.05] {
-            let x = m * m * l / (4.0 * 1e3 * e_kev);
-            let want = vacuum * (x.sin() / x).powi(2);
-            assert!(
-                rel(p[k], want) < 1e-5,
-                "{e_kev} keV, {m} eV: {:e} vs {want:e}",
-                p[k]
-            );
-            k += 1;
-        }
-    }
-}
-
-#[test]
 fn the_babyiaxo_map_weights_the_image_within_the_bores_range_of_p() {
     // With the field map, each axion's P depends on where it crosses the
     // bore: the image's ratio to the unconverted one is a weighted mean of

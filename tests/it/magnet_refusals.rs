@@ -134,6 +134,31 @@ fn cast_p(energies: &str, masses: &str) -> Vec<[f64; 3]> {
 }
 
 #[test]
+fn a_map_with_no_transverse_field_is_named_not_blamed_on_the_coupling() {
+    // Issue 59 §4: a map of Bz only got advice to change the coupling and no
+    // file name.
+    let dir = tempfile::tempdir().unwrap();
+    let mut rows = String::new();
+    for x in [-10, 0, 10] {
+        for y in [-10, 0, 10] {
+            for z in [-100, 0, 100] {
+                rows.push_str(&format!("{x} {y} {z} 0 0 2.0\n"));
+            }
+        }
+    }
+    let map = write(dir.path(), "bz.txt", &rows);
+    let map = map.to_string_lossy().to_string();
+    conversion_refuses(
+        &["--field-map", &map],
+        &[
+            "the field map",
+            "bz.txt",
+            "has no component across the bore",
+        ],
+    );
+}
+
+#[test]
 fn the_mass_dependence_is_the_closed_form_written_from_m_and_e() {
     // P = (g B L / 2)² sinc²(m² L / 4E), everything written here from m and
     // E (not the code's momentum_transfer): 1 T = 195.35 eV² and
