@@ -58,8 +58,13 @@ pub fn draw_labels(img: &mut image::RgbImage, labels: &[(&str, (usize, usize))])
         let ((x, y), (tw, th)) = (dots[k], sizes[k]);
         if (ty + th / 2 - y).abs() > th {
             // Moved off its dot: a line from the dot to the text's near side.
-            let ex = if tx > x { tx } else { tx + tw };
-            let line = vec![(x, y), (ex, ty + th / 2)];
+            let end = match (x < tx, x > tx + tw) {
+                (true, _) => (tx, ty + th / 2),
+                (_, true) => (tx + tw, ty + th / 2),
+                // Centred over or under the dot: to its near edge.
+                _ => (x, if ty > y { ty } else { ty + th }),
+            };
+            let line = vec![(x, y), end];
             let _ = area.draw(&PathElement::new(line.clone(), WHITE.stroke_width(3)));
             let _ = area.draw(&PathElement::new(line, BLACK.stroke_width(1)));
         }
@@ -74,9 +79,9 @@ pub fn draw_labels(img: &mut image::RgbImage, labels: &[(&str, (usize, usize))])
 /// Where each label's text goes (its top-left corner), for texts of `sizes`
 /// (width, height) at `dots` in a `w` × `h` picture: right of the dot, else
 /// left of it, vertically centred; where that would cover a label placed
-/// before (or leave the picture), the nearest free place up or down, right or
-/// left, as far as the picture goes; failing that, `None`: the label is left
-/// out rather than drawn over another.
+/// before, its own dot, or leave the picture, the nearest free place up or
+/// down — right, left, or centred over the dot — as far as the picture goes;
+/// failing that, `None`: the label is left out rather than drawn over another.
 pub fn place_labels(
     sizes: &[(i32, i32)],
     dots: &[(i32, i32)],
@@ -87,16 +92,18 @@ pub fn place_labels(
     let mut out = Vec::with_capacity(dots.len());
     for (&(x, y), &(tw, th)) in dots.iter().zip(sizes) {
         let clamp_y = |ty: i32| ty.clamp(0, (h - th).max(0));
-        let right = x + gap;
-        let left = (x - gap - tw).max(0);
-        let sides = if right + tw <= w {
-            [right, left]
-        } else {
-            [left, right]
-        };
+        // Right of the dot, left of it, or (a name too long for either side)
+        // centred over it on another line, with its leader line.
+        let (right, left) = (x + gap, x - gap - tw);
+        let centred = (x - tw / 2).clamp(0, (w - tw).max(0));
+        let sides = [right, left, centred];
         let free = |(tx, ty): (i32, i32)| {
             let r = [tx - 2, ty - 1, tx + tw + 2, ty + th + 1];
-            tx + tw <= w
+            // The text itself over the dot (radius 2), not its padding.
+            let covers_dot = tx < x + 2 && x - 2 < tx + tw && ty < y + 2 && y - 2 < ty + th;
+            tx >= 0
+                && tx + tw <= w
+                && !covers_dot
                 && placed
                     .iter()
                     .all(|p| r[2] <= p[0] || p[2] <= r[0] || r[3] <= p[1] || p[3] <= r[1])
@@ -150,6 +157,16 @@ mod tests {
             place_labels(&[(50, 10)], &[(100, 100)], (480, 300), 6),
             [Some((106, 95))]
         );
+    }
+
+    #[test]
+    fn a_name_too_long_for_either_side_goes_above_or_below_its_dot_not_over_it() {
+        // It used to be pushed against the left edge, over its own dot.
+        let (x, y) = (290, 49);
+        let at = place_labels(&[(460, 16)], &[(x, y)], (480, 300), 4);
+        let (tx, ty) = at[0].expect("placed");
+        assert!(tx >= 0 && tx + 460 <= 480, "{tx}");
+        assert!(ty + 16 <= y - 2 || ty >= y + 2, "{ty}: over the dot at {y}");
     }
 
     #[test]
