@@ -306,7 +306,10 @@ impl TraceResult {
                 .clone()
                 .into_result(header.identity.photon_list, header.seconds, threads);
         let statistics = json(py, &statistics_json(scene, &result))?;
-        let sources = json(py, &sources_json(&scene.sources, emitted))?;
+        let sources = json(
+            py,
+            &sources_json(&scene.sources, emitted, scene.magnet.as_deref()),
+        )?;
         let photons = if header.identity.photon_list > 0 {
             let bytes = photon_list_npy(&result.photons, absolute.unwrap_or(1.0)).map_err(lib)?;
             let buffer = py.import("io")?.call_method1("BytesIO", (bytes,))?;

@@ -65,7 +65,7 @@ pub struct ConversionArgs {
     #[arg(long)]
     pub bore_average: bool,
     /// The path integral's step through a map, mm [default: the scene's, else
-    /// half the map's node spacing].
+    /// the map's node spacing].
     #[arg(long, value_name = "MM")]
     pub step_mm: Option<f64>,
     /// Also write the CSV to this file (atomically).

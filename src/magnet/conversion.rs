@@ -64,29 +64,38 @@ impl PathField {
     /// `gamma` (eV). B⊥ is taken linear between samples and the integral of
     /// each piece times e^{iqs} e^{−Γ(L−s)/2} is done exactly (Filon's
     /// method): exact for a field linear along the path — a uniform field, or
-    /// a trilinearly interpolated map sampled at its nodes along the axis —
-    /// and free of aliasing however fast the phase turns (a heavy axion).
+    /// a trilinearly interpolated map sampled at its node planes along the
+    /// axis — and free of aliasing however fast the phase turns (a heavy axion).
+    ///
+    /// The sum over pieces is one Horner pass per component: with
+    /// ζ = e^{−κh}, κ = Γ/2 + iq, the piece starting at s_j = jh carries
+    /// e^{κ s_j − ΓL/2} = e^{iqL} ζ^{N−j}, so with H = Σ_j ζ^{N−j} b_j
+    /// (j = 0 … N) the amplitude is
+    /// h e^{iqL} [w₀ (H − b_N) + w₁ ζ (H − ζᴺ b₀)]. |ζ| ≤ 1: the pass never
+    /// grows, however strong the attenuation; e^{iqL} drops out of |A|².
     pub fn probability(&self, g: f64, q: f64, gamma: f64) -> f64 {
         let n = self.samples.len();
         if n < 2 {
             return 0.0;
         }
         let h = self.step;
-        // e^{κ s} e^{−ΓL/2}, κ = Γ/2 + iq: the integrand's factor at s.
         let kappa = Complex64::new(0.5 * gamma, q);
         let (w0, w1) = filon_weights(kappa * h);
-        let advance = (kappa * h).exp();
-        let mut factor = Complex64::new((-0.5 * gamma * self.length()).exp(), 0.0);
-        let mut sum = [Complex64::new(0.0, 0.0); 2];
-        for pair in self.samples.windows(2) {
-            let (b0, b1) = (pair[0], pair[1]);
-            for c in 0..2 {
-                sum[c] += factor * (w0 * b0[c] + w1 * b1[c]);
-            }
-            factor *= advance;
+        let zeta = (-kappa * h).exp();
+        let zeta_n = (-kappa * self.length()).exp();
+        // Two independent chains, one per component (they overlap in the CPU).
+        let (mut hx, mut hy) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+        for b in &self.samples {
+            hx = hx * zeta + b[0];
+            hy = hy * zeta + b[1];
         }
+        let (first, last) = (self.samples[0], self.samples[n - 1]);
+        let amplitude =
+            |hc: Complex64, b0: f64, bn: f64| w0 * (hc - bn) + w1 * zeta * (hc - zeta_n * b0);
+        let ax = amplitude(hx, first[0], last[0]);
+        let ay = amplitude(hy, first[1], last[1]);
         let scale = 0.5 * g * h;
-        (sum[0].norm_sqr() + sum[1].norm_sqr()) * scale * scale
+        (ax.norm_sqr() + ay.norm_sqr()) * scale * scale
     }
 }
 

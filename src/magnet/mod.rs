@@ -9,8 +9,10 @@
 //! it on the way out (`buffer_gas`).
 //!
 //! Data flow: `scene::magnet` builds a [`Magnet`] from the scene's `[magnet]`
-//! table and the bore object; the photon loop calls [`Magnet::probability`]
-//! for each emitted photon, before the optics.
+//! table and the bore object; the photon loop (`trace`) calls
+//! [`Magnet::convert`] for each recorded photon of the Sun: P depends only on
+//! the axion's straight path and energy, so it is a factor on the weight the
+//! photon arrives with, computed once for the photons that arrive.
 
 pub mod buffer_gas;
 pub mod conversion;
@@ -61,7 +63,7 @@ pub struct Magnet {
     /// g_aγ in GeV⁻¹.
     pub g_agamma_gev: f64,
     /// The masses (eV) of a mass scan: each sensor also records an image per
-    /// mass ([`Magnet::scan_factors`]).
+    /// mass ([`Magnet::convert`]).
     pub scan_masses: Vec<f64>,
     /// The unit of a photon's conversion weight: P_max = (g_aγ B_peak L / 2)²,
     /// the vacuum P of the strongest field over the whole length, which no
@@ -142,50 +144,51 @@ impl Magnet {
     }
 
     /// The transverse field along the photon's path, sampled for the
-    /// amplitude integral (eV² on two axes ⊥ the path, step in eV⁻¹). Outside
-    /// the map (a path leaving the bore, whose photon the bore's wall stops)
-    /// the field counts as zero.
+    /// amplitude integral (eV² on two axes ⊥ the path, step in eV⁻¹). The
+    /// samples are evenly spaced along the bore's axis, `step_mm` apart there
+    /// (a tilted path's samples lie on the same planes across the bore as an
+    /// axial one's: on the map's node planes when the bore's ends are).
+    /// Outside the map (a path leaving the bore, whose photon the bore's wall
+    /// stops) the field counts as zero.
     pub fn path_field(&self, origin: DVec3, dir: DVec3) -> PathField {
         let Some((s0, s1)) = self.path(origin, dir) else {
             return PathField::default();
         };
         let length = s1 - s0;
-        let steps = (length / self.step_mm).ceil().max(1.0) as usize;
+        let steps = (2.0 * self.half_length_mm / self.step_mm - 1e-9)
+            .ceil()
+            .max(1.0) as usize;
         let h = length / steps as f64;
         let d_local = self.frame.to_local.transform_vector3(dir).normalize();
+        // B⊥ · e for e ⊥ the path is B · e: the two axes take it directly.
         let (e1, e2) = d_local.any_orthonormal_pair();
-        let project = |b: DVec3| {
-            let transverse = b - d_local * b.dot(d_local);
-            [
-                transverse.dot(e1) * TESLA_EV2,
-                transverse.dot(e2) * TESLA_EV2,
-            ]
-        };
-        let samples = match &self.field {
-            Field::Uniform { tesla, direction } => vec![project(*direction * *tesla); steps + 1],
+        let mut samples = Vec::with_capacity(steps + 1);
+        match &self.field {
+            Field::Uniform { tesla, direction } => {
+                let b = *direction * (*tesla * TESLA_EV2);
+                samples.resize(steps + 1, [b.dot(e1), b.dot(e2)]);
+            }
             Field::Map { map, to_map, .. } => {
                 // The path is a straight line in the map's frame too: its start
-                // and step there, then one trilinear lookup per sample.
+                // and step there, in grid units.
                 let start = to_map.point(self.frame.to_local.transform_point3(origin + dir * s0));
                 let step = to_map.vector(self.frame.to_local.transform_vector3(dir * h));
-                let (u0, du) = (
-                    DVec3::from(map.to_grid(start.to_array())),
-                    DVec3::from(map.vector_to_grid(step.to_array())),
-                );
                 // The map's field is turned back into the bore's frame by
-                // to_map's inverse: B_bore = M⁻¹ B_map.
-                let back = to_map.to_local.matrix3;
-                (0..=steps)
-                    .map(|k| {
-                        let u = u0 + du * k as f64;
-                        let b = map
-                            .at_grid(u.to_array())
-                            .map_or(DVec3::ZERO, |b| back * DVec3::from(b));
-                        project(b)
-                    })
-                    .collect()
+                // to_map's inverse, B_bore = M⁻¹ B_map, so B_bore · e is
+                // B_map · (M⁻¹)ᵀ e.
+                let back = to_map.to_local.matrix3.transpose();
+                let row = |e: DVec3| (back * e * TESLA_EV2).to_array();
+                map.sample_line(
+                    (
+                        map.to_grid(start.to_array()),
+                        map.vector_to_grid(step.to_array()),
+                    ),
+                    steps + 1,
+                    [row(e1), row(e2)],
+                    &mut samples,
+                );
             }
-        };
+        }
         PathField {
             step: h * 1e-3 * INV_EV_PER_METRE,
             samples,
@@ -225,21 +228,30 @@ impl Magnet {
         }
     }
 
-    /// For the axion of `energy_kev` on the line through `origin` along `dir`
-    /// (a recorded photon's start), appends P at each scan mass over P at the
-    /// magnet's mass: the factor that turns the photon's weight into its
-    /// weight at that mass (the optics do not depend on the mass). A path
-    /// with P = 0 at the magnet's mass (no field along it) gives 0.
-    pub fn scan_factors(&self, (origin, dir): (DVec3, DVec3), energy_kev: f64, out: &mut Vec<f64>) {
+    /// The conversion of a recorded photon's axion of `energy_kev` on the
+    /// line through `origin` along `dir` (its start): returns P / P_max at the
+    /// magnet's mass (the factor on the photon's weight, see
+    /// [`Magnet::weight_scale`]) and appends, for each scan mass, P there over
+    /// P at the magnet's mass (the factor that turns the photon's weight into
+    /// its weight at that mass: the optics do not depend on the mass). One
+    /// sampling of the path serves every mass. A path with P = 0 at the
+    /// magnet's mass (no field along it) gives 0 at every mass.
+    pub fn convert(
+        &self,
+        (origin, dir): (DVec3, DVec3),
+        energy_kev: f64,
+        scan: &mut Vec<f64>,
+    ) -> f64 {
         let path = self.path_of(origin, dir);
         let p = path.probability(self, energy_kev, self.axion_mass_ev);
         for &m in &self.scan_masses {
-            out.push(if p > 0.0 {
+            scan.push(if p > 0.0 {
                 path.probability(self, energy_kev, m) / p
             } else {
                 0.0
             });
         }
+        p / self.weight_scale
     }
 
     /// P(a → γ) for an axion of `energy_kev` on the line through `origin`

@@ -72,7 +72,7 @@ pub fn write_run(
     let mut written = Vec::new();
     let stats = statistics_json(scene, result);
     let photons = result.stats.photons_emitted;
-    let sources = crate::source::sources_json(&scene.sources, photons);
+    let sources = crate::source::sources_json(&scene.sources, photons, scene.magnet.as_deref());
     // A Sun makes images in axions per second (it is then the only source).
     let absolute = scene.rate_per_unit_weight(photons);
     let mut sensor_summaries = Vec::new();

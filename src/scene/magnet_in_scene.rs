@@ -1,6 +1,6 @@
 //! The magnet in its scene: the bore found among the scene's objects (before
-//! they are built), the magnet built on the built bore and handed to the
-//! scene's Sun, and the mass scan the sensors record. `magnet` reads the
+//! they are built), the magnet built on the built bore for the scene (the
+//! photon loop applies it to the Sun's photons), and the mass scan the sensors record. `magnet` reads the
 //! `[magnet]` table and builds the field; this file is the scene build's
 //! part of it (`scene::build` calls it).
 
@@ -72,7 +72,8 @@ pub(super) fn find_bore(
     }
 }
 
-/// Builds the magnet on the built bore and hands it to the scene's Sun.
+/// Builds the magnet on the built bore, for the scene (whose Sun's photons it
+/// converts).
 pub(super) fn attach(
     at: SceneText,
     desc: &SceneDesc,
@@ -106,7 +107,6 @@ pub(super) fn attach(
                     )));
                 }
             }
-            sun.magnet = Some(magnet.clone())
         }
         _ => {
             return Err(fail(

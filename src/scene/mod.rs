@@ -80,7 +80,8 @@ pub struct Scene {
     /// Mirror microroughness models, indexed by `Material::Mirror::roughness`.
     pub roughness: Vec<crate::xray::roughness::Roughness>,
     pub sources: Vec<Source>,
-    /// The helioscope's magnet (`[magnet]`), which the Sun source applies.
+    /// The helioscope's magnet (`[magnet]`): a step on each Sun photon's path,
+    /// applied where the photon is recorded (`trace`).
     pub magnet: Option<std::sync::Arc<crate::magnet::Magnet>>,
     pub max_interactions: u32,
     /// Reflectivity tables of the coated mirrors' coatings (indexed by
@@ -293,7 +294,10 @@ impl Scene {
     /// in absolute units. `None` for other sources.
     pub fn rate_per_unit_weight(&self, photons: u64) -> Option<f64> {
         self.sources.iter().find_map(|s| match s {
-            Source::Sun(sun) => Some(sun.rate_per_unit_weight(photons)),
+            Source::Sun(sun) => Some(
+                sun.rate_per_unit_weight(photons)
+                    * self.magnet.as_ref().map_or(1.0, |m| m.weight_scale),
+            ),
             _ => None,
         })
     }

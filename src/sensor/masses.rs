@@ -7,7 +7,7 @@
 //! they do for the scene's mass. Sums are exact ([`super::exact`]).
 //!
 //! Data flow: `trace` computes each recorded photon's ratios with
-//! [`crate::magnet::Magnet::scan_factors`]; [`super::SensorImage::record`]
+//! [`crate::magnet::Magnet::convert`]; [`super::SensorImage::record`]
 //! adds them here; `output` writes the stack.
 
 use super::exact::{self, WeightSum};

@@ -157,8 +157,9 @@ impl Source {
         }
     }
 
-    /// What one photon's weight means, for the JSON summary.
-    pub fn describe_weight(&self) -> &'static str {
+    /// What one photon's weight means, for the JSON summary (a Sun's with
+    /// the scene's magnet on or not).
+    pub fn describe_weight(&self, magnet: bool) -> &'static str {
         match self {
             Source::Parallel(_) => {
                 "weight 1 per photon; each photon stands for aperture.area_mm2 / photons of the beam"
@@ -166,7 +167,7 @@ impl Source {
             Source::Point(_) => {
                 "weight = fraction of the full sphere; the image is the expected photons per pixel if the source emitted `photons` photons isotropically"
             }
-            Source::Sun(s) if s.magnet.is_some() => {
+            Source::Sun(_) if magnet => {
                 "weight = cos θ · D_min² / |target − emission point|² (≈ 1), times, when two emissions are drawn half the photons each (primakoff+abc), twice the drawn emission's share of the luminosity, times the axion's conversion probability P(a→γ) along its path through the magnet; images are the summed weights × rate_per_unit_weight: X-ray photons per second per pixel"
             }
             Source::Sun(_) => {

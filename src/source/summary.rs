@@ -6,8 +6,13 @@
 use super::{AnnulusSector, Source};
 use serde_json::{json, Value};
 
-/// The sources as `summary.json` describes them, for a run of `photons`.
-pub fn sources_json(sources: &[Source], photons: u64) -> Value {
+/// The sources as `summary.json` describes them, for a run of `photons`; a
+/// Sun with the scene's `magnet` (its rate per unit weight in X-rays).
+pub fn sources_json(
+    sources: &[Source],
+    photons: u64,
+    magnet: Option<&crate::magnet::Magnet>,
+) -> Value {
     Value::Array(
         sources
             .iter()
@@ -17,7 +22,7 @@ pub fn sources_json(sources: &[Source], photons: u64) -> Value {
                     "aperture": sector_json(&p.aperture),
                     "direction": p.direction.to_array(),
                     "spectrum_keV": p.spectrum,
-                    "weight": s.describe_weight(),
+                    "weight": s.describe_weight(false),
                 }),
                 Source::Point(p) => json!({
                     "type": "point",
@@ -25,7 +30,7 @@ pub fn sources_json(sources: &[Source], photons: u64) -> Value {
                     "radius_mm": p.radius,
                     "target": sector_json(&p.target),
                     "spectrum_keV": p.spectrum,
-                    "weight": s.describe_weight(),
+                    "weight": s.describe_weight(false),
                 }),
                 Source::Sun(sun) => json!({
                     "type": "sun",
@@ -45,9 +50,10 @@ pub fn sources_json(sources: &[Source], photons: u64) -> Value {
                     "luminosity_per_s": sun.emission_draw.luminosity,
                     "flux_at_target_per_cm2_s": sun.flux_per_mm2() * 100.0,
                     "rate_through_target_per_s": sun.rate_through_target(),
-                    "rate_per_unit_weight_per_s": sun.rate_per_unit_weight(photons),
-                    "weight": s.describe_weight(),
-                    "magnet": sun.magnet.as_deref().map(crate::magnet::Magnet::describe),
+                    "rate_per_unit_weight_per_s": sun.rate_per_unit_weight(photons)
+                        * magnet.map_or(1.0, |m| m.weight_scale),
+                    "weight": s.describe_weight(magnet.is_some()),
+                    "magnet": magnet.map(crate::magnet::Magnet::describe),
                 }),
             })
             .collect(),

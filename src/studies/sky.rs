@@ -27,7 +27,7 @@ use crate::analysis::centre::windowed_centroid;
 use crate::random::PhotonRng;
 use crate::scene::Scene;
 use crate::source::Source;
-use crate::trace::{map_chunks, trace_photon, AtItsEnergy, Statistics};
+use crate::trace::{convert_in_magnet, map_chunks, trace_photon, AtItsEnergy, Statistics};
 
 /// Photons traced at each of the five pointings.
 pub const CALIBRATION_PHOTONS: u64 = 500_000;
@@ -113,6 +113,7 @@ pub fn calibrate(scene: &Scene, sensor: usize) -> Option<SkyCalibration> {
                 for i in photons {
                     let mut rng = PhotonRng::new(SEED, i);
                     let photon = source.emit(&mut rng);
+                    let axion = ((photon.origin, photon.dir), photon.energy);
                     let traced = trace_photon(
                         scene,
                         photon,
@@ -121,7 +122,12 @@ pub fn calibrate(scene: &Scene, sensor: usize) -> Option<SkyCalibration> {
                         &mut (),
                         &mut AtItsEnergy,
                     );
-                    if let Some((r, local, _)) = traced.filter(|t| t.0.sensor as usize == sensor) {
+                    if let Some((mut r, local, _)) =
+                        traced.filter(|t| t.0.sensor as usize == sensor)
+                    {
+                        if let Some(m) = scene.magnet.as_deref() {
+                            convert_in_magnet(m, axion, &mut r, &mut Vec::new());
+                        }
                         points.push((local.x, local.y, r.weight));
                     }
                 }

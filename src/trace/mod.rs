@@ -332,11 +332,29 @@ pub fn map_chunks<T: Send>(
 pub struct Chunk {
     pub records: Vec<Record>,
     /// With a magnet's mass scan, each record's weight factor per mass
-    /// (record-major; [`crate::magnet::Magnet::scan_factors`]); else empty.
+    /// (record-major; [`crate::magnet::Magnet::convert`]); else empty.
     pub mass_factors: Vec<f64>,
     /// Details of the first recorded photons (at most the cap asked for).
     pub listed: Vec<RecordedPhoton>,
     pub stats: Statistics,
+}
+
+/// The magnet as a step on a recorded Sun photon's path: the record's weight
+/// (and the weight it entered a gas detector with) times P / P_max of its
+/// axion (`axion`: its start, direction and energy), the mass scan's factors
+/// appended to `scan`. The one place where P meets a photon.
+#[inline]
+pub fn convert_in_magnet(
+    magnet: &crate::magnet::Magnet,
+    (line, energy): ((glam::DVec3, glam::DVec3), f64),
+    record: &mut Record,
+    scan: &mut Vec<f64>,
+) {
+    let converted = magnet.convert(line, energy, scan);
+    record.weight *= converted;
+    if let Some(c) = record.conversion.as_mut() {
+        c.entered *= converted;
+    }
 }
 
 /// Traces photons [lo, hi) on this thread.
@@ -401,22 +419,22 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
             stats,
         };
     }
-    // A Sun whose magnet scans masses: each recorded photon's factors.
-    let scan = match sources {
-        [crate::source::Source::Sun(s)] => {
-            s.magnet.as_deref().filter(|m| !m.scan_masses.is_empty())
-        }
+    // The scene's magnet converts the Sun's axions: one place where P meets
+    // the photon, when it is recorded (P depends only on the axion's path
+    // and energy), with the mass scan's factors from the same path.
+    let magnet = match sources {
+        [crate::source::Source::Sun(_)] => scene.magnet.as_deref(),
         _ => None,
     };
     for i in range {
         let mut rng = PhotonRng::new(seed, i);
         let photon = sources[(i % n_sources) as usize].emit(&mut rng);
         let axion = ((photon.origin, photon.dir), photon.energy);
-        if let Some((record, local, dir)) =
+        if let Some((mut record, local, dir)) =
             trace_photon(scene, photon, &mut rng, &mut stats, hook, att)
         {
-            if let Some(m) = scan {
-                m.scan_factors(axion.0, axion.1, &mut mass_factors);
+            if let Some(m) = magnet {
+                convert_in_magnet(m, axion, &mut record, &mut mass_factors);
             }
             if listed.len() < list_cap {
                 listed.push(RecordedPhoton {

@@ -163,10 +163,6 @@ pub struct SunSource {
     pub productions: Vec<(String, f64)>,
     /// D_min² in mm² (see the module documentation).
     nearest_mm2: f64,
-    /// The helioscope's magnet, when the scene has one: each photon's weight
-    /// is then multiplied by its axion's conversion probability in units of
-    /// the magnet's [`crate::magnet::Magnet::weight_scale`].
-    pub magnet: Option<Arc<crate::magnet::Magnet>>,
 }
 
 impl SunDesc {
@@ -353,7 +349,6 @@ impl SunDesc {
             couplings_not_used: p.couplings_not_used(),
             productions: p.productions()?,
             nearest_mm2: nearest * nearest,
-            magnet: None,
         })
     }
 }
@@ -392,14 +387,11 @@ impl SunSource {
         let v = (on_target - self.target.center) - emission;
         let d2 = v.length_squared();
         let dir = v / d2.sqrt();
-        let converted = self.magnet.as_ref().map_or(1.0, |m| {
-            m.probability(on_target, dir, energy) / m.weight_scale
-        });
         Photon {
             origin: on_target,
             dir,
             energy,
-            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2 * weight * converted,
+            weight: dir.dot(self.target_normal).abs() * self.nearest_mm2 / d2 * weight,
             process,
             cell,
         }
@@ -411,13 +403,13 @@ impl SunSource {
     }
 
     /// Axions per second that one unit of weight stands for, summed over a run of
-    /// `photons` photons: L·A / (4π D_min²) / photons; with a magnet, X-rays
-    /// per second: times its weight scale P_max (the weights carry P / P_max).
+    /// `photons` photons: L·A / (4π D_min²) / photons (with a magnet, the
+    /// scene multiplies it by the magnet's weight scale:
+    /// [`crate::scene::Scene::rate_per_unit_weight`]).
     pub fn rate_per_unit_weight(&self, photons: u64) -> f64 {
         self.emission_draw.luminosity * self.target.area()
             / (4.0 * std::f64::consts::PI * self.nearest_mm2)
             / photons.max(1) as f64
-            * self.magnet.as_ref().map_or(1.0, |m| m.weight_scale)
     }
 
     /// Axions per second through the target (energy range only): L·A·cos θ/(4πD²)
