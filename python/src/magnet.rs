@@ -91,6 +91,7 @@ pub fn conversion_probability<'py>(
         masses_ev: Vec::new(),
         g_agamma,
         gas,
+        campaign: None,
     };
     let magnet = standalone(&desc, length_m.map(|l| l * 1000.0)).map_err(input)?;
     check_probe_masses(&magnet, "masses_eV", &masses).map_err(input)?;

@@ -152,6 +152,7 @@ fn magnet(a: &ConversionArgs) -> anyhow::Result<Magnet> {
                 masses_ev: Vec::new(),
                 g_agamma: a.g_agamma.unwrap_or(1e-10),
                 gas,
+                campaign: None,
             };
             if a.field_t.is_none() && a.field_map.is_none() {
                 return Err(InputError("give a SCENE with a [magnet], or the field: --field-t T --length-m M, or --field-map NAME|FILE".into()).into());

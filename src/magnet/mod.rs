@@ -15,9 +15,11 @@
 //! photon arrives with, computed once for the photons that arrive.
 
 pub mod buffer_gas;
+pub mod campaign;
 pub mod conversion;
 pub mod field_map;
 pub mod helium_vapour;
+pub mod planner;
 pub mod probe;
 
 use crate::constants::{INV_EV_PER_METRE, TESLA_EV2};
@@ -69,6 +71,9 @@ pub struct Magnet {
     /// the vacuum P of the strongest field over the whole length, which no
     /// path exceeds ([`Magnet::peak_probability`]).
     pub weight_scale: f64,
+    /// A data-taking campaign recorded from the same photons (none: the
+    /// scene's one setting).
+    pub campaign: Option<Arc<campaign::Campaign>>,
 }
 
 impl Magnet {
@@ -195,17 +200,6 @@ impl Magnet {
         }
     }
 
-    /// The photon mass squared (eV²) and the attenuation Γ (eV) at `energy_kev`.
-    fn medium(&self, energy_kev: f64) -> (f64, f64) {
-        match &self.gas {
-            None => (0.0, 0.0),
-            Some(g) => (
-                g.photon_mass2_ev2,
-                g.attenuation_ev(energy_kev).unwrap_or(f64::INFINITY),
-            ),
-        }
-    }
-
     /// The field along the line through `origin` along the unit vector
     /// `dir`: what P needs of the path, computed once for any energy and mass.
     pub fn path_of(&self, origin: DVec3, dir: DVec3) -> ConversionPath {
@@ -228,21 +222,15 @@ impl Magnet {
         }
     }
 
-    /// The conversion of a recorded photon's axion of `energy_kev` on the
-    /// line through `origin` along `dir` (its start): returns P / P_max at the
+    /// The conversion of a recorded photon's axion of `energy_kev` on `path`
+    /// ([`Magnet::path_of`] its start and direction): returns P / P_max at the
     /// magnet's mass (the factor on the photon's weight, see
     /// [`Magnet::weight_scale`]) and appends, for each scan mass, P there over
     /// P at the magnet's mass (the factor that turns the photon's weight into
     /// its weight at that mass: the optics do not depend on the mass). One
     /// sampling of the path serves every mass. A path with P = 0 at the
     /// magnet's mass (no field along it) gives 0 at every mass.
-    pub fn convert(
-        &self,
-        (origin, dir): (DVec3, DVec3),
-        energy_kev: f64,
-        scan: &mut Vec<f64>,
-    ) -> f64 {
-        let path = self.path_of(origin, dir);
+    pub fn convert(&self, path: &ConversionPath, energy_kev: f64, scan: &mut Vec<f64>) -> f64 {
         let p = path.probability(self, energy_kev, self.axion_mass_ev);
         for &m in &self.scan_masses {
             scan.push(if p > 0.0 {
@@ -271,12 +259,37 @@ pub enum ConversionPath {
     Sampled(PathField),
 }
 
+/// The photon mass squared (eV²) and the attenuation Γ (eV) at `energy_kev`
+/// in `gas` (`None`: vacuum).
+pub fn medium(gas: Option<&BufferGas>, energy_kev: f64) -> (f64, f64) {
+    match gas {
+        None => (0.0, 0.0),
+        Some(g) => (
+            g.photon_mass2_ev2,
+            g.attenuation_ev(energy_kev).unwrap_or(f64::INFINITY),
+        ),
+    }
+}
+
 impl ConversionPath {
     /// P at `energy_kev` and axion mass `mass_ev` in `magnet` (its coupling
     /// and gas).
     pub fn probability(&self, magnet: &Magnet, energy_kev: f64, mass_ev: f64) -> f64 {
-        let g = magnet.g_agamma_gev * 1e-9;
-        let (m_gamma2, gamma) = magnet.medium(energy_kev);
+        let medium = medium(magnet.gas.as_ref(), energy_kev);
+        self.probability_in(magnet.g_agamma_gev, medium, energy_kev, mass_ev)
+    }
+
+    /// P at coupling `g_agamma_gev` (GeV⁻¹) in a medium of photon mass
+    /// squared and attenuation `(m_γ², Γ)` ([`medium`]): another gas setting
+    /// of the same path.
+    pub fn probability_in(
+        &self,
+        g_agamma_gev: f64,
+        (m_gamma2, gamma): (f64, f64),
+        energy_kev: f64,
+        mass_ev: f64,
+    ) -> f64 {
+        let g = g_agamma_gev * 1e-9;
         let q = momentum_transfer(mass_ev, m_gamma2, energy_kev * 1e3);
         match self {
             ConversionPath::Uniform { b_ev2, length } => {

@@ -9,6 +9,7 @@
 //! ([`write_sidecar`]).
 
 mod arf;
+pub mod campaign;
 mod compare;
 mod conversion;
 mod csv_table;

@@ -50,6 +50,7 @@ pub fn run_file_names(scene: &Scene, outputs: Outputs) -> Vec<String> {
         .iter()
         .flat_map(|s| s.file_names())
         .chain([SUMMARY_FILE.to_string()])
+        .chain(super::campaign::campaign_file_names(scene))
         .chain(list.map(String::from))
         .chain(scene.sensors.iter().filter(|_| fits).flat_map(|s| {
             let grid = s.pixel_grid.map(|_| grid_fits_file_name(&s.name));
@@ -104,6 +105,12 @@ pub fn write_run(
         "statistics": stats,
         "warnings": scene.warnings,
     });
+    written.extend(super::campaign::write_campaign(
+        dir,
+        scene,
+        result,
+        absolute.unwrap_or(1.0),
+    )?);
     let p = dir.join(SUMMARY_FILE);
     write_json(&p, &summary)?;
     written.push(p);

@@ -8,6 +8,7 @@
 
 use super::placement::{transform, TransformStep};
 use crate::magnet::buffer_gas::{BufferGas, BufferGasDesc};
+use crate::magnet::campaign::{Campaign, CampaignDesc};
 use crate::magnet::field_map::FieldMap;
 use crate::magnet::{Field, Magnet};
 use glam::{DAffine3, DVec3};
@@ -62,6 +63,9 @@ pub struct MagnetDesc {
     pub g_agamma: f64,
     #[serde(default)]
     pub gas: Option<BufferGasDesc>,
+    /// A data-taking campaign from the same photons ([`CampaignDesc`]).
+    #[serde(default)]
+    pub campaign: Option<CampaignDesc>,
 }
 
 fn yes() -> bool {
@@ -227,9 +231,19 @@ fn assemble(d: &MagnetDesc, bore: &Bore, map: Option<Arc<FieldMap>>) -> Result<M
         g_agamma_gev: d.g_agamma,
         scan_masses: d.masses_ev.clone(),
         weight_scale,
+        campaign: None,
     };
     check_magnet(&magnet)?;
-    Ok(magnet)
+    let campaign = d
+        .campaign
+        .as_ref()
+        .filter(|c| c.enabled)
+        .map(|c| Campaign::plan(c, &magnet).map_err(|e| format!("campaign: {}", e.0)))
+        .transpose()?;
+    Ok(Magnet {
+        campaign: campaign.map(Arc::new),
+        ..magnet
+    })
 }
 
 /// `m` with another coupling and path step (`traxer conversion`'s options),

@@ -12,6 +12,7 @@
 //! order (the sums are exact); `analysis` measures it and `output` writes it. With energy
 //! binning the image has an energy axis: [band][iy][ix].
 
+pub mod campaign;
 pub mod conversion;
 mod desc;
 pub mod exact;

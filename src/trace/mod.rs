@@ -31,6 +31,7 @@ use crate::progress::Progress;
 use crate::random::PhotonRng;
 use crate::raycast::QueryHook;
 use crate::scene::Scene;
+use crate::sensor::campaign::CampaignTally;
 use crate::sensor::SensorImage;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -93,6 +94,9 @@ pub struct Tally {
     pub stats: Statistics,
     /// Photons traced so far, from the part's first photon on.
     pub traced: u64,
+    /// With a magnet's campaign, its tallies per sensor; else empty.
+    #[serde(default)]
+    pub campaign: Vec<CampaignTally>,
 }
 
 impl Tally {
@@ -109,6 +113,11 @@ impl Tally {
                             && c.iter().all(|c| c.len() == s.pixel_count())
                     })
             })
+            && self
+                .campaign
+                .iter()
+                .map(|c| c.sums.len())
+                .eq(campaign_tallies(scene).iter().map(|c| c.sums.len()))
             && self.stats.hits_per_object.len() == scene.objects.len()
             && self.stats.recorded_per_sensor.len() == scene.sensors.len()
     }
@@ -120,6 +129,7 @@ impl Tally {
             photons: Vec::new(),
             stats: Statistics::new(scene.objects.len(), scene.sensors.len()),
             traced: 0,
+            campaign: campaign_tallies(scene),
         }
     }
 
@@ -133,6 +143,9 @@ impl Tally {
         self.photons.extend_from_slice(&other.photons);
         self.photons.sort_by_key(|p| p.index);
         self.photons.truncate(photon_list);
+        for (a, b) in self.campaign.iter_mut().zip(&other.campaign) {
+            a.add(b);
+        }
         self.stats.add(&other.stats);
         self.traced += other.traced;
     }
@@ -170,6 +183,9 @@ impl Tally {
                 (r.energy, r.conversion.as_ref()),
             );
         }
+        for (a, b) in self.campaign.iter_mut().zip(&chunk.campaign) {
+            a.add(b);
+        }
         self.stats.add(&chunk.stats);
     }
 
@@ -189,6 +205,7 @@ impl Tally {
             stats: self.stats,
             seconds,
             threads,
+            campaign: self.campaign,
         }
     }
 }
@@ -211,6 +228,8 @@ pub struct RunResult {
     pub stats: Statistics,
     pub seconds: f64,
     pub threads: usize,
+    /// With a magnet's campaign, its tallies per sensor; else empty.
+    pub campaign: Vec<CampaignTally>,
 }
 
 /// Traces `cfg.photons` photons through the scene.
@@ -334,6 +353,8 @@ pub struct Chunk {
     /// With a magnet's mass scan, each record's weight factor per mass
     /// (record-major; [`crate::magnet::Magnet::convert`]); else empty.
     pub mass_factors: Vec<f64>,
+    /// With a magnet's campaign, the chunk's tallies per sensor; else empty.
+    pub campaign: Vec<CampaignTally>,
     /// Details of the first recorded photons (at most the cap asked for).
     pub listed: Vec<RecordedPhoton>,
     pub stats: Statistics,
@@ -346,14 +367,46 @@ pub struct Chunk {
 #[inline]
 pub fn convert_in_magnet(
     magnet: &crate::magnet::Magnet,
-    (line, energy): ((glam::DVec3, glam::DVec3), f64),
+    ((origin, dir), energy): ((glam::DVec3, glam::DVec3), f64),
     record: &mut Record,
     scan: &mut Vec<f64>,
-) {
-    let converted = magnet.convert(line, energy, scan);
+) -> crate::magnet::ConversionPath {
+    let path = magnet.path_of(origin, dir);
+    let converted = magnet.convert(&path, energy, scan);
     record.weight *= converted;
     if let Some(c) = record.conversion.as_mut() {
         c.entered *= converted;
+    }
+    path
+}
+
+/// A recorded photon's part in the magnet's campaign: its axion weight
+/// (`axion_weight`, before P) times each (setting, mass) pair's P / P_max,
+/// in the bin of its energy and its position `local` on the sensor.
+fn record_campaign(
+    magnet: &crate::magnet::Magnet,
+    (path, axion_weight): (&crate::magnet::ConversionPath, f64),
+    (record, local): (&Record, glam::DVec3),
+    (tallies, factors): (&mut [CampaignTally], &mut Vec<f64>),
+) {
+    let Some(c) = magnet.campaign.as_deref() else {
+        return;
+    };
+    if let Some(bin) = c.bin([local.x, local.y], record.energy) {
+        c.factors(magnet, path, record.energy, factors);
+        tallies[record.sensor as usize].record(bin, axion_weight, factors);
+    }
+}
+
+/// Zeroed campaign tallies for `scene`'s sensors (none without a campaign).
+pub fn campaign_tallies(scene: &Scene) -> Vec<CampaignTally> {
+    match scene.magnet.as_deref().and_then(|m| m.campaign.as_deref()) {
+        Some(c) => scene
+            .sensors
+            .iter()
+            .map(|_| CampaignTally::new(c.pairs.len(), c.bins()))
+            .collect(),
+        None => Vec::new(),
     }
 }
 
@@ -409,12 +462,14 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
     let mut records = Vec::new();
     let mut mass_factors = Vec::new();
     let mut listed = Vec::new();
+    let (mut campaign, mut campaign_factors) = (Vec::new(), Vec::new());
     let n_sources = sources.len() as u64;
     if n_sources == 0 {
         // A scene for visible-light renders only: nothing is emitted.
         return Chunk {
             records,
             mass_factors,
+            campaign,
             listed,
             stats,
         };
@@ -426,6 +481,9 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
         [crate::source::Source::Sun(_)] => scene.magnet.as_deref(),
         _ => None,
     };
+    if magnet.is_some() {
+        campaign = campaign_tallies(scene);
+    }
     for i in range {
         let mut rng = PhotonRng::new(seed, i);
         let photon = sources[(i % n_sources) as usize].emit(&mut rng);
@@ -434,7 +492,14 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
             trace_photon(scene, photon, &mut rng, &mut stats, hook, att)
         {
             if let Some(m) = magnet {
-                convert_in_magnet(m, axion, &mut record, &mut mass_factors);
+                let axion_weight = record.weight;
+                let path = convert_in_magnet(m, axion, &mut record, &mut mass_factors);
+                record_campaign(
+                    m,
+                    (&path, axion_weight),
+                    (&record, local),
+                    (&mut campaign, &mut campaign_factors),
+                );
             }
             if listed.len() < list_cap {
                 listed.push(RecordedPhoton {
@@ -450,6 +515,7 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
     Chunk {
         records,
         mass_factors,
+        campaign,
         listed,
         stats,
     }

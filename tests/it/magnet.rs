@@ -429,6 +429,7 @@ g_agamma = 1e-10
         masses_ev: Vec::new(),
         g_agamma: 1e-10,
         gas: None,
+        campaign: None,
     };
     assert!(standalone(&desc(None), None).is_err());
     assert!(standalone(&desc(Some("bykovskiy_201906")), Some(1000.0)).is_err());

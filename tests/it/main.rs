@@ -2,6 +2,7 @@
 //! checks, Embree-vs-brute-force parity, determinism, and the documented errors.
 
 mod analysis;
+mod campaign;
 mod common;
 mod determinism;
 mod doc_numbers;

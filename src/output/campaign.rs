@@ -1,0 +1,132 @@
+//! A campaign's files ([`crate::magnet::campaign`]): per sensor
+//! `NAME_campaign.npy`, the X-rays per second converting over each
+//! (setting, mass) pair's energy bins and rings ([pair][energy][ring]), and
+//! `campaign.json`: the settings (gas, pressure, photon mass, tracking hours),
+//! the mass nodes, the pairs, the bins and what a unit is.
+//!
+//! Data flow: `output::run_files::write_run` calls [`write_campaign`] with the
+//! run's tallies (`trace::RunResult::campaign`); `reach` reads the files.
+
+use crate::magnet::campaign::Campaign;
+use crate::scene::Scene;
+use crate::trace::RunResult;
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// The campaign's description file.
+pub const CAMPAIGN_FILE: &str = "campaign.json";
+
+/// A sensor's tallies file.
+pub fn tally_file_name(sensor: &str) -> String {
+    format!("{sensor}_campaign.npy")
+}
+
+/// The scene's campaign, if its magnet has one.
+pub fn campaign_of(scene: &Scene) -> Option<&Campaign> {
+    scene.magnet.as_deref().and_then(|m| m.campaign.as_deref())
+}
+
+/// The files a campaign writes (none without one).
+pub fn campaign_file_names(scene: &Scene) -> Vec<String> {
+    match campaign_of(scene) {
+        None => Vec::new(),
+        Some(_) => std::iter::once(CAMPAIGN_FILE.to_string())
+            .chain(scene.sensors.iter().map(|s| tally_file_name(&s.name)))
+            .collect(),
+    }
+}
+
+/// Writes the campaign's files into `dir`; `rate` turns a unit of summed
+/// weight into X-rays per second. Returns the paths.
+pub fn write_campaign(
+    dir: &Path,
+    scene: &Scene,
+    result: &RunResult,
+    rate: f64,
+) -> std::io::Result<Vec<PathBuf>> {
+    let Some(c) = campaign_of(scene) else {
+        return Ok(Vec::new());
+    };
+    let mut written = Vec::new();
+    let (ne, nr) = (c.energy_edges.len() - 1, c.ring_edges.len() - 1);
+    let mut first_signal = None;
+    for (spec, tally) in scene.sensors.iter().zip(&result.campaign) {
+        let values: Vec<f64> = tally.values().iter().map(|v| v * rate).collect();
+        let p = dir.join(tally_file_name(&spec.name));
+        super::write_npy_f64(&p, &[c.pairs.len() as u64, ne as u64, nr as u64], &values)?;
+        written.push(p);
+        first_signal.get_or_insert(values);
+    }
+    // Each setting's rate at its own photon mass (the mass node nearest it),
+    // on the first sensor: what the KSVZ allocation spends time against.
+    let values = first_signal.unwrap_or_default();
+    let signal: Vec<f64> = (0..c.settings.len())
+        .map(|s| own_mass_rate(c, s, &values))
+        .collect();
+    let hours = c.hours(&signal);
+    let settings: Vec<_> = c
+        .settings
+        .iter()
+        .enumerate()
+        .map(|(s, set)| {
+            json!({
+                "label": set.label(),
+                "gas": set.gas.as_ref().map(|g| g.desc.mixture.keys().next().cloned()),
+                "pressure_mbar": set.pressure_mbar(),
+                "temperature_k": set.gas.as_ref().map(|g| g.desc.temperature_k),
+                "number_density_m3": set.gas.as_ref().map(|g| g.number_density_m3),
+                "photon_mass_ev": set.photon_mass_ev,
+                "tracking_hours": hours[s],
+                "rate_at_own_mass_per_s": signal[s],
+            })
+        })
+        .collect();
+    let d = &c.desc;
+    let doc = json!({
+        "what": "per (setting, mass) pair: X-rays per second converting in each sensor's energy bins and rings about centre_mm, at the run's g_agamma (signal ∝ g⁴ for Primakoff): NAME_campaign.npy [pair][energy][ring]",
+        "planner": match &d.plan {
+            Some(p) => json!({
+                "rule": "REST-for-Physics TRestAxionField::GetMassDensityScanning (axionlib PR #78): the first photon mass where the vacuum P falls to half; then m += FWHM(m) / (exp(-m ramp_down) + 1); P on the bore's axis through the scene's field",
+                "up_to_ev": p.up_to_ev, "ramp_down": p.ramp_down, "energy_kev": p.energy_kev,
+            }),
+            None => json!({"rule": "pressures_mbar given"}),
+        },
+        "sees": d.sees,
+        "sees_is": "a setting records a mass where its P on the bore's axis is at least this fraction of the best setting's there, at the lowest, planning or highest tallied energy",
+        "allocation": if d.fractions.is_empty() { json!(d.allocation) } else { json!({"fractions": d.fractions}) },
+        "allocation_rule": "ksvz: each gas setting's share ∝ 1 / (m_γ⁴ × its rate at its own mass), REST's BabyIAXO macro (the time for equal KSVZ counts); equal: gas_hours / settings",
+        "vacuum_hours": d.vacuum_hours,
+        "gas_hours": d.gas_hours,
+        "settings": settings,
+        "masses_ev": c.masses,
+        "pairs": c.pairs.iter().map(|&(s, m)| [s, m]).collect::<Vec<_>>(),
+        "energy_edges_kev": c.energy_edges,
+        "ring_edges_mm": c.ring_edges,
+        "centre_mm": d.centre_mm,
+        "sensors": scene.sensors.iter().map(|s| tally_file_name(&s.name)).collect::<Vec<_>>(),
+    });
+    let p = dir.join(CAMPAIGN_FILE);
+    let mut text = serde_json::to_string_pretty(&doc).expect("JSON of plain values");
+    text.push('\n');
+    crate::files::atomic_write(&p, text.as_bytes())?;
+    written.push(p);
+    Ok(written)
+}
+
+/// Setting `s`'s total rate at the mass node nearest its photon mass.
+fn own_mass_rate(c: &Campaign, s: usize, values: &[f64]) -> f64 {
+    let bins = c.bins();
+    c.pairs
+        .iter()
+        .enumerate()
+        .filter(|(_, &(ps, _))| ps as usize == s)
+        .min_by(|(_, a), (_, b)| {
+            let d = |m: u32| (c.masses[m as usize] - c.settings[s].photon_mass_ev).abs();
+            d(a.1).total_cmp(&d(b.1))
+        })
+        .map_or(0.0, |(k, _)| {
+            values
+                .get(k * bins..(k + 1) * bins)
+                .map_or(0.0, |v| v.iter().sum())
+        })
+}
