@@ -213,6 +213,20 @@ impl FieldMap {
     }
 }
 
+/// The first sample after `k` (at most `n`) whose grid coordinate
+/// u0 + j du has left the cell [i, i + 1] it starts in.
+fn run_end(k: usize, n: usize, (u0, du): (f64, f64), i: usize) -> usize {
+    let edge = match du.partial_cmp(&0.0) {
+        Some(std::cmp::Ordering::Greater) => (i as f64 + 1.0 - u0) / du,
+        Some(std::cmp::Ordering::Less) => (i as f64 - u0) / du,
+        _ => return n,
+    };
+    // Samples j < edge lie inside; one exactly on the far side is in the
+    // next cell (either cell interpolates it alike).
+    let last_inside = edge.ceil().max(k as f64 + 1.0);
+    (last_inside.min(n as f64)) as usize
+}
+
 /// The far corner's index from the x-neighbour's (`c10`) in a map of `nz`
 /// nodes along z.
 #[inline]
@@ -256,32 +270,49 @@ impl FieldMap {
         let dz = du[2].signum() as i64;
         let v = &self.field[..];
         out.reserve(n);
-        for k in 0..n {
-            let z = z0 + dz * k as i64;
+        // The samples come in runs within one x–y cell (a path nearly along
+        // z crosses few cells' sides): the cell is found once per run, the
+        // fractions step linearly within it.
+        let mut k = 0;
+        while k < n {
             let kf = k as f64;
+            let z = z0 + dz * k as i64;
             let (cx, cy) = (
                 self.cell(0, u0[0] + du[0] * kf),
                 self.cell(1, u0[1] + du[1] * kf),
             );
-            let (Some((ix, fx)), Some((iy, fy)), true) = (cx, cy, (0..nz as i64).contains(&z))
-            else {
+            let (Some((ix, _)), Some((iy, _)), true) = (cx, cy, (0..nz as i64).contains(&z)) else {
                 out.push([0.0; 2]);
+                k += 1;
                 continue;
             };
-            let c00 = z as usize + nz * (iy + ny * ix);
-            let (c01, c10) = (c00 + nz, c00 + nz * ny);
-            let (b00, b01, b10, b11) = (v[c00], v[c01], v[c10], v[c11(c10, nz)]);
-            let w = [
-                (1.0 - fx) * (1.0 - fy),
-                (1.0 - fx) * fy,
-                fx * (1.0 - fy),
-                fx * fy,
-            ];
-            let mut b = [0.0; 3];
-            for c in 0..3 {
-                b[c] = w[0] * b00[c] + w[1] * b01[c] + w[2] * b10[c] + w[3] * b11[c];
+            let end = run_end(k, n, (u0[0], du[0]), ix)
+                .min(run_end(k, n, (u0[1], du[1]), iy))
+                .min(match dz > 0 {
+                    true => (nz as i64 - z0).max(0) as usize,
+                    false => (z0 + 1).max(0) as usize,
+                });
+            let base = nz * (iy + ny * ix);
+            let (c01, c10) = (base + nz, base + nz * ny);
+            let c11 = c11(c10, nz);
+            for j in k..end.max(k + 1) {
+                let jf = j as f64;
+                let fx = u0[0] + du[0] * jf - ix as f64;
+                let fy = u0[1] + du[1] * jf - iy as f64;
+                let zi = (z0 + dz * j as i64) as usize;
+                let (b00, b01, b10, b11) = (v[base + zi], v[c01 + zi], v[c10 + zi], v[c11 + zi]);
+                let w = [
+                    (1.0 - fx) * (1.0 - fy),
+                    (1.0 - fx) * fy,
+                    fx * (1.0 - fy),
+                    fx * fy,
+                ];
+                let b: [f64; 3] = std::array::from_fn(|c| {
+                    w[0] * b00[c] + w[1] * b01[c] + w[2] * b10[c] + w[3] * b11[c]
+                });
+                out.push(project(b));
             }
-            out.push(project(b));
+            k = end.max(k + 1);
         }
     }
 
