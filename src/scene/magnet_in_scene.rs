@@ -40,6 +40,15 @@ pub(super) fn find_bore(
             "magnet: masses_ev (a mass scan) needs the magnet on: enabled = false leaves the axions unconverted (-D magnet=true in the shipped scenes)",
         ));
     }
+    if let Some(m) = desc.magnet.as_ref().filter(|m| {
+        let t = m.get_ref();
+        !t.enabled && t.campaign.as_ref().is_some_and(|c| c.enabled)
+    }) {
+        return Err(at.error(
+            m.span(),
+            "magnet: a campaign (campaign.enabled) needs the magnet on: enabled = false leaves the axions unconverted (-D magnet=true in the shipped scenes)",
+        ));
+    }
     let Some(m) = desc.magnet.as_ref().filter(|m| m.get_ref().enabled) else {
         return Ok(None);
     };

@@ -9,12 +9,21 @@ use traxer::trace::{run, RunConfig};
 
 /// BabyIAXO's scene with `campaign` appended as its magnet's campaign.
 fn babyiaxo_with(dir: &std::path::Path, campaign: &str) -> std::path::PathBuf {
-    let text = std::fs::read_to_string(repo().join("scenes/babyiaxo_axion_image.toml")).unwrap();
+    let text = without_campaign();
     write(
         dir,
         "c.toml",
         &format!("{text}\n[magnet.campaign]\n{campaign}\n"),
     )
+}
+
+/// BabyIAXO's scene without its own campaign table.
+fn without_campaign() -> String {
+    let text = std::fs::read_to_string(repo().join("scenes/babyiaxo_axion_image.toml")).unwrap();
+    let cut = text
+        .find("\n[magnet.campaign]")
+        .expect("the scene has a campaign");
+    text[..cut].to_string()
 }
 
 const SMALL: &str = "temperature_k = 1.8\npressures_mbar = [1.0, 3.0]\nvacuum_masses = 3\nmasses_per_step = 2\nvacuum_hours = 100.0\ngas_hours = 200.0\nenergy_kev = [1.0, 10.0, 6]\nrings_mm = [20.0, 8]\nsees = 0.05\n";
@@ -107,9 +116,7 @@ fn the_planner_starts_where_a_uniform_fields_vacuum_p_halves() {
     // (sin x / x = 1/√2), q = m²/2E: the first setting's photon mass is
     // √(4 · 1.391557 E / L), here from the bore's 10 m and 4.2 keV.
     let dir = tempfile::tempdir().unwrap();
-    let text = std::fs::read_to_string(repo().join("scenes/babyiaxo_axion_image.toml"))
-        .unwrap()
-        .replace("field_map = \"bykovskiy_201906\"", "field_t = 2.0");
+    let text = without_campaign().replace("field_map = \"bykovskiy_201906\"", "field_t = 2.0");
     let path = write(
         dir.path(),
         "u.toml",

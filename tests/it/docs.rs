@@ -33,7 +33,10 @@ fn sections(block: &str) -> Vec<String> {
         if code == "..." {
             continue;
         }
-        if code.starts_with('[') {
+        // A sub-table (`[magnet.campaign]`) stays with its table: alone it
+        // would lack the table's required keys.
+        let sub_table = code.starts_with('[') && !code.starts_with("[[") && code.contains('.');
+        if code.starts_with('[') && !sub_table {
             out.push(String::new());
         }
         let line = line.split_once("  ...").map_or(line, |(head, _)| head);
