@@ -60,7 +60,7 @@ pub(super) fn build(
         materials.add_generated(&m.name, m.desc, m.span);
     }
 
-    let mut sources = build_sources(at, &desc, dir, &inputs)?;
+    let sources = build_sources(at, &desc, dir, &inputs)?;
     let bore = super::magnet_in_scene::find_bore(at, &desc)?;
     (materials.processes, materials.masses) = (
         sources
@@ -83,8 +83,7 @@ pub(super) fn build(
             })?;
         objects.push(object);
     }
-    let magnet =
-        super::magnet_in_scene::attach(at, &desc, bore, &objects, &mut sources, dir, &inputs)?;
+    let magnet = super::magnet_in_scene::attach(at, &desc, bore, &objects, &sources, dir, &inputs)?;
     if let Some((name, span)) = materials.unused() {
         return Err(at.error(span, format!("material `{name}` is not used by any object")));
     }

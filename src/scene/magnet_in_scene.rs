@@ -88,7 +88,7 @@ pub(super) fn attach(
     desc: &SceneDesc,
     bore: Option<(usize, CylinderDesc)>,
     objects: &[Object],
-    sources: &mut [crate::source::Source],
+    sources: &[crate::source::Source],
     dir: &Path,
     inputs: &InputFiles,
 ) -> Result<Option<Arc<Magnet>>, SceneError> {

@@ -117,7 +117,7 @@ impl Tally {
                 .campaign
                 .iter()
                 .map(|c| c.sums.len())
-                .eq(campaign_tallies(scene).iter().map(|c| c.sums.len()))
+                .eq(campaign_sizes(scene))
             && self.stats.hits_per_object.len() == scene.objects.len()
             && self.stats.recorded_per_sensor.len() == scene.sensors.len()
     }
@@ -395,6 +395,15 @@ fn record_campaign(
     if let Some(bin) = c.bin([local.x, local.y], record.energy) {
         c.factors(magnet, path, record.energy, factors);
         tallies[record.sensor as usize].record(bin, axion_weight, factors);
+    }
+}
+
+/// The sums of each sensor's campaign tally in `scene` (none without a
+/// campaign).
+fn campaign_sizes(scene: &Scene) -> Vec<usize> {
+    match scene.magnet.as_deref().and_then(|m| m.campaign.as_deref()) {
+        Some(c) => vec![c.pairs.len() * c.bins(); scene.sensors.len()],
+        None => Vec::new(),
     }
 }
 
