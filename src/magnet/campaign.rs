@@ -379,6 +379,14 @@ fn check(d: &CampaignDesc) -> Result<(), CampaignError> {
         )
         .into());
     }
+    if !d.centre_mm.iter().all(|c| c.is_finite()) {
+        return Err(format!(
+            "centre_mm = [{}, {}]: a point on the sensor (mm, finite)",
+            crate::text::number(d.centre_mm[0]),
+            crate::text::number(d.centre_mm[1])
+        )
+        .into());
+    }
     if d.masses_per_step == 0 || d.masses_per_step > 1000 {
         return Err(format!("masses_per_step = {}: 1 … 1000", d.masses_per_step).into());
     }

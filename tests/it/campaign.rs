@@ -175,6 +175,9 @@ fn bad_campaigns_are_refused_by_key() {
         ("temperature_k = 1.8\nplan = { up_to_ev = 0.25 }\nmasses_per_step = 200\nrings_mm = [20.0, 100]\nvacuum_hours = 1.0\ngas_hours = 1.0", "tallied sums, more than"),
         ("temperature_k = 1.8\nvacuum_hours = 1.0\ngas_hours = 1.0", "plan = { up_to_ev"),
         ("temperature_k = -1.0\npressures_mbar = [1.0]\nvacuum_hours = 1.0\ngas_hours = 1.0", "temperature_k"),
+        ("temperature_k = 1.8\npressures_mbar = [1.0]\ncentre_mm = [nan, 0.0]\nvacuum_hours = 1.0\ngas_hours = 1.0", "centre_mm"),
+        ("temperature_k = 1.8\npressures_mbar = [1e300]\nvacuum_hours = 1.0\ngas_hours = 1.0", "campaign"),
+        ("temperature_k = 1.8\npressures_mbar = [1.0]\nvacuum_hours = nan\ngas_hours = 1.0", "vacuum_hours"),
     ] {
         let path = babyiaxo_with(dir.path(), campaign);
         let e = load(&path, &["magnet=true"]).err().unwrap_or_else(|| panic!("accepted: {}", campaign.replace('\n', "; ")));

@@ -404,8 +404,7 @@ impl SunSource {
 
     /// Axions per second that one unit of weight stands for, summed over a run of
     /// `photons` photons: L·A / (4π D_min²) / photons (with a magnet, the
-    /// scene multiplies it by the magnet's weight scale:
-    /// [`crate::scene::Scene::rate_per_unit_weight`]).
+    /// scene multiplies it by the magnet's weight scale).
     pub fn rate_per_unit_weight(&self, photons: u64) -> f64 {
         self.emission_draw.luminosity * self.target.area()
             / (4.0 * std::f64::consts::PI * self.nearest_mm2)
