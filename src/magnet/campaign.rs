@@ -402,6 +402,11 @@ fn check(d: &CampaignDesc) -> Result<(), CampaignError> {
             .into())
         }
     }
+    check_split(d)
+}
+
+/// The hand-given pressures and exposure fractions of a campaign.
+fn check_split(d: &CampaignDesc) -> Result<(), CampaignError> {
     if let Some(p) = &d.pressures_mbar {
         if p.is_empty() {
             return Err("pressures_mbar = []: no gas settings (leave the key out for a vacuum campaign, or plan them: plan = { up_to_ev = … })".into());
