@@ -9,6 +9,7 @@
 //! sensor positions, whose diameters [`focus::fit_defocus`] fits.
 
 pub mod centre;
+pub mod combined;
 mod doubts;
 pub mod eef;
 mod finished;
