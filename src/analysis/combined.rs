@@ -84,7 +84,7 @@ pub fn median_expected_scale(channels: &[Channel]) -> Option<ScaleLimit> {
         .filter(|c| c.signal > 0.0)
         .collect();
     let total: f64 = with_signal.iter().map(|c| c.signal).sum();
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return None;
     }
     let backgrounds: Vec<&Channel> = with_signal.iter().filter(|c| c.background > 0.0).collect();

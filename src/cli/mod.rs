@@ -23,6 +23,7 @@ macro_rules! tell {
 pub mod args;
 pub mod bench;
 pub mod cache;
+mod campaign_reach;
 pub mod compare;
 pub mod conversion;
 pub mod eef;

@@ -5,6 +5,7 @@ use super::signal::RegionArgs;
 use super::InputError;
 use std::path::PathBuf;
 use traxer::analysis::reach::Exposure;
+use traxer::output::campaign_read::is_campaign_run;
 use traxer::output::run_read::{read_run_signal, RunReadError};
 use traxer::output::{write_reach, Provenance, REACH_FILES};
 use traxer::studies::reach::{reach, Reach, ReachError};
@@ -21,6 +22,14 @@ use traxer::studies::reach::{reach, Reach, ReachError};
 /// ABC run, so the limit on the counts gives the coupling's. Writes reach.csv,
 /// reach.png (log m_a against log coupling, a curve per run, the vacuum
 /// plateau dashed) and reach.json into --out (default FIRST_RUN/reach).
+///
+/// A campaign run (traced with [magnet.campaign], e.g. BabyIAXO's -D
+/// campaign=true) gives one curve: at each mass every setting that recorded
+/// it combined (CLs of the likelihood ratio of all their channels, exact by
+/// Fourier transform; one channel is the one-bin limit), each setting's hours
+/// from the run; its region is the campaign's rings out to --radius-mm (a
+/// ring edge) or --fraction, and it also writes reach_settings.csv (every
+/// setting's part at every mass).
 #[derive(clap::Args)]
 pub struct ReachArgs {
     /// The results folders of the traces (one curve each).
@@ -36,9 +45,14 @@ pub struct ReachArgs {
     #[arg(value_name = "B", long)]
     pub background: f64,
     /// Hours of tracking the Sun: one value for every run, or one per run
-    /// (H1,H2,...: a gas setting's share of the gas phase).
-    #[arg(value_name = "H", long, value_delimiter = ',', required = true)]
+    /// (H1,H2,...: a gas setting's share of the gas phase); for a campaign,
+    /// one per setting (default: the campaign's own).
+    #[arg(value_name = "H", long, value_delimiter = ',')]
     pub tracking_hours: Vec<f64>,
+    /// A campaign's channels: each setting's energy bins × rings inside the
+    /// region (default: one channel per setting).
+    #[arg(long)]
+    pub binned: bool,
     /// Identical bores, each with its optic and detector (signal and
     /// background both scale with it).
     #[arg(value_name = "N", long, default_value_t = 1.0)]
@@ -53,6 +67,25 @@ pub struct ReachArgs {
 
 pub fn run(a: ReachArgs) -> anyhow::Result<()> {
     let fail = |e: ReachError| InputError(e.0);
+    if a.runs.iter().any(|d| is_campaign_run(d)) {
+        return super::campaign_reach::run(super::campaign_reach::CampaignReachArgs {
+            runs: &a.runs,
+            region: &a.region,
+            window: &a.window,
+            background: a.background,
+            tracking_hours: &a.tracking_hours,
+            bores: a.bores,
+            efficiency: a.efficiency,
+            binned: a.binned,
+            output: &a.output,
+        });
+    }
+    if a.tracking_hours.is_empty() {
+        return Err(InputError("--tracking-hours H: the hours of tracking the Sun (one for every run, or one per run); only a campaign run carries its own".into()).into());
+    }
+    if a.binned {
+        return Err(InputError("--binned: the channels of a campaign run's tallies; these runs are not campaigns (their limit is one bin: the region and window)".into()).into());
+    }
     let exposures = a
         .tracking_hours
         .iter()

@@ -19,11 +19,16 @@
 //! - **The masses**: `vacuum_masses` nodes log-spaced from `lightest_ev` up
 //!   to the first setting, then `masses_per_step` evenly between each
 //!   setting's photon mass and the next, the last setting's own mass the last.
-//! - **Which setting records which mass**: setting s records m when its P on
-//!   the axis at m is at least `sees` of the best setting's there, at one of
-//!   the tallies' lowest, the planning and the highest energies (REST
-//!   combines, per mass, only the settings close to it). A setting left out
-//!   at m would add at most `sees`² of the best one's information there.
+//! - **Which setting records which mass**: what a setting would count at m
+//!   is its P on the axis times its planned hours (the allocation's, with
+//!   each setting's on-axis P at its own mass as its rate for "ksvz"); at
+//!   each mass the settings that would count least are left out as long as
+//!   together they count at most `sees` of all settings, at each of the
+//!   tallies' lowest, the planning and the highest energies (REST combines,
+//!   per mass, only the settings close to it). Their signal would move a
+//!   signal-limited limit on g by ≲ `sees`/4, less where the background
+//!   limits it (tested against a campaign where every setting records
+//!   every mass).
 //!
 //! Data flow: `scene::magnet` reads the `campaign` table of `[magnet]` and
 //! calls [`Campaign::plan`]; the photon loop calls [`Campaign::factors`] for
@@ -225,7 +230,14 @@ impl Campaign {
             .map(|i| desc.rings_mm[0] * i as f64 / nr as f64)
             .collect();
         let checks = [e_lo, desc.plan.as_ref().map_or(4.2, |p| p.energy_kev), e_hi];
-        let pairs = seen_pairs(magnet, &axis, &settings, &masses, (&checks, desc.sees));
+        let hours = planned_hours(desc, &settings, &axis, magnet.g_agamma_gev);
+        let pairs = seen_pairs(
+            magnet,
+            &axis,
+            (&settings, &hours),
+            &masses,
+            (&checks, desc.sees),
+        );
         let sums = pairs.len() * (energy_edges.len() - 1) * nr;
         if sums > MAX_TALLY_SUMS {
             return Err(format!(
@@ -299,28 +311,56 @@ impl Campaign {
     /// number of counts, t ∝ 1 / (m_γ⁴ S), where `signal[s]` is the
     /// setting's traced rate S at its own photon mass).
     pub fn hours(&self, signal: &[f64]) -> Vec<f64> {
-        let gas: Vec<usize> = (0..self.settings.len())
-            .filter(|&s| self.settings[s].gas.is_some())
-            .collect();
-        let weights: Vec<f64> = match self.desc.allocation.as_str() {
-            "ksvz" => gas
-                .iter()
-                .map(|&s| match signal[s] > 0.0 {
-                    // A setting that recorded nothing gets no time (none
-                    // would make it see anything).
-                    true => 1.0 / (self.settings[s].photon_mass_ev.powi(4) * signal[s]),
-                    false => 0.0,
-                })
-                .collect(),
-            _ if !self.desc.fractions.is_empty() => self.desc.fractions.clone(),
-            _ => vec![1.0; gas.len()],
-        };
-        let total: f64 = weights.iter().sum();
-        let mut out = vec![self.desc.vacuum_hours; self.settings.len()];
-        for (k, &s) in gas.iter().enumerate() {
-            out[s] = self.desc.gas_hours * weights[k] / total;
-        }
-        out
+        split_hours(&self.desc, &self.settings, signal)
+    }
+}
+
+/// [`Campaign::hours`] of `settings`, whose rates at their own masses are
+/// `signal`.
+fn split_hours(desc: &CampaignDesc, settings: &[Setting], signal: &[f64]) -> Vec<f64> {
+    let gas: Vec<usize> = (0..settings.len())
+        .filter(|&s| settings[s].gas.is_some())
+        .collect();
+    let weights: Vec<f64> = match desc.allocation.as_str() {
+        "ksvz" => gas
+            .iter()
+            .map(|&s| match signal[s] > 0.0 {
+                // A setting that recorded nothing gets no time (none
+                // would make it see anything).
+                true => 1.0 / (settings[s].photon_mass_ev.powi(4) * signal[s]),
+                false => 0.0,
+            })
+            .collect(),
+        _ if !desc.fractions.is_empty() => desc.fractions.clone(),
+        _ => vec![1.0; gas.len()],
+    };
+    let total: f64 = weights.iter().sum();
+    let mut out = vec![desc.vacuum_hours; settings.len()];
+    for (k, &s) in gas.iter().enumerate() {
+        out[s] = desc.gas_hours * weights[k] / total;
+    }
+    out
+}
+
+/// The hours the plan expects each setting to get: [`split_hours`] with
+/// each setting's P on the axis at its own photon mass and the planning
+/// energy as its rate (all 1 where no setting has hours, so that P alone
+/// decides what a setting sees).
+fn planned_hours(
+    desc: &CampaignDesc,
+    settings: &[Setting],
+    axis: &ConversionPath,
+    g: f64,
+) -> Vec<f64> {
+    let e = desc.plan.as_ref().map_or(4.2, |p| p.energy_kev);
+    let signal: Vec<f64> = settings
+        .iter()
+        .map(|s| axis.probability_in(g, medium(s.gas.as_ref(), e), e, s.photon_mass_ev))
+        .collect();
+    let hours = split_hours(desc, settings, &signal);
+    match hours.iter().any(|h| *h > 0.0) {
+        true => hours,
+        false => vec![1.0; settings.len()],
     }
 }
 
@@ -482,48 +522,55 @@ fn mass_nodes(d: &CampaignDesc, settings: &[Setting]) -> Vec<f64> {
     out
 }
 
-/// The (setting, mass) pairs recorded: setting s at mass m when its P on the
-/// axis is ≥ `sees` × the best setting's at m at one of `energies`.
+/// The (setting, mass) pairs recorded: at each of `energies` and each mass,
+/// every setting but those that together would count (P on the axis × the
+/// planned hours: not P alone, the vacuum's hours are some 70 gas settings'
+/// each) at most `sees` of what all settings count there.
 fn seen_pairs(
     magnet: &Magnet,
     axis: &ConversionPath,
-    settings: &[Setting],
+    (settings, hours): (&[Setting], &[f64]),
     masses: &[f64],
     (energies, sees): (&[f64], f64),
 ) -> Vec<(u32, u32)> {
     let g = magnet.g_agamma_gev;
-    // p[e][s][m]
+    // p[e][s][m]: P × the setting's planned hours, what it would count.
     let p: Vec<Vec<Vec<f64>>> = energies
         .iter()
         .map(|&e| {
             settings
                 .iter()
-                .map(|s| {
+                .zip(hours)
+                .map(|(s, h)| {
                     let med = medium(s.gas.as_ref(), e);
                     masses
                         .iter()
-                        .map(|&m| axis.probability_in(g, med, e, m))
+                        .map(|&m| h * axis.probability_in(g, med, e, m))
                         .collect()
                 })
                 .collect()
         })
         .collect();
-    // The best setting's P at each energy and mass.
-    let best: Vec<Vec<f64>> = p
-        .iter()
-        .map(|at_e| {
-            (0..masses.len())
-                .map(|m| at_e.iter().map(|s| s[m]).fold(0.0, f64::max))
-                .collect()
-        })
-        .collect();
+    // At each energy and mass the settings that would count least are left
+    // out while together they count at most `sees` of all of them.
+    let mut seen = vec![vec![false; masses.len()]; settings.len()];
+    let mut order: Vec<usize> = (0..settings.len()).collect();
+    for at_e in &p {
+        for m in 0..masses.len() {
+            let total: f64 = at_e.iter().map(|s| s[m]).sum();
+            order.sort_by(|&a, &b| at_e[a][m].total_cmp(&at_e[b][m]));
+            let mut left_out = 0.0;
+            for &s in &order {
+                left_out += at_e[s][m];
+                if total > 0.0 && left_out > sees * total {
+                    seen[s][m] = true;
+                }
+            }
+        }
+    }
     let mut pairs = Vec::new();
-    for s in 0..settings.len() {
-        for (m, _) in masses.iter().enumerate() {
-            let seen = p
-                .iter()
-                .zip(&best)
-                .any(|(at_e, b)| b[m] > 0.0 && at_e[s][m] >= sees * b[m]);
+    for (s, row) in seen.iter().enumerate() {
+        for (m, &seen) in row.iter().enumerate() {
             if seen {
                 pairs.push((s as u32, m as u32));
             }

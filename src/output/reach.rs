@@ -113,13 +113,25 @@ fn plot_data(curves: &[ReachCurve]) -> PlotData {
 
 /// 1, 2 and 5 × 10ⁿ within [lo, hi] (every decade's 1 alone beyond three
 /// decades).
-fn ticks(lo: f64, hi: f64) -> Vec<f64> {
+pub(super) fn ticks(lo: f64, hi: f64) -> Vec<f64> {
     let (a, b) = (lo.log10().floor() as i32, hi.log10().ceil() as i32);
     let steps: &[f64] = if b - a > 3 { &[1.0] } else { &[1.0, 2.0, 5.0] };
     (a..=b)
         .flat_map(|e| steps.iter().map(move |k| k * 10f64.powi(e)))
         .filter(|v| *v >= lo && *v <= hi)
         .collect()
+}
+
+/// A tick at 1, 2 or 5 × 10ⁿ labelled (2×10⁻¹¹): a limit curve spans a
+/// decade or two; other ticks unlabelled.
+pub(super) fn power(v: f64) -> String {
+    let e = v.log10().floor();
+    let m = v / 10f64.powf(e);
+    match [1.0, 2.0, 5.0].iter().find(|k| (m / *k - 1.0).abs() < 1e-6) {
+        Some(1.0) => format!("10{}", superscript(e as i32)),
+        Some(k) => format!("{k}×10{}", superscript(e as i32)),
+        None => String::new(),
+    }
 }
 
 /// log m_a against log coupling; massless points (m_a = 0) set the dashed
@@ -152,17 +164,6 @@ fn write_plot(path: &Path, curves: &[ReachCurve], coupling: &str) -> std::io::Re
                     (x0..x1).log_scale().with_key_points(ticks(x0, x1)),
                     (y0..y1).log_scale().with_key_points(ticks(y0, y1)),
                 )?;
-            // Ticks at 1, 2 and 5 × 10ⁿ are labelled (2×10⁻¹¹): a limit
-            // curve spans a decade or two.
-            let power = |v: f64| {
-                let e = v.log10().floor();
-                let m = v / 10f64.powf(e);
-                match [1.0, 2.0, 5.0].iter().find(|k| (m / *k - 1.0).abs() < 1e-6) {
-                    Some(1.0) => format!("10{}", superscript(e as i32)),
-                    Some(k) => format!("{k}×10{}", superscript(e as i32)),
-                    None => String::new(),
-                }
-            };
             chart
                 .configure_mesh()
                 .x_desc("mₐ (eV)")

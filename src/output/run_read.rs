@@ -18,7 +18,7 @@ use std::path::Path;
 #[error("{0}")]
 pub struct RunReadError(pub String);
 
-fn read_json(path: &Path) -> Result<Value, RunReadError> {
+pub(super) fn read_json(path: &Path) -> Result<Value, RunReadError> {
     let text = std::fs::read_to_string(path).map_err(|e| {
         RunReadError(format!(
             "{}: {e} (give the results folder of a finished `traxer trace`)",
@@ -123,7 +123,7 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
 }
 
 /// The sensor asked for, or the run's only one.
-fn sensor_name(summary: &Value, sensor: Option<&str>) -> Result<String, String> {
+pub(super) fn sensor_name(summary: &Value, sensor: Option<&str>) -> Result<String, String> {
     let names: Vec<&str> = summary["sensors"]
         .as_array()
         .map(|a| a.iter().filter_map(|s| s["name"].as_str()).collect())
@@ -159,7 +159,7 @@ fn gas_of(magnet: &Value) -> Option<String> {
 
 /// The run's emission ("primakoff", "abc", "primakoff+abc" or "a table
 /// file") and its g_ae, from the source's productions.
-fn emission_of(source: &Value) -> (&'static str, Option<f64>) {
+pub(super) fn emission_of(source: &Value) -> (&'static str, Option<f64>) {
     let production = |p: &str| {
         source["productions"]
             .as_array()

@@ -6,6 +6,7 @@
 //! prints them.
 
 mod area_sweep;
+pub mod campaign_reach;
 pub mod compare;
 pub mod effective_area;
 pub mod fit;

@@ -127,7 +127,7 @@ pub fn reach(
         let exposure = &exposures[k.min(exposures.len() - 1)];
         let s =
             signal(run, region).map_err(|e| ReachError(format!("{}: {}", dir.display(), e.0)))?;
-        let coupling = coupling_of(run, dir)?;
+        let coupling = coupling_of((&run.emission, run.g_agamma, run.g_ae), dir)?;
         if kind.is_some_and(|k: &'static str| k != coupling.name()) {
             return Err(ReachError("the runs limit different couplings (Primakoff and ABC runs): give runs of one emission".into()));
         }
@@ -192,7 +192,12 @@ pub fn reach(
 
 /// The bands of `s` inside `window` (their edges), or why not.
 fn window_bands(s: &Signal, window: Option<[f64; 2]>) -> Result<(usize, usize), ReachError> {
-    let e = &s.band_edges;
+    band_range(&s.band_edges, window)
+}
+
+/// The first and past-the-last energy bands between `window`'s edges
+/// (edges of `e`), or why not.
+pub fn band_range(e: &[f64], window: Option<[f64; 2]>) -> Result<(usize, usize), ReachError> {
     let Some([lo, hi]) = window else {
         return Ok((0, e.len() - 1));
     };
@@ -214,11 +219,14 @@ fn window_bands(s: &Signal, window: Option<[f64; 2]>) -> Result<(usize, usize), 
     }
 }
 
-/// What a run's signal limits.
-fn coupling_of(run: &RunSignal, dir: &Path) -> Result<Coupling, ReachError> {
-    match (run.emission.as_str(), run.g_ae) {
-        ("primakoff", _) => Ok(Coupling::GAgamma(run.g_agamma)),
-        ("abc", Some(g_ae)) => Ok(Coupling::GAeGAgamma(g_ae * run.g_agamma)),
+/// What a run limits, from its emission, g_aγ and g_ae.
+pub fn coupling_of(
+    (emission, g_agamma, g_ae): (&str, f64, Option<f64>),
+    dir: &Path,
+) -> Result<Coupling, ReachError> {
+    match (emission, g_ae) {
+        ("primakoff", _) => Ok(Coupling::GAgamma(g_agamma)),
+        ("abc", Some(g_ae)) => Ok(Coupling::GAeGAgamma(g_ae * g_agamma)),
         (e, _) => Err(ReachError(format!(
             "{}: the run's emission is {e}: its signal does not scale as one coupling; trace -D emission=primakoff for the reach in g_aγ, or -D emission=abc for g_ae·g_aγ",
             dir.display()

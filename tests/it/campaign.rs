@@ -8,7 +8,7 @@ use traxer::scene::Scene;
 use traxer::trace::{run, RunConfig};
 
 /// BabyIAXO's scene with `campaign` appended as its magnet's campaign.
-fn babyiaxo_with(dir: &std::path::Path, campaign: &str) -> std::path::PathBuf {
+pub fn babyiaxo_with(dir: &std::path::Path, campaign: &str) -> std::path::PathBuf {
     let text = without_campaign();
     write(
         dir,
@@ -26,7 +26,7 @@ fn without_campaign() -> String {
     text[..cut].to_string()
 }
 
-const SMALL: &str = "temperature_k = 1.8\npressures_mbar = [1.0, 3.0]\nvacuum_masses = 3\nmasses_per_step = 2\nvacuum_hours = 100.0\ngas_hours = 200.0\nenergy_kev = [1.0, 10.0, 6]\nrings_mm = [20.0, 8]\nsees = 0.05\n";
+pub const SMALL: &str = "temperature_k = 1.8\npressures_mbar = [1.0, 3.0]\nvacuum_masses = 3\nmasses_per_step = 2\nvacuum_hours = 100.0\ngas_hours = 200.0\nenergy_kev = [1.0, 10.0, 6]\nrings_mm = [20.0, 8]\nsees = 0.05\n";
 
 fn load(path: &std::path::Path, defines: &[&str]) -> Result<Scene, String> {
     let d: Vec<String> = defines.iter().map(|s| s.to_string()).collect();

@@ -3,6 +3,7 @@
 
 mod analysis;
 mod campaign;
+mod campaign_reach;
 mod common;
 mod determinism;
 mod doc_numbers;
