@@ -36,6 +36,8 @@
 //! writes the tallies and each setting's exposure ([`Campaign::hours`]).
 
 use super::buffer_gas::{BufferGas, BufferGasDesc};
+use super::conversion::momentum_transfer;
+use super::legendre::run_probabilities;
 pub use super::planner::{CampaignError, PlanDesc, MAX_SETTINGS};
 use super::{medium, ConversionPath, Magnet};
 use serde::Deserialize;
@@ -170,7 +172,7 @@ pub struct Campaign {
 /// The most (setting, mass) pairs × bins a campaign tallies: 4 × 10⁶ sums of
 /// 16 bytes, 64 MB per sensor for the run and as much for each chunk being
 /// traced.
-pub const MAX_TALLY_SUMS: usize = 4_000_000;
+pub const MAX_TALLY_SUMS: usize = 6_000_000;
 
 impl Campaign {
     /// Plans the campaign `desc` on `magnet` (its field and coupling; its own
@@ -287,20 +289,31 @@ impl Campaign {
         out: &mut Vec<f64>,
     ) {
         out.clear();
-        let mut current = u32::MAX;
-        let mut med = (0.0, 0.0);
-        for &(s, m) in &self.pairs {
-            if s != current {
-                current = s;
-                med = medium(self.settings[s as usize].gas.as_ref(), energy_kev);
-            }
-            let p = path.probability_in(
-                magnet.g_agamma_gev,
-                med,
-                energy_kev,
-                self.masses[m as usize],
-            );
-            out.push(p / magnet.weight_scale);
+        let g = magnet.g_agamma_gev * 1e-9;
+        // The settings' runs of pairs (pairs are by setting), each with its
+        // medium; the transfers q first, and the largest |x| = |κ|L/2.
+        let mut runs = Vec::with_capacity(self.settings.len());
+        let mut largest_x: f64 = 0.0;
+        let length = match path {
+            ConversionPath::Uniform { length, .. } => *length,
+            ConversionPath::Sampled(field) => field.length(),
+        };
+        let mut start = 0;
+        while start < self.pairs.len() {
+            let s = self.pairs[start].0;
+            let end = start + self.pairs[start..].partition_point(|p| p.0 == s);
+            let (m_gamma2, gamma) = medium(self.settings[s as usize].gas.as_ref(), energy_kev);
+            out.extend(self.pairs[start..end].iter().map(|p| {
+                let q = momentum_transfer(self.masses[p.1 as usize], m_gamma2, energy_kev * 1e3);
+                largest_x = largest_x.max(0.5 * length * (0.25 * gamma * gamma + q * q).sqrt());
+                q
+            }));
+            runs.push((start..end, gamma));
+            start = end;
+        }
+        run_probabilities(path, g, (&runs, largest_x), out);
+        for f in out.iter_mut() {
+            *f /= magnet.weight_scale;
         }
     }
 

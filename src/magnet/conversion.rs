@@ -74,29 +74,89 @@ impl PathField {
     /// h e^{iqL} [w₀ (H − b_N) + w₁ ζ (H − ζᴺ b₀)]. |ζ| ≤ 1: the pass never
     /// grows, however strong the attenuation; e^{iqL} drops out of |A|².
     pub fn probability(&self, g: f64, q: f64, gamma: f64) -> f64 {
-        let n = self.samples.len();
-        if n < 2 {
+        if self.samples.len() < 2 {
             return 0.0;
         }
-        let h = self.step;
-        let kappa = Complex64::new(0.5 * gamma, q);
-        let (w0, w1) = filon_weights(kappa * h);
-        let zeta = (-kappa * h).exp();
-        let zeta_n = (-kappa * self.length()).exp();
-        // Two independent chains, one per component (they overlap in the CPU).
+        let lane = self.lane(q, gamma);
         let (mut hx, mut hy) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
         for b in &self.samples {
-            hx = hx * zeta + b[0];
-            hy = hy * zeta + b[1];
+            hx = hx * lane.zeta + b[0];
+            hy = hy * lane.zeta + b[1];
         }
-        let (first, last) = (self.samples[0], self.samples[n - 1]);
-        let amplitude =
-            |hc: Complex64, b0: f64, bn: f64| w0 * (hc - bn) + w1 * zeta * (hc - zeta_n * b0);
+        self.finish(g, &lane, hx, hy)
+    }
+
+    /// [`PathField::probability`] at each momentum transfer of `q` (replaced
+    /// by its P), one attenuation `gamma` for all: the values of one call
+    /// each, bit for bit. The Horner passes of `LANES` transfers run side by
+    /// side over the samples: a pass is a chain of dependent complex
+    /// products, and independent chains fill the CPU's pipelines (about
+    /// three times the speed of one pass after another).
+    pub fn probabilities_in_place(&self, g: f64, gamma: f64, q: &mut [f64]) {
+        const LANES: usize = 8;
+        if self.samples.len() < 2 {
+            q.fill(0.0);
+            return;
+        }
+        let mut blocks = q.chunks_exact_mut(LANES);
+        for block in &mut blocks {
+            let lanes: [Lane; LANES] = std::array::from_fn(|l| self.lane(block[l], gamma));
+            // Real and imaginary parts apart (the compiler's vectors take
+            // them so), the operations of Complex64's product and sum.
+            let zr: [f64; LANES] = std::array::from_fn(|l| lanes[l].zeta.re);
+            let zi: [f64; LANES] = std::array::from_fn(|l| lanes[l].zeta.im);
+            let (mut xr, mut xi, mut yr, mut yi) =
+                ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+            for b in &self.samples {
+                for l in 0..LANES {
+                    let (r, i) = (xr[l] * zr[l] - xi[l] * zi[l], xr[l] * zi[l] + xi[l] * zr[l]);
+                    (xr[l], xi[l]) = (r + b[0], i);
+                    let (r, i) = (yr[l] * zr[l] - yi[l] * zi[l], yr[l] * zi[l] + yi[l] * zr[l]);
+                    (yr[l], yi[l]) = (r + b[1], i);
+                }
+            }
+            for l in 0..LANES {
+                let (hx, hy) = (Complex64::new(xr[l], xi[l]), Complex64::new(yr[l], yi[l]));
+                block[l] = self.finish(g, &lanes[l], hx, hy);
+            }
+        }
+        for q in blocks.into_remainder() {
+            *q = self.probability(g, *q, gamma);
+        }
+    }
+
+    /// The constants of one pass at momentum transfer `q` and attenuation
+    /// `gamma`.
+    fn lane(&self, q: f64, gamma: f64) -> Lane {
+        let kappa = Complex64::new(0.5 * gamma, q);
+        let (w0, w1) = filon_weights(kappa * self.step);
+        Lane {
+            w0,
+            w1,
+            zeta: (-kappa * self.step).exp(),
+            zeta_n: (-kappa * self.length()).exp(),
+        }
+    }
+
+    /// P from the two components' Horner sums `hx`, `hy` of a pass.
+    fn finish(&self, g: f64, lane: &Lane, hx: Complex64, hy: Complex64) -> f64 {
+        let (first, last) = (self.samples[0], self.samples[self.samples.len() - 1]);
+        let amplitude = |hc: Complex64, b0: f64, bn: f64| {
+            lane.w0 * (hc - bn) + lane.w1 * lane.zeta * (hc - lane.zeta_n * b0)
+        };
         let ax = amplitude(hx, first[0], last[0]);
         let ay = amplitude(hy, first[1], last[1]);
-        let scale = 0.5 * g * h;
+        let scale = 0.5 * g * self.step;
         (ax.norm_sqr() + ay.norm_sqr()) * scale * scale
     }
+}
+
+/// One Horner pass's constants: the Filon weights, ζ = e^{−κh} and ζᴺ.
+struct Lane {
+    w0: Complex64,
+    w1: Complex64,
+    zeta: Complex64,
+    zeta_n: Complex64,
 }
 
 /// The weights of f(0) and f(h) in ∫₀ʰ f(t) e^{κt} dt / h for f linear, as

@@ -10,20 +10,24 @@
 
 use super::exact::{self, WeightSum};
 
-/// The sums of one sensor: [pair][bin], bins energy-major then ring.
+/// The sums of one sensor, stored [bin][pair] (bins energy-major then ring)
+/// so that a photon's pairs, all in its one bin, are side by side in memory:
+/// [pair][bin] would scatter its thousands of additions a bin row apart.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CampaignTally {
-    pub sums: Vec<WeightSum>,
-    /// Bins per pair.
-    pub bins: usize,
+    /// [bin][pair] (a name unlike the former [pair][bin] `sums`: a
+    /// checkpoint of that layout is refused, not misread).
+    pub by_bin: Vec<WeightSum>,
+    /// Pairs per bin.
+    pub pairs: usize,
 }
 
 impl CampaignTally {
     /// Zeroed sums for `pairs` pairs of `bins` bins.
     pub fn new(pairs: usize, bins: usize) -> CampaignTally {
         CampaignTally {
-            sums: vec![WeightSum::ZERO; pairs * bins],
-            bins,
+            by_bin: vec![WeightSum::ZERO; pairs * bins],
+            pairs,
         }
     }
 
@@ -31,18 +35,50 @@ impl CampaignTally {
     /// `weight × factors[k]`.
     #[inline]
     pub fn record(&mut self, bin: usize, weight: f64, factors: &[f64]) {
-        for (k, &f) in factors.iter().enumerate() {
-            self.sums[k * self.bins + bin].add(WeightSum::of(weight * f));
+        let row = &mut self.by_bin[bin * self.pairs..(bin + 1) * self.pairs];
+        for (sum, &f) in row.iter_mut().zip(factors) {
+            sum.add(WeightSum::of(weight * f));
         }
     }
 
     /// Adds another part of the same run.
     pub fn add(&mut self, other: &CampaignTally) {
-        exact::add_all(&mut self.sums, &other.sums);
+        exact::add_all(&mut self.by_bin, &other.by_bin);
+    }
+
+    /// The number of sums.
+    pub fn len(&self) -> usize {
+        self.by_bin.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.by_bin.is_empty()
     }
 
     /// The sums as numbers, [pair][bin].
     pub fn values(&self) -> Vec<f64> {
-        exact::values(&self.sums)
+        let bins = self.by_bin.len().checked_div(self.pairs).unwrap_or(0);
+        let mut out = vec![0.0; self.by_bin.len()];
+        for (b, row) in self.by_bin.chunks_exact(self.pairs.max(1)).enumerate() {
+            for (k, sum) in row.iter().enumerate() {
+                out[k * bins + b] = sum.value();
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A photon's pairs go to its bin; the values come out [pair][bin].
+    #[test]
+    fn the_values_are_by_pair_then_bin() {
+        let mut t = CampaignTally::new(3, 2);
+        t.record(1, 1.0, &[1.0, 2.0, 3.0]);
+        t.record(0, 0.5, &[1.0, 0.0, 4.0]);
+        assert_eq!(t.values(), vec![0.5, 1.0, 0.0, 2.0, 2.0, 3.0]);
     }
 }

@@ -116,7 +116,7 @@ impl Tally {
             && self
                 .campaign
                 .iter()
-                .map(|c| c.sums.len())
+                .map(|c| c.len())
                 .eq(campaign_sizes(scene))
             && self.stats.hits_per_object.len() == scene.objects.len()
             && self.stats.recorded_per_sensor.len() == scene.sensors.len()
