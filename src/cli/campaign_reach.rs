@@ -83,7 +83,9 @@ fn print_curve(r: &CampaignReach, quiet: bool, by_fraction: bool) {
             "a campaign of {} settings ({} of gas), {} h of tracking; energy window {}–{} keV; the rings about ({:.4}, {:.4}) mm out to {} mm{}, {} cm²; {}",
             r.settings.len(),
             gas,
-            traxer::text::number(r.settings.iter().map(|s| s.tracking_hours).sum()),
+            // The settings' shares add up to the total only to rounding: shown
+            // to 0.1 h, not as 13149.000000000015.
+            format!("{:.1}", r.settings.iter().map(|s| s.tracking_hours).sum::<f64>()),
             traxer::text::number(r.window[0]),
             traxer::text::number(r.window[1]),
             r.centre_mm[0],
