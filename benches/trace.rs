@@ -72,6 +72,8 @@ fn main() {
         );
     }
     println!();
+    magnet_cost(&device, root, photons);
+    println!();
     // The effective-area sweep of the README: 91 energies × 5 angles.
     let scene = Scene::load(&device, &root.join("scenes/llnl_effective_area.toml"), &[])
         .expect("shipped scene");
@@ -148,4 +150,38 @@ fn main() {
             (w * h) as f64 * spp as f64 / seconds
         );
     }
+}
+
+/// The magnet's cost (issue 60): BabyIAXO's Primakoff image through its field
+/// map against the same trace without the magnet, and the whole campaign
+/// (vacuum + the planned helium settings × their masses) against the same
+/// photons without it; the runs alternate, best of three each, in one process.
+fn magnet_cost(device: &Device, root: &Path, photons: u64) {
+    let scene = |defines: &[&str]| {
+        let mut d = vec!["emission=primakoff".to_string(), "pixels=200".to_string()];
+        d.extend(defines.iter().map(|s| s.to_string()));
+        Scene::load(device, &root.join("scenes/babyiaxo_axion_image.toml"), &d)
+            .expect("shipped scene")
+    };
+    let seconds = |scene: &Scene, n: u64| {
+        let r = traxer::trace::run_with_progress(scene, &RunConfig::new(n, 1), &())
+            .expect("thread pool");
+        r.seconds
+    };
+    let best = |scene: &Scene, n: u64| (0..3).map(|_| seconds(scene, n)).fold(f64::MAX, f64::min);
+    let (off, on) = (scene(&["magnet=false"]), scene(&["magnet=true"]));
+    let campaign = scene(&["magnet=true", "campaign=true"]);
+    let (t_off, t_on) = (best(&off, photons), best(&on, photons));
+    println!(
+        "BabyIAXO, field map, one mass, {photons} photons: {t_off:.2} s without the magnet, {t_on:.2} s with it: ratio {:.2} (goal 1.25)",
+        t_on / t_off
+    );
+    // The campaign costs minutes at 1e6 photons: an eighth of the photons.
+    let n = (photons / 8).max(1);
+    let (t_off, t_camp) = (best(&off, n), seconds(&campaign, n));
+    println!(
+        "BabyIAXO campaign, {n} photons: {t_camp:.1} s ({t_off:.2} s without the magnet); × {:.0} for 1e6 photons: {:.0} s (goal 300 s)",
+        1e6 / n as f64,
+        t_camp * 1e6 / n as f64
+    );
 }
