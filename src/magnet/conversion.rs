@@ -78,17 +78,14 @@ impl PathField {
             return 0.0;
         }
         let lane = self.lane(q, gamma);
-        let (mut hx, mut hy) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
-        for b in &self.samples {
-            hx = hx * lane.zeta + b[0];
-            hy = hy * lane.zeta + b[1];
-        }
+        let (hx, hy) = split_horner(&self.samples, lane.zeta);
         self.finish(g, &lane, hx, hy)
     }
 
     /// [`PathField::probability`] at each momentum transfer of `q` (replaced
     /// by its P), one attenuation `gamma` for all: the values of one call
-    /// each, bit for bit. The Horner passes of `LANES` transfers run side by
+    /// each to rounding (one plain Horner pass per transfer, where a single
+    /// call splits its pass in four). The Horner passes of `LANES` transfers run side by
     /// side over the samples: a pass is a chain of dependent complex
     /// products, and independent chains fill the CPU's pipelines (about
     /// three times the speed of one pass after another).
@@ -151,6 +148,38 @@ impl PathField {
     }
 }
 
+/// H = Σ_j ζ^{N−j} b_j for each of the two components, as four interleaved
+/// Horner chains in ζ⁴ (samples j ≡ r mod 4, the sequence padded in front
+/// with zeros, which leave a Horner sum unchanged) joined by
+/// H = ζ³H₀ + ζ²H₁ + ζH₂ + H₃. One chain of dependent complex products is
+/// bound by their latency; four independent ones fill the pipelines (the one
+/// pass of a photon at one mass runs about three times faster). The sum
+/// differs from one chain's only by rounding.
+fn split_horner(samples: &[[f64; 2]], zeta: Complex64) -> (Complex64, Complex64) {
+    let z2 = zeta * zeta;
+    let z4 = z2 * z2;
+    let zero = Complex64::new(0.0, 0.0);
+    let pad = (4 - samples.len() % 4) % 4;
+    let mut h = [[zero; 2]; 4];
+    let mut step = |r: usize, b: [f64; 2]| {
+        h[r][0] = h[r][0] * z4 + b[0];
+        h[r][1] = h[r][1] * z4 + b[1];
+    };
+    // The padded sequence's first block holds `pad` zeros, then the first
+    // samples (none when no padding is needed).
+    let head = if pad == 0 { 0 } else { 4 - pad };
+    for (r, b) in (pad..4).zip(&samples[..head.min(samples.len())]) {
+        step(r, *b);
+    }
+    for block in samples[head.min(samples.len())..].chunks_exact(4) {
+        for (r, b) in block.iter().enumerate() {
+            step(r, *b);
+        }
+    }
+    let join = |c: usize| ((h[0][c] * zeta + h[1][c]) * zeta + h[2][c]) * zeta + h[3][c];
+    (join(0), join(1))
+}
+
 /// One Horner pass's constants: the Filon weights, ζ = e^{−κh} and ζᴺ.
 struct Lane {
     w0: Complex64,
@@ -193,6 +222,33 @@ mod tests {
         assert!((INV_EV_PER_METRE * HBAR_C_EV_M - 1.0).abs() < 1e-15);
         // ħc in eV·m is the keV·cm constant in other units.
         assert!((HBAR_C_EV_M / (HBAR_C_KEV_CM * 10.0) - 1.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_split_horner_pass_is_the_plain_one() {
+        // Four chains in ζ⁴ against one in ζ, for every padding (lengths 2
+        // to 13) and a ζ inside and on the unit circle: the same sum to
+        // rounding (1e-13 of the terms' size; a wrong padding or join gives
+        // errors of order 1).
+        for zeta in [
+            Complex64::from_polar(0.97, 0.3),
+            Complex64::from_polar(1.0, 2.1),
+        ] {
+            for n in 2..14 {
+                let samples: Vec<[f64; 2]> = (0..n)
+                    .map(|k| [1.0 + 0.3 * (k as f64).sin(), -0.5 + 0.01 * (k * k) as f64])
+                    .collect();
+                let (mut px, mut py) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+                for b in &samples {
+                    px = px * zeta + b[0];
+                    py = py * zeta + b[1];
+                }
+                let (sx, sy) = split_horner(&samples, zeta);
+                let size: f64 = samples.iter().map(|b| b[0].abs() + b[1].abs()).sum();
+                assert!((sx - px).norm() < 1e-13 * size, "n = {n}: {sx} vs {px}");
+                assert!((sy - py).norm() < 1e-13 * size, "n = {n}: {sy} vs {py}");
+            }
+        }
     }
 
     #[test]

@@ -26,9 +26,11 @@ pub struct FieldMap {
     pub spacing: [f64; 3],
     /// Nodes along x, y, z.
     pub nodes: [usize; 3],
-    /// B at each node (T), z fastest, then y, then x: a path along the bore
-    /// (z) reads each column of nodes in order.
-    field: Vec<[f64; 3]>,
+    /// Bx, By and Bz at each node (T), each component in its own array
+    /// (z fastest, then y, then x): a path along the bore (z) reads each
+    /// column of nodes in order, and the samples of a run are computed side
+    /// by side in the CPU's vectors.
+    field: [Vec<f64>; 3],
 }
 
 /// The largest map read: 1e8 nodes (2.4 GB as f64 triples).
@@ -122,6 +124,7 @@ impl FieldMap {
             )
             .into());
         }
+        let field = std::array::from_fn(|c| field.iter().map(|b| b[c]).collect());
         Ok(FieldMap {
             origin,
             spacing,
@@ -138,9 +141,9 @@ impl FieldMap {
     /// The strongest field at any node (T): with trilinear interpolation, the
     /// strongest anywhere in the map.
     pub fn peak_tesla(&self) -> f64 {
-        self.field
-            .iter()
-            .map(|b| DVec3::from(*b).length())
+        let [x, y, z] = &self.field;
+        (x.iter().zip(y).zip(z))
+            .map(|((x, y), z)| DVec3::new(*x, *y, *z).length())
             .fold(0.0, f64::max)
     }
 
@@ -149,7 +152,8 @@ impl FieldMap {
     pub fn peak_component_tesla(&self) -> f64 {
         self.field
             .iter()
-            .flat_map(|b| b.iter().map(|c| c.abs()))
+            .flatten()
+            .map(|c| c.abs())
             .fold(0.0, f64::max)
     }
 
@@ -199,14 +203,13 @@ impl FieldMap {
         // Strides: z 1, y nz, x nz·ny.
         let (sy, sx) = (self.nodes[2], self.nodes[2] * self.nodes[1]);
         let k = cell[2] + sy * cell[1] + sx * cell[0];
-        let v = &self.field;
         let mut b = [0.0; 3];
-        for (c, out) in b.iter_mut().enumerate() {
+        for (v, out) in self.field.iter().zip(&mut b) {
             let lerp = |a: f64, b: f64, t: f64| a + (b - a) * t;
-            let z00 = lerp(v[k][c], v[k + 1][c], f[2]);
-            let z10 = lerp(v[k + sy][c], v[k + sy + 1][c], f[2]);
-            let z01 = lerp(v[k + sx][c], v[k + sx + 1][c], f[2]);
-            let z11 = lerp(v[k + sx + sy][c], v[k + sx + sy + 1][c], f[2]);
+            let z00 = lerp(v[k], v[k + 1], f[2]);
+            let z10 = lerp(v[k + sy], v[k + sy + 1], f[2]);
+            let z01 = lerp(v[k + sx], v[k + sx + 1], f[2]);
+            let z11 = lerp(v[k + sx + sy], v[k + sx + sy + 1], f[2]);
             *out = lerp(lerp(z00, z10, f[1]), lerp(z01, z11, f[1]), f[0]);
         }
         Some(b)
@@ -227,12 +230,66 @@ fn run_end(k: usize, n: usize, (u0, du): (f64, f64), i: usize) -> usize {
     (last_inside.min(n as f64)) as usize
 }
 
-/// The far corner's index from the x-neighbour's (`c10`) in a map of `nz`
-/// nodes along z.
-#[inline]
-fn c11(c10: usize, nz: usize) -> usize {
-    c10 + nz
+/// One run of a line's samples inside one x–y cell, on consecutive z node
+/// planes: the grid coordinates step linearly with the sample's number j,
+/// x = x.0 + x.1 j, the fraction into the cell is x − x.2 (the cell's first
+/// node), and each sample is bilinear between
+/// the cell's four z columns.
+struct Run {
+    x: (f64, f64, f64),
+    y: (f64, f64, f64),
+    rows: [[f64; 3]; 2],
 }
+
+impl Run {
+    /// Fills `out` with the projected field on the columns' planes in their
+    /// order: sample t of `out` is the path's sample j = j0 + sign t
+    /// (`sign` −1 for a path stepping down z; the caller then reverses the
+    /// run). The columns are slices of `out`'s length and the loop carries no
+    /// index checks and runs forward in memory, so that the compiler computes
+    /// samples side by side: it is the whole cost of a path through a map.
+    #[inline(always)]
+    fn sample(&self, columns: [[&[f64]; 4]; 3], (j0, sign): (f64, f64), out: &mut [[f64; 2]]) {
+        let n = out.len();
+        let [[x00, x01, x10, x11], [y00, y01, y10, y11], [z00, z01, z10, z11]] = columns;
+        let (x00, x01, x10, x11) = (&x00[..n], &x01[..n], &x10[..n], &x11[..n]);
+        let (y00, y01, y10, y11) = (&y00[..n], &y01[..n], &y10[..n], &y11[..n]);
+        let (z00, z01, z10, z11) = (&z00[..n], &z01[..n], &z10[..n], &z11[..n]);
+        let (numbers, out) = (&PLANE_NUMBERS[..n], &mut out[..n]);
+        let [r0, r1] = self.rows;
+        for t in 0..n {
+            let j = j0 + sign * numbers[t];
+            let fx = self.x.0 + self.x.1 * j - self.x.2;
+            let fy = self.y.0 + self.y.1 * j - self.y.2;
+            let (w00, w01, w10, w11) = (
+                (1.0 - fx) * (1.0 - fy),
+                (1.0 - fx) * fy,
+                fx * (1.0 - fy),
+                fx * fy,
+            );
+            let bx = w00 * x00[t] + w01 * x01[t] + w10 * x10[t] + w11 * x11[t];
+            let by = w00 * y00[t] + w01 * y01[t] + w10 * y10[t] + w11 * y11[t];
+            let bz = w00 * z00[t] + w01 * z01[t] + w10 * z10[t] + w11 * z11[t];
+            out[t] = [
+                r0[0] * bx + r0[1] * by + r0[2] * bz,
+                r1[0] * bx + r1[1] * by + r1[2] * bz,
+            ];
+        }
+    }
+}
+
+/// 0, 1, 2, … as floats: the sample numbers of a run, read rather than
+/// converted from integers so that the run's loop has nothing but
+/// arithmetic on arrays. A run is at most this long (a longer one is cut).
+static PLANE_NUMBERS: [f64; 512] = {
+    let mut n = [0.0; 512];
+    let mut i = 0;
+    while i < 512 {
+        n[i] = i as f64;
+        i += 1;
+    }
+    n
+};
 
 impl FieldMap {
     /// B (T) projected on the two map-frame vectors `rows` (B · rows[0],
@@ -268,7 +325,6 @@ impl FieldMap {
         let (nz, ny) = (self.nodes[2], self.nodes[1]);
         let z0 = u0[2].round() as i64;
         let dz = du[2].signum() as i64;
-        let v = &self.field[..];
         out.reserve(n);
         // The samples come in runs within one x–y cell (a path nearly along
         // z crosses few cells' sides): the cell is found once per run, the
@@ -292,27 +348,34 @@ impl FieldMap {
                     true => (nz as i64 - z0).max(0) as usize,
                     false => (z0 + 1).max(0) as usize,
                 });
+            let end = end.max(k + 1).min(k + PLANE_NUMBERS.len());
             let base = nz * (iy + ny * ix);
-            let (c01, c10) = (base + nz, base + nz * ny);
-            let c11 = c11(c10, nz);
-            for j in k..end.max(k + 1) {
-                let jf = j as f64;
-                let fx = u0[0] + du[0] * jf - ix as f64;
-                let fy = u0[1] + du[1] * jf - iy as f64;
-                let zi = (z0 + dz * j as i64) as usize;
-                let (b00, b01, b10, b11) = (v[base + zi], v[c01 + zi], v[c10 + zi], v[c11 + zi]);
-                let w = [
-                    (1.0 - fx) * (1.0 - fy),
-                    (1.0 - fx) * fy,
-                    fx * (1.0 - fy),
-                    fx * fy,
-                ];
-                let b: [f64; 3] = std::array::from_fn(|c| {
-                    w[0] * b00[c] + w[1] * b01[c] + w[2] * b10[c] + w[3] * b11[c]
-                });
-                out.push(project(b));
+            // The four z columns of the cell's corners over the run's planes,
+            // walked in the path's direction.
+            let (za, zb) = match dz > 0 {
+                true => (z as usize, z as usize + (end - k)),
+                false => (z as usize + 1 - (end - k), z as usize + 1),
+            };
+            let corners = [base, base + nz, base + nz * ny, base + nz * ny + nz];
+            let columns = self
+                .field
+                .each_ref()
+                .map(|v| corners.map(|c| &v[c + za..c + zb]));
+            let start = out.len();
+            out.resize(start + (end - k), [0.0; 2]);
+            let run = Run {
+                x: (u0[0], du[0], ix as f64),
+                y: (u0[1], du[1], iy as f64),
+                rows,
+            };
+            let samples = &mut out[start..];
+            if dz > 0 {
+                run.sample(columns, (k as f64, 1.0), samples);
+            } else {
+                run.sample(columns, ((end - 1) as f64, -1.0), samples);
+                samples.reverse();
             }
-            k = end.max(k + 1);
+            k = end;
         }
     }
 
