@@ -394,6 +394,12 @@ class TraceResult:
     """The photon-path classes by index, as ``photons["class"]`` and the class
     images number them: direct (no reflection), front_rear (a front then a
     rear mirror: the focus), front_only, rear_only, other."""
+    campaign: Optional[dict[str, Any]]
+    """With a magnet's campaign ([magnet.campaign]): campaign.json's content
+    (settings with their tracking hours, masses_ev, pairs [setting, mass],
+    energy_edges_kev, ring_edges_mm, centre_mm, the planner and the
+    allocation) and ``tallies`` {sensor: X-rays per second [pair, energy,
+    ring]}, equal to NAME_campaign.npy; None without a campaign."""
     @property
     def provenance(self) -> dict[str, Any]:
         """The provenance record of the run (as in every JSON the CLI writes)."""
@@ -754,7 +760,7 @@ def signal(
 def reach(
     runs: Union[str, os.PathLike[str], list[Union[str, os.PathLike[str]]]],
     background: _Number,
-    tracking_hours: _Numbers,
+    tracking_hours: Optional[_Numbers] = None,
     radius_mm: Optional[_Number] = None,
     fraction: Optional[float] = None,
     center: Optional[Union[tuple[_Number, _Number], _Quantity]] = None,
@@ -763,6 +769,7 @@ def reach(
     efficiency: float = 1.0,
     sensor: Optional[str] = None,
     region_mass: Optional[_Number] = None,
+    binned: bool = False,
 ) -> dict[str, Any]:
     """The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
     g_ae·g_aγ (ABC runs) per axion mass, as ``traxer reach``: CLs, exact
@@ -774,7 +781,16 @@ def reach(
     lengths and the mass may be astropy Quantities. Returns a dict: coupling,
     window_keV and curves, one per run: setting, run, region (with
     placed_on_mass_ev), tracking_hours, masses_eV, signal, background,
-    counts_limit and limit (NaN without signal)."""
+    counts_limit and limit (NaN without signal).
+
+    A campaign run (one folder holding campaign.json) gives one combined
+    curve, as ``traxer reach`` on it: the settings that recorded each mass
+    combined, their tracking hours from the run unless ``tracking_hours``
+    lists one per setting, ``binned=True`` for channels of energy bins ×
+    rings. Returns reach.json's content (what, channels, coupling, exposure,
+    energy_window_keV, region, settings, masses [{axion_mass_ev,
+    limit_per_gev, method, parts}]) with ``masses_eV`` and ``limit`` as arrays
+    (NaN where no setting sees the mass)."""
 
 def eef(
     image: npt.ArrayLike,

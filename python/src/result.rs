@@ -266,6 +266,13 @@ pub struct TraceResult {
     /// rear mirror: the focus), front_only, rear_only, other.
     #[pyo3(get)]
     classes: Vec<&'static str>,
+    /// With a magnet's campaign ([magnet.campaign]): campaign.json's content
+    /// (settings with their tracking hours, masses_ev, pairs [setting, mass],
+    /// energy_edges_kev, ring_edges_mm, centre_mm, the planner and the
+    /// allocation) and `tallies` {sensor: X-rays per second [pair, energy,
+    /// ring]}, equal to NAME_campaign.npy; None without a campaign.
+    #[pyo3(get)]
+    campaign: Py<PyAny>,
 }
 
 impl TraceResult {
@@ -320,7 +327,9 @@ impl TraceResult {
         } else {
             py.None().into_bound(py)
         };
+        let campaign = campaign_dict(py, scene, &tally, absolute.unwrap_or(1.0))?;
         Ok(TraceResult {
+            campaign,
             loaded,
             header,
             tally,
@@ -333,6 +342,25 @@ impl TraceResult {
             classes: PathClass::ALL.iter().map(|c| c.name()).collect(),
         })
     }
+}
+
+/// `TraceResult.campaign` (see there): the tables the CLI writes.
+fn campaign_dict(
+    py: Python<'_>,
+    scene: &traxer::scene::Scene,
+    tally: &Tally,
+    rate: f64,
+) -> PyResult<Py<PyAny>> {
+    let Some(t) = traxer::output::campaign::campaign_tables(scene, &tally.campaign, rate) else {
+        return Ok(py.None());
+    };
+    let d = json(py, &t.doc)?;
+    let tallies = PyDict::new(py);
+    for (name, values) in t.sensors {
+        tallies.set_item(name, array(py, &t.shape, values)?)?;
+    }
+    d.set_item("tallies", tallies)?;
+    Ok(d.unbind())
 }
 
 impl TraceResult {

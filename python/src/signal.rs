@@ -11,7 +11,10 @@ use pyo3::types::PyDict;
 use std::path::PathBuf;
 use traxer::analysis::reach::Exposure;
 use traxer::analysis::signal::{signal as measure, Centre, Region, Size};
+use traxer::output::campaign_reach_json;
+use traxer::output::campaign_read::{is_campaign_run, read_campaign_run};
 use traxer::output::run_read::read_run_signal;
+use traxer::studies::campaign_reach::{reach as campaign_reach_of, CampaignReachRequest};
 use traxer::studies::reach::reach as reach_of;
 
 /// The region from the keyword arguments (plain numbers in mm and eV, or
@@ -88,7 +91,7 @@ pub fn signal<'py>(
     Ok(d)
 }
 
-/// reach(runs, background, tracking_hours, radius_mm=None, fraction=None, center=None, window=None, bores=1.0, efficiency=1.0, sensor=None, region_mass=None)
+/// reach(runs, background, tracking_hours=None, radius_mm=None, fraction=None, center=None, window=None, bores=1.0, efficiency=1.0, sensor=None, region_mass=None, binned=False)
 ///
 /// The median expected 95 % CL upper limit on g_aγ (Primakoff runs) or
 /// g_ae·g_aγ (ABC runs) per axion mass, as `traxer reach`: CLs, exact
@@ -100,14 +103,23 @@ pub fn signal<'py>(
 /// lengths and masses. Returns a dict: coupling, window_keV and curves, one per
 /// run: setting, run, region, tracking_hours, masses_eV, signal, background, counts_limit and
 /// limit (NaN without signal).
+///
+/// A campaign run (one folder holding campaign.json) gives one combined
+/// curve, as `traxer reach` on it: the settings that recorded each mass
+/// combined, their tracking hours from the run unless `tracking_hours` lists
+/// one per setting, `binned=True` for channels of energy bins × rings. Returns
+/// reach.json's content as a dict (what, channels, coupling, exposure,
+/// energy_window_keV, region, settings, masses [{axion_mass_ev,
+/// limit_per_gev, method, parts}]) with `masses_eV` and `limit` as arrays
+/// (NaN where no setting sees the mass).
 #[pyfunction]
-#[pyo3(signature = (runs, background, tracking_hours, radius_mm = None, fraction = None, center = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None, region_mass = None))]
+#[pyo3(signature = (runs, background, tracking_hours = None, radius_mm = None, fraction = None, center = None, window = None, bores = 1.0, efficiency = 1.0, sensor = None, region_mass = None, binned = false))]
 #[allow(clippy::too_many_arguments)]
 pub fn reach<'py>(
     py: Python<'py>,
     runs: &Bound<'py, PyAny>,
     background: &Bound<'py, PyAny>,
-    tracking_hours: &Bound<'py, PyAny>,
+    tracking_hours: Option<&Bound<'py, PyAny>>,
     radius_mm: Option<&Bound<'py, PyAny>>,
     fraction: Option<f64>,
     center: Option<&Bound<'py, PyAny>>,
@@ -116,6 +128,7 @@ pub fn reach<'py>(
     efficiency: f64,
     sensor: Option<String>,
     region_mass: Option<&Bound<'py, PyAny>>,
+    binned: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let background = number("background", background, Unit::BackgroundRate)?;
     // One folder (a str or a path) or a list of them.
@@ -141,7 +154,33 @@ pub fn reach<'py>(
         },
     };
     let region = region(radius_mm, fraction, center, region_mass)?;
-    let hours = numbers("tracking_hours", tracking_hours, Unit::Hour)?;
+    let hours = match tracking_hours.filter(|h| !h.is_none()) {
+        Some(h) => numbers("tracking_hours", h, Unit::Hour)?,
+        None => Vec::new(),
+    };
+    if let [one] = &runs[..] {
+        if is_campaign_run(one) {
+            let campaign = CampaignQuery {
+                background,
+                hours,
+                window,
+                bores,
+                efficiency,
+                binned,
+            };
+            return campaign_reach(py, one, sensor.as_deref(), &region, campaign);
+        }
+    }
+    if binned {
+        return Err(input(
+            "binned: channels of energy bins × rings need a campaign run (a trace with [magnet.campaign])",
+        ));
+    }
+    if hours.is_empty() {
+        return Err(input(
+            "tracking_hours: give the hours of tracking, one for every run or one per run",
+        ));
+    }
     let exposures = hours
         .iter()
         .map(|&h| Exposure::checked(h, bores, efficiency, background))
@@ -181,5 +220,56 @@ pub fn reach<'py>(
     d.set_item("coupling", r.coupling)?;
     d.set_item("window_keV", (r.window[0], r.window[1]))?;
     d.set_item("curves", curves)?;
+    Ok(d)
+}
+
+/// What `reach` was asked, for a campaign run.
+struct CampaignQuery {
+    background: f64,
+    hours: Vec<f64>,
+    window: Option<(f64, f64)>,
+    bores: f64,
+    efficiency: f64,
+    binned: bool,
+}
+
+/// `reach` on a campaign run: the combined curve, as `traxer reach`.
+fn campaign_reach<'py>(
+    py: Python<'py>,
+    dir: &std::path::Path,
+    sensor: Option<&str>,
+    region: &Region,
+    q: CampaignQuery,
+) -> PyResult<Bound<'py, PyDict>> {
+    if let Centre::At(_) = region.centre {
+        return Err(input("center: a campaign's rings lie about the centre_mm it was traced with (campaign.json); trace with [magnet.campaign] centre_mm = [X, Y] to move them"));
+    }
+    let run = read_campaign_run(dir, sensor).map_err(|e| input(e.0))?;
+    let request = CampaignReachRequest {
+        size: region.size,
+        on_mass: region.on_mass,
+        window: q.window.map(|(a, b)| [a, b]),
+        hours: (!q.hours.is_empty()).then_some(q.hours),
+        bores: q.bores,
+        efficiency: q.efficiency,
+        background: q.background,
+        binned: q.binned,
+    };
+    let r = campaign_reach_of(&run, &request).map_err(|e| input(e.0))?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for w in &r.warnings {
+        let message = std::ffi::CString::new(w.as_str()).unwrap_or_default();
+        PyErr::warn(py, &category, &message, 1)?;
+    }
+    let d = json(py, &campaign_reach_json(&r))?.cast_into::<PyDict>()?;
+    let n = r.limits.len();
+    let masses = r.limits.iter().map(|l| l.mass_ev).collect();
+    let limits = r
+        .limits
+        .iter()
+        .map(|l| l.coupling_limit.unwrap_or(f64::NAN))
+        .collect();
+    d.set_item("masses_eV", array(py, &[n], masses)?)?;
+    d.set_item("limit", array(py, &[n], limits)?)?;
     Ok(d)
 }

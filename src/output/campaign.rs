@@ -9,6 +9,7 @@
 
 use crate::magnet::campaign::Campaign;
 use crate::scene::Scene;
+use crate::sensor::campaign::CampaignTally;
 use crate::trace::RunResult;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -36,6 +37,14 @@ pub fn campaign_file_names(scene: &Scene) -> Vec<String> {
     }
 }
 
+/// A campaign's results in X-rays per second: each sensor's tallies
+/// ([pair][energy][ring], `shape`) and campaign.json's document.
+pub struct CampaignTables {
+    pub shape: [usize; 3],
+    pub sensors: Vec<(String, Vec<f64>)>,
+    pub doc: serde_json::Value,
+}
+
 /// Writes the campaign's files into `dir`; `rate` turns a unit of summed
 /// weight into X-rays per second. Returns the paths.
 pub fn write_campaign(
@@ -44,24 +53,47 @@ pub fn write_campaign(
     result: &RunResult,
     rate: f64,
 ) -> std::io::Result<Vec<PathBuf>> {
-    let Some(c) = campaign_of(scene) else {
+    let Some(t) = campaign_tables(scene, &result.campaign, rate) else {
         return Ok(Vec::new());
     };
     let mut written = Vec::new();
-    let (ne, nr) = (c.energy_edges.len() - 1, c.ring_edges.len() - 1);
-    let mut first_signal = None;
-    for (spec, tally) in scene.sensors.iter().zip(&result.campaign) {
-        let values: Vec<f64> = tally.values().iter().map(|v| v * rate).collect();
-        let p = dir.join(tally_file_name(&spec.name));
-        super::write_npy_f64(&p, &[c.pairs.len() as u64, ne as u64, nr as u64], &values)?;
+    for (name, values) in &t.sensors {
+        let p = dir.join(tally_file_name(name));
+        super::write_npy_f64(&p, &t.shape.map(|n| n as u64), values)?;
         written.push(p);
-        first_signal.get_or_insert(values);
     }
+    let p = dir.join(CAMPAIGN_FILE);
+    let mut text = serde_json::to_string_pretty(&t.doc).expect("JSON of plain values");
+    text.push('\n');
+    crate::files::atomic_write(&p, text.as_bytes())?;
+    written.push(p);
+    Ok(written)
+}
+
+/// The campaign's results (None without one) from the run's `tallies`,
+/// `rate` X-rays per second per unit of summed weight: what its files hold
+/// and Python's `TraceResult.campaign` gives.
+pub fn campaign_tables(
+    scene: &Scene,
+    tallies: &[CampaignTally],
+    rate: f64,
+) -> Option<CampaignTables> {
+    let c = campaign_of(scene)?;
+    let (ne, nr) = (c.energy_edges.len() - 1, c.ring_edges.len() - 1);
+    let sensors: Vec<(String, Vec<f64>)> = scene
+        .sensors
+        .iter()
+        .zip(tallies)
+        .map(|(spec, tally)| {
+            let values = tally.values().iter().map(|v| v * rate).collect();
+            (spec.name.clone(), values)
+        })
+        .collect();
     // Each setting's rate at its own photon mass (the mass node nearest it),
     // on the first sensor: what the KSVZ allocation spends time against.
-    let values = first_signal.unwrap_or_default();
+    let first = sensors.first().map_or(&[][..], |s| &s.1[..]);
     let signal: Vec<f64> = (0..c.settings.len())
-        .map(|s| own_mass_rate(c, s, &values))
+        .map(|s| own_mass_rate(c, s, first))
         .collect();
     let hours = c.hours(&signal);
     let settings: Vec<_> = c
@@ -105,12 +137,11 @@ pub fn write_campaign(
         "centre_mm": d.centre_mm,
         "sensors": scene.sensors.iter().map(|s| tally_file_name(&s.name)).collect::<Vec<_>>(),
     });
-    let p = dir.join(CAMPAIGN_FILE);
-    let mut text = serde_json::to_string_pretty(&doc).expect("JSON of plain values");
-    text.push('\n');
-    crate::files::atomic_write(&p, text.as_bytes())?;
-    written.push(p);
-    Ok(written)
+    Some(CampaignTables {
+        shape: [c.pairs.len(), ne, nr],
+        sensors,
+        doc,
+    })
 }
 
 /// Setting `s`'s total rate at the mass node nearest its photon mass.

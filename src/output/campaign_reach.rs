@@ -88,8 +88,16 @@ pub fn write_campaign_reach(
         }),
     )?;
     write_plot(&dir.join(CAMPAIGN_REACH_FILES[2]), r)?;
-    let doc = json!({
-        "provenance": provenance,
+    let mut doc = campaign_reach_json(r);
+    doc["provenance"] = json!(provenance);
+    doc["files"] = json!(CAMPAIGN_REACH_FILES);
+    super::run_files::write_json(&dir.join(CAMPAIGN_REACH_FILES[3]), &doc)
+}
+
+/// reach.json's content (without its provenance and file list): what
+/// Python's `traxer.reach` returns for a campaign.
+pub fn campaign_reach_json(r: &CampaignReach) -> serde_json::Value {
+    json!({
         "what": COMBINED_STATISTIC,
         "channels": if r.binned { "each setting's energy bins × rings inside the region and window" } else { "one per setting: its region and window" },
         "coupling": r.coupling,
@@ -104,9 +112,7 @@ pub fn write_campaign_reach(
             "method": l.method,
             "parts": l.parts.iter().map(|p| json!({"setting": p.setting, "signal_counts": p.signal, "background_counts": p.background, "alone_limit_per_gev": p.alone})).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
-        "files": CAMPAIGN_REACH_FILES,
-    });
-    super::run_files::write_json(&dir.join(CAMPAIGN_REACH_FILES[3]), &doc)
+    })
 }
 
 /// The combined curve, the best single setting's, and a tick per gas

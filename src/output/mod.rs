@@ -12,7 +12,7 @@ mod arf;
 pub mod campaign;
 mod campaign_reach;
 pub mod campaign_read;
-pub use campaign_reach::{write_campaign_reach, CAMPAIGN_REACH_FILES};
+pub use campaign_reach::{campaign_reach_json, write_campaign_reach, CAMPAIGN_REACH_FILES};
 mod compare;
 mod conversion;
 mod csv_table;

@@ -33,6 +33,7 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 BIN = os.environ.get("TRAXER", str(REPO / "target" / "release" / "traxer"))
 WOLTER = REPO / "scenes" / "wolter1_parallel.toml"
 CAST = REPO / "scenes" / "cast_axion_image.toml"
+BABYIAXO = REPO / "scenes" / "babyiaxo_axion_image.toml"
 PANTER = REPO / "scenes" / "panter_al_ka.toml"
 LLNL_AREA = REPO / "scenes" / "llnl_effective_area.toml"
 SOLAR_MODEL = REPO.parent / "shared" / "solar" / "SolarModel_B16-AGSS09met.dat"
@@ -295,6 +296,46 @@ def test_signal_and_reach_equal_the_cli(tmp_path):
     assert named["placed_on_mass_eV"] == 0.02 and named["radius_mm"] != s["radius_mm"]
     with pytest.raises(traxer.InputError, match="not one of the run's masses"):
         traxer.signal(run, fraction=0.8, region_mass=0.05)
+
+
+def test_a_campaign_and_its_reach_equal_the_cli(tmp_path):
+    """With [magnet.campaign], `TraceResult.campaign` holds campaign.json's
+    settings, masses and pairs and each sensor's tallies, bit for bit the
+    CLI's NAME_campaign.npy for the same photons; traxer.reach on the
+    campaign run gives the CLI's combined curve (reach.csv), one-channel and
+    binned, with the hours written with the run."""
+    vars_ = {"magnet": True, "campaign": True, "emission": "primakoff", "pixels": 100}
+    result = traxer.Scene(BABYIAXO, vars_).trace(3000, seed=5)
+    run = tmp_path / "run"
+    cli("trace", BABYIAXO, "-n", 3000, "--seed", 5, "-D", "magnet=true", "-D", "campaign=true",
+        "-D", "emission=primakoff", "-D", "pixels=100", "--out", run, "-q")
+    doc = json.loads((run / "campaign.json").read_text())
+    c = result.campaign
+    for key in ("settings", "masses_ev", "pairs", "energy_edges_kev", "ring_edges_mm", "centre_mm"):
+        assert c[key] == doc[key], key
+    tally = np.load(run / "detector_campaign.npy")
+    assert c["tallies"]["detector"].shape == tally.shape == (len(doc["pairs"]), len(doc["energy_edges_kev"]) - 1, len(doc["ring_edges_mm"]) - 1)
+    assert c["tallies"]["detector"].tobytes() == tally.tobytes()
+    assert tally.sum() > 0
+    assert traxer.Scene(BABYIAXO, {"magnet": True, "pixels": 100}).trace(500).campaign is None
+    for binned, flag in ((False, []), (True, ["--binned"])):
+        r = traxer.reach(run, background=1e-7, radius_mm=5.0, window=(1.0, 10.0), binned=binned)
+        out = tmp_path / ("r_binned" if binned else "r")
+        cli("reach", run, "--radius-mm", "5", "--background", "1e-7", "--window", "1,10", *flag,
+            "--out", out, "-q")
+        rows = list(csv.DictReader(open(out / "reach.csv")))
+        # The CSV writes "inf" where no setting sees the mass; Python NaN.
+        cli_limits = [float(x["g_agamma_limit_per_gev"]) for x in rows]
+        cli_limits = [math.nan if math.isinf(v) else v for v in cli_limits]
+        assert list(r["masses_eV"]) == pytest.approx([float(x["axion_mass_ev"]) for x in rows], rel=1e-12)
+        assert np.isfinite(r["limit"]).any()
+        assert list(r["limit"]) == pytest.approx(cli_limits, rel=1e-12, nan_ok=True)
+        assert r["coupling"] == "g_agamma"
+        assert [s["tracking_hours"] for s in r["settings"]] == pytest.approx([s["tracking_hours"] for s in doc["settings"]], rel=1e-12)
+    with pytest.raises(traxer.InputError, match="campaign run"):
+        traxer.reach([tmp_path / "nothing"], 1e-7, 100.0, radius_mm=3.0, binned=True)
+    with pytest.raises(traxer.InputError, match="centre_mm"):
+        traxer.reach(run, 1e-7, radius_mm=3.0, center=(1.0, 0.0))
 
 
 def test_signal_reach_and_conversion_take_astropy_quantities(tmp_path):
