@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// The first line of every run-state file starts so; the number is the layout's
 /// version, and the SHA-256 of the header line follows it (the header holds the
 /// tally's SHA-256: the whole file is covered).
-const MAGIC: &str = "traxer run state 4";
+const MAGIC: &str = "traxer run state 5";
 
 /// A file that is not a run-state file this traxer can read (exit code 2).
 #[derive(Debug, thiserror::Error)]

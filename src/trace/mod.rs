@@ -380,6 +380,18 @@ pub fn convert_in_magnet(
     path
 }
 
+/// The largest weight a recorded photon may carry into the tallies: 2³²
+/// (traxer's weights are at most ~1: reflectivities, P / P_max), far inside
+/// the exact sums' range (2⁴⁸ in all, [`crate::sensor::WeightSum`]).
+pub const LARGEST_WEIGHT: f64 = 4294967296.0;
+
+/// Whether `w` can be tallied: a number from 0 to [`LARGEST_WEIGHT`] (NaN
+/// fails both comparisons).
+#[inline]
+pub fn tallied_weight(w: f64) -> bool {
+    (0.0..=LARGEST_WEIGHT).contains(&w)
+}
+
 /// A recorded photon's part in the magnet's campaign: its axion weight
 /// (`axion_weight`, before P) times each (setting, mass) pair's P / P_max,
 /// in the bin of its energy and its position `local` on the sensor.
@@ -392,6 +404,7 @@ fn record_campaign(
     let Some(c) = magnet.campaign.as_deref() else {
         return;
     };
+    factors.clear();
     if let Some(bin) = c.bin([local.x, local.y], record.energy) {
         c.factors(magnet, path, record.energy, factors);
         tallies[record.sensor as usize].record(bin, axion_weight, factors);
@@ -500,6 +513,7 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
         if let Some((mut record, local, dir)) =
             trace_photon(scene, photon, &mut rng, &mut stats, hook, att)
         {
+            let scan = mass_factors.len();
             if let Some(m) = magnet {
                 let axion_weight = record.weight;
                 let path = convert_in_magnet(m, axion, &mut record, &mut mass_factors);
@@ -509,6 +523,16 @@ pub fn trace_chunk_from<H: QueryHook, A: Attenuation>(
                     (&record, local),
                     (&mut campaign, &mut campaign_factors),
                 );
+                if !campaign_factors
+                    .iter()
+                    .all(|f| tallied_weight(axion_weight * f))
+                {
+                    stats.unusable_weights += 1;
+                }
+            }
+            let w = record.weight;
+            if !tallied_weight(w) || !mass_factors[scan..].iter().all(|f| tallied_weight(w * f)) {
+                stats.unusable_weights += 1;
             }
             if listed.len() < list_cap {
                 listed.push(RecordedPhoton {

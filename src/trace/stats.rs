@@ -35,6 +35,11 @@ pub struct Statistics {
     /// empty in checkpoints written before it existed.
     #[serde(default)]
     pub stopped_after_reflection: Vec<u64>,
+    /// Recorded photons whose weight, or weight at a mass or campaign pair,
+    /// could not be tallied: NaN, infinite, negative or above
+    /// [`crate::trace::LARGEST_WEIGHT`]. A run with any is refused
+    /// (`run::job`): the exact sums would count them as 0 or saturate.
+    pub unusable_weights: u64,
 }
 
 impl Statistics {
@@ -59,6 +64,7 @@ impl Statistics {
         self.escaped += o.escaped;
         self.max_interactions_reached += o.max_interactions_reached;
         self.embree_queries += o.embree_queries;
+        self.unusable_weights += o.unusable_weights;
         for (a, b) in self.hits_per_object.iter_mut().zip(&o.hits_per_object) {
             *a += b;
         }

@@ -473,7 +473,7 @@ fn checkpoints_of_another_scene_or_build_and_damaged_ones_are_refused() {
         let head = head.replacen(from, to, 1);
         let first = if fix_checksum {
             format!(
-                "traxer run state 4 {}",
+                "traxer run state 5 {}",
                 traxer::files::sha256_hex(head.as_bytes())
             )
             .into_bytes()

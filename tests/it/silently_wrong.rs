@@ -377,3 +377,60 @@ fn a_sensor_that_sees_the_source_past_the_mirrors_or_circles_beyond_its_edge_is_
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+#[test]
+fn a_run_whose_weights_cannot_be_tallied_is_refused_and_writes_nothing() {
+    // Before: WeightSum::of(NaN) counted 0 (and a huge weight saturated), so
+    // a magnet whose P came out NaN gave empty-looking but plausible images.
+    // Here the magnet's unit of weight is made NaN: every recorded photon's
+    // weight is NaN, and the run must refuse, naming the count, in memory and
+    // into a folder (left without results).
+    use traxer::run::{Invocation, RunSettings, TraceJob};
+    use traxer::trace::RunConfig;
+    let device = traxer::embree::Device::new().unwrap();
+    let defines = ["magnet=true".to_string(), "pixels=50".to_string()];
+    let mut scene = traxer::scene::Scene::load(
+        &device,
+        &repo().join("scenes/cast_axion_image.toml"),
+        &defines,
+    )
+    .unwrap();
+    let mut magnet = (**scene.magnet.as_ref().unwrap()).clone();
+    magnet.weight_scale = f64::NAN;
+    scene.magnet = Some(std::sync::Arc::new(magnet));
+    let job = TraceJob {
+        scene: &scene,
+        embree_version: String::new(),
+        cfg: RunConfig::new(2000, 1),
+        shard: traxer::run::Shard::whole(2000),
+    };
+    struct Quiet;
+    impl traxer::run::RunControl for Quiet {
+        fn advance(&self, _: u64) {}
+    }
+    let invocation = Invocation::new(["test"]);
+    let e = job
+        .run_in_memory(&invocation, &Quiet)
+        .err()
+        .expect("refused");
+    let text = e.to_string();
+    assert!(e.is_bad_input(), "{text}");
+    assert!(
+        text.contains("recorded photons carried a weight that is not a number"),
+        "{text}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("run");
+    let e = job
+        .run(&out, &RunSettings::default(), &invocation, &Quiet)
+        .err()
+        .expect("refused");
+    assert!(e.to_string().contains("nothing was written"), "{e}");
+    let left: Vec<_> = std::fs::read_dir(&out)
+        .map(|d| d.filter_map(|e| e.ok()).map(|e| e.file_name()).collect())
+        .unwrap_or_default();
+    assert!(
+        !left.iter().any(|n| n == "summary.json" || n == "chip.npy"),
+        "{left:?}"
+    );
+}
