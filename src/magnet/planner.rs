@@ -12,7 +12,11 @@ use super::{medium, ConversionPath, Magnet};
 use serde::Deserialize;
 
 /// REST's planner: up to which axion mass, how fast the step factor falls
-/// from 2 to 1, and the energy at which the widths are taken.
+/// from 2 to 1, the energy at which the widths are taken, and the field it
+/// plans on: the scene's own (the bore's axis through the map), or with
+/// `field_t` > 0 a uniform field of that strength over the bore's length
+/// (REST's BabyIAXO planning takes 1.73 T over 10 m: then its 73 helium
+/// settings up to 0.25 eV).
 #[derive(Clone, Debug, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PlanDesc {
@@ -21,6 +25,9 @@ pub struct PlanDesc {
     pub ramp_down: f64,
     #[serde(default = "planning_energy")]
     pub energy_kev: f64,
+    /// 0: the scene's field.
+    #[serde(default)]
+    pub field_t: f64,
 }
 
 fn ramp_down() -> f64 {
@@ -57,6 +64,24 @@ pub fn plan_masses(
         )
         .into());
     }
+    if !(plan.field_t.is_finite() && plan.field_t >= 0.0) {
+        return Err(format!(
+            "plan: field_t = {}: a field in tesla > 0 to plan on a uniform field over the bore's length, or 0 for the scene's own",
+            crate::text::number(plan.field_t)
+        )
+        .into());
+    }
+    let uniform;
+    let axis = match plan.field_t > 0.0 {
+        true => {
+            uniform = ConversionPath::Uniform {
+                b_ev2: plan.field_t * crate::constants::TESLA_EV2,
+                length: 2.0 * magnet.half_length_mm * 1e-3 * crate::constants::INV_EV_PER_METRE,
+            };
+            &uniform
+        }
+        false => axis,
+    };
     let vacuum = |m: f64| axis.probability_in(g, (0.0, 0.0), e, m);
     let first = half_point(&vacuum, 0.0).ok_or_else(|| {
         CampaignError(

@@ -118,8 +118,9 @@ pub fn campaign_tables(
         "what": "per (setting, mass) pair: X-rays per second converting in each sensor's energy bins and rings about centre_mm, at the run's g_agamma (signal ∝ g⁴ for Primakoff): NAME_campaign.npy [pair][energy][ring]",
         "planner": match &d.plan {
             Some(p) => json!({
-                "rule": "REST-for-Physics TRestAxionField::GetMassDensityScanning (axionlib PR #78): the first photon mass where the vacuum P falls to half; then m += FWHM(m) / (exp(-m ramp_down) + 1); P on the bore's axis through the scene's field",
+                "rule": "REST-for-Physics TRestAxionField::GetMassDensityScanning (axionlib PR #78): the first photon mass where the vacuum P falls to half; then m += FWHM(m) / (exp(-m ramp_down) + 1); P on the bore's axis through the scene's field, or through a uniform field_t over the bore's length",
                 "up_to_ev": p.up_to_ev, "ramp_down": p.ramp_down, "energy_kev": p.energy_kev,
+                "planned_on": if p.field_t > 0.0 { format!("a uniform {} T over the bore's length", p.field_t) } else { "the scene's field on the bore's axis".to_string() },
             }),
             None => json!({"rule": "pressures_mbar given"}),
         },

@@ -184,3 +184,42 @@ fn bad_campaigns_are_refused_by_key() {
         assert!(e.contains("campaign") && e.contains(says), "{campaign}:\n{e}");
     }
 }
+
+#[test]
+fn on_rests_planning_field_the_planner_gives_rests_73_helium_settings() {
+    // REST-for-Physics' BabyIAXO sensitivity example plans "73 density
+    // settings that extend the axion search up to 0.25 eV" (axionlib's
+    // sensitivity examples README) on a uniform 1.73 T over 10 m; traxer's
+    // planner on the same field (plan_field_t) must give as many, and on the
+    // scene's field map fewer, wider steps over the same range.
+    let scene = repo().join("scenes/babyiaxo_axion_image.toml");
+    let base = [
+        "magnet=true",
+        "campaign=true",
+        "emission=primakoff",
+        "campaign_sees=0.05",
+    ];
+    let count = |extra: &[&str]| {
+        let d: Vec<&str> = base.iter().chain(extra).copied().collect();
+        let s = load(&scene, &d).unwrap();
+        let c = traxer::output::campaign::campaign_of(&s).unwrap();
+        let gas: Vec<f64> = c
+            .settings
+            .iter()
+            .filter(|s| s.gas.is_some())
+            .map(|s| s.photon_mass_ev)
+            .collect();
+        (gas.len(), gas[gas.len() - 1])
+    };
+    let (rest, last) = count(&["plan_field_t=1.73"]);
+    assert_eq!(rest, 73, "REST's plan: 73 helium settings");
+    assert!((0.25..0.26).contains(&last), "last setting {last} eV");
+    let (map, last) = count(&[]);
+    assert!((60..73).contains(&map), "the map's plan: {map} settings");
+    assert!((0.25..0.26).contains(&last), "last setting {last} eV");
+    for bad in ["plan_field_t=-1", "plan_field_t=nan"] {
+        let d: Vec<&str> = base.iter().chain(&[bad]).copied().collect();
+        let e = load(&scene, &d).err().expect(bad);
+        assert!(e.contains("field_t"), "{bad}: {e}");
+    }
+}
