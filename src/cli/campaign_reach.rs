@@ -20,6 +20,7 @@ pub struct CampaignReachArgs<'a> {
     pub bores: f64,
     pub efficiency: f64,
     pub binned: bool,
+    pub reference: Option<&'a std::path::Path>,
     pub output: &'a OutputArgs,
 }
 
@@ -40,6 +41,11 @@ pub fn run(a: CampaignReachArgs) -> anyhow::Result<()> {
         [lo, hi] => Some([*lo, *hi]),
         _ => return Err(InputError("--window LO,HI: two energies (keV)".into()).into()),
     };
+    let reference = a
+        .reference
+        .map(traxer::output::reference_curve::read_reference_curve)
+        .transpose()
+        .map_err(|e| InputError(e.0))?;
     let run = read_campaign_run(dir, a.region.sensor.as_deref()).map_err(|e| InputError(e.0))?;
     let request = CampaignReachRequest {
         size: region.size,
@@ -59,7 +65,9 @@ pub fn run(a: CampaignReachArgs) -> anyhow::Result<()> {
     let folder =
         traxer::run::results_folder_reading(&out, &CAMPAIGN_REACH_FILES, &[dir.as_path()])?;
     let provenance = Provenance::of_table(&super::invocation());
-    traxer::run::write_results_folder(folder, |d| write_campaign_reach(d, &r, &provenance))?;
+    traxer::run::write_results_folder(folder, |d| {
+        write_campaign_reach(d, &r, &provenance, reference.as_ref())
+    })?;
     print_curve(
         &r,
         a.output.quiet.quiet,

@@ -12,6 +12,7 @@
 use super::csv_table::write_csv;
 use super::plot::{register_font, typeset};
 use super::reach::{power, ticks};
+use super::reference_curve::ReferenceCurve;
 use super::Provenance;
 use crate::studies::campaign_reach::CampaignReach;
 use plotters::prelude::*;
@@ -29,6 +30,7 @@ pub fn write_campaign_reach(
     dir: &Path,
     r: &CampaignReach,
     provenance: &Provenance,
+    reference: Option<&ReferenceCurve>,
 ) -> std::io::Result<()> {
     let f = |v: f64| format!("{v:e}");
     let opt = |v: Option<f64>| v.map_or("inf".into(), f);
@@ -87,10 +89,14 @@ pub fn write_campaign_reach(
             })
         }),
     )?;
-    write_plot(&dir.join(CAMPAIGN_REACH_FILES[2]), r)?;
+    write_plot(&dir.join(CAMPAIGN_REACH_FILES[2]), r, reference)?;
     let mut doc = campaign_reach_json(r);
     doc["provenance"] = json!(provenance);
     doc["files"] = json!(CAMPAIGN_REACH_FILES);
+    if let Some(c) = reference {
+        doc["reference_curve"] =
+            json!({"file": c.file, "points": c.points.len(), "drawn_in": CAMPAIGN_REACH_FILES[2]});
+    }
     super::run_files::write_json(&dir.join(CAMPAIGN_REACH_FILES[3]), &doc)
 }
 
@@ -117,7 +123,11 @@ pub fn campaign_reach_json(r: &CampaignReach) -> serde_json::Value {
 
 /// The combined curve, the best single setting's, and a tick per gas
 /// setting at its photon mass along the bottom.
-fn write_plot(path: &Path, r: &CampaignReach) -> std::io::Result<()> {
+fn write_plot(
+    path: &Path,
+    r: &CampaignReach,
+    reference: Option<&ReferenceCurve>,
+) -> std::io::Result<()> {
     register_font();
     let (w, h) = (900u32, 620u32);
     let PlotData {
@@ -126,7 +136,8 @@ fn write_plot(path: &Path, r: &CampaignReach) -> std::io::Result<()> {
         gas,
         x: (x0, x1),
         y: (y0, y1),
-    } = plot_data(r);
+        reference,
+    } = plot_data(r, reference);
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
@@ -177,6 +188,15 @@ fn write_plot(path: &Path, r: &CampaignReach) -> std::io::Result<()> {
                     .legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(2))
                     });
+                if let Some((label, points)) = reference {
+                    let green = RGBColor(30, 140, 60);
+                    chart
+                        .draw_series(DashedLineSeries::new(points, 6, 4, green.stroke_width(2)))?
+                        .label(label)
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], green.stroke_width(2))
+                        });
+                }
                 let orange = RGBColor(220, 110, 20);
                 let tick = y0 * (y1 / y0).powf(0.035);
                 chart
@@ -214,9 +234,11 @@ struct PlotData {
     gas: Vec<f64>,
     x: (f64, f64),
     y: (f64, f64),
+    /// The reference curve's label and its points inside the mass range.
+    reference: Option<(String, Vec<(f64, f64)>)>,
 }
 
-fn plot_data(r: &CampaignReach) -> PlotData {
+fn plot_data(r: &CampaignReach, reference: Option<&ReferenceCurve>) -> PlotData {
     let curve: Vec<(f64, f64)> = r
         .limits
         .iter()
@@ -242,7 +264,16 @@ fn plot_data(r: &CampaignReach) -> PlotData {
     } else {
         (1e-4, 1.0)
     };
-    let ys = curve.iter().chain(&alone).map(|p| p.1);
+    let reference = reference.map(|c| {
+        let inside = c
+            .points
+            .iter()
+            .copied()
+            .filter(|p| (x0..=x1).contains(&p.0));
+        (c.label.clone(), inside.collect::<Vec<_>>())
+    });
+    let drawn = reference.as_ref().map_or(&[][..], |c| &c.1[..]);
+    let ys = curve.iter().chain(&alone).chain(drawn).map(|p| p.1);
     let (y0, y1) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
     let (y0, y1) = if y0.is_finite() {
         (y0 / 2.0, (y1 * 2.0).min(y0 * 1e3))
@@ -255,5 +286,6 @@ fn plot_data(r: &CampaignReach) -> PlotData {
         gas,
         x: (x0, x1),
         y: (y0, y1),
+        reference,
     }
 }

@@ -39,6 +39,7 @@ pub use psf::{normalised as normalised_psf, write_psf_library, PSF_FILES};
 pub use sensor_figure::stopped_by_part;
 mod provenance;
 mod reach;
+pub mod reference_curve;
 mod study_files;
 pub use study_files::StudyFiles;
 mod run_files;

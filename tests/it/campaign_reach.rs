@@ -218,3 +218,69 @@ fn a_campaign_reach_refuses_what_it_cannot_compute_and_writes_nothing() {
     assert!(err.contains("give it alone"), "{err}");
     assert!(!out.exists());
 }
+
+#[test]
+fn a_published_curve_is_drawn_beside_the_combined_one_and_a_bad_file_refused() {
+    // The shipped REST curve: every one of its 466 points read (the count in
+    // reach.json); a file with a non-ascending mass or a third column is
+    // refused naming its line, and nothing is written.
+    let dir = tempfile::tempdir().unwrap();
+    let run = dir.path().join("run");
+    trace_campaign(dir.path(), SMALL, &run);
+    let rest = crate::common::repo().join("data/reference_curves/rest_babyiaxo_combined.txt");
+    let lines = std::fs::read_to_string(&rest)
+        .unwrap()
+        .lines()
+        .filter(|l| !l.trim().is_empty())
+        .count();
+    let out = dir.path().join("good");
+    run_ok(
+        traxer()
+            .arg("reach")
+            .arg(&run)
+            .args([
+                "--background",
+                "1e-7",
+                "--radius-mm",
+                "5",
+                "-q",
+                "--reference",
+            ])
+            .arg(&rest)
+            .arg("-o")
+            .arg(&out),
+    );
+    let doc = json(&out.join("reach.json"));
+    assert_eq!(
+        doc["reference_curve"]["points"].as_u64(),
+        Some(lines as u64)
+    );
+    assert!(out.join("reach.png").is_file());
+    for (text, said) in [
+        (
+            "0.01 2e-11\n0.005 3e-11\n",
+            "bad.txt:2: m_a = 0.005 eV after 0.01 eV",
+        ),
+        (
+            "# m g\n0.01 2e-11 7\n",
+            "bad.txt:2: `0.01 2e-11 7`: two positive numbers",
+        ),
+        ("# nothing\n", "no points"),
+    ] {
+        let bad = dir.path().join("bad.txt");
+        std::fs::write(&bad, text).unwrap();
+        let out = dir.path().join("bad");
+        let err = run_fails(
+            traxer()
+                .arg("reach")
+                .arg(&run)
+                .args(["--background", "1e-7", "--radius-mm", "5", "--reference"])
+                .arg(&bad)
+                .arg("-o")
+                .arg(&out),
+            2,
+        );
+        assert!(err.contains(said), "{text:?}: {err}");
+        assert!(!out.exists());
+    }
+}
