@@ -121,6 +121,14 @@ pub fn campaign_reach_json(r: &CampaignReach) -> serde_json::Value {
     })
 }
 
+/// The coupling's symbol for the axis and caption.
+fn coupling_symbol(coupling: &str) -> &'static str {
+    match coupling {
+        "g_agamma" => "g_aγ",
+        _ => "g_ae·g_aγ",
+    }
+}
+
 /// The combined curve, the best single setting's, and a tick per gas
 /// setting at its photon mass along the bottom.
 fn write_plot(
@@ -144,11 +152,7 @@ fn write_plot(
         let draw =
             || -> Result<(), Box<dyn std::error::Error + '_>> {
                 root.fill(&WHITE)?;
-                let what = if r.coupling == "g_agamma" {
-                    "g_aγ"
-                } else {
-                    "g_ae·g_aγ"
-                };
+                let what = coupling_symbol(r.coupling);
                 let mut chart = ChartBuilder::on(&root)
                     .caption(
                         typeset(&format!(

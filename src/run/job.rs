@@ -167,7 +167,7 @@ impl TraceJob<'_> {
             ))
             .into());
         }
-        refuse_unusable_weights(&tally)?;
+        tally.stats.weights_tallied().map_err(InputError)?;
         part.seconds = start.elapsed().as_secs_f64();
         let header = part.header(&tally);
         let provenance = Provenance::of_run(
@@ -184,21 +184,6 @@ impl TraceJob<'_> {
             threads,
             provenance,
         })
-    }
-}
-
-/// Refuses a traced run some of whose recorded photons carried a weight the
-/// exact sums cannot hold (they would count as 0 or saturate the sum): the
-/// images would be plausible and wrong. Nothing is written.
-fn refuse_unusable_weights(tally: &Tally) -> Result<(), InputError> {
-    let s = &tally.stats;
-    match s.unusable_weights {
-        0 => Ok(()),
-        n => Err(InputError(format!(
-            "{n} of the {} recorded photons carried a weight that is not a number from 0 to {:e} (NaN, infinite or negative: a table, map or setting of the scene gives one): their images would be wrong, so nothing was written",
-            s.reached_sensor,
-            crate::trace::LARGEST_WEIGHT
-        ))),
     }
 }
 
@@ -344,7 +329,7 @@ impl Sitting<'_> {
             ))
             .into());
         }
-        refuse_unusable_weights(&tally)?;
+        tally.stats.weights_tallied().map_err(InputError)?;
         part.seconds = earlier + start.elapsed().as_secs_f64();
         let header = part.header(&tally);
         let provenance = Provenance::of_run(

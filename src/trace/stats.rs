@@ -84,6 +84,20 @@ impl Statistics {
         }
     }
 
+    /// Refuses a run some of whose recorded photons carried a weight the
+    /// exact sums cannot hold (they would count as 0 or saturate the sum):
+    /// its images would be plausible and wrong (`run::job` writes nothing).
+    pub fn weights_tallied(&self) -> Result<(), String> {
+        match self.unusable_weights {
+            0 => Ok(()),
+            n => Err(format!(
+                "{n} of the {} recorded photons carried a weight that is not a number from 0 to {:e} (NaN, infinite or negative: a table, map or setting of the scene gives one): their images would be wrong, so nothing was written",
+                self.reached_sensor,
+                crate::trace::LARGEST_WEIGHT
+            )),
+        }
+    }
+
     /// Every emitted photon ends in exactly one fate.
     pub fn fates(&self) -> u64 {
         self.reached_sensor
