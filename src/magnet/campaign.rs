@@ -37,6 +37,7 @@
 
 use super::buffer_gas::{BufferGas, BufferGasDesc};
 use super::conversion::momentum_transfer;
+use super::exposure::{split_hours, Exposure};
 use super::legendre::run_probabilities;
 pub use super::planner::{CampaignError, PlanDesc, MAX_SETTINGS};
 use super::{medium, ConversionPath, Magnet};
@@ -60,6 +61,8 @@ use serde::Deserialize;
 /// gas_hours = 13140.0            # the gas settings' together, split by
 /// allocation = "equal"           # "equal", "ksvz" (REST's), or
 /// fractions = []                 # one fraction per gas setting (adding up to 1)
+/// ksvz_first_settings = 5        # "ksvz": the first gas settings share equally
+/// ksvz_first_share = 0.3333      # this share of gas_hours (REST: 0.5 of 1.5 years)
 /// energy_kev = [1.0, 10.0, 18]   # the tallies' energy bins: [min, max, count]
 /// rings_mm = [20.0, 40]          # and rings about centre_mm: [outer radius, count]
 /// centre_mm = [0.0, 0.0]         # on the sensor (its local frame)
@@ -92,6 +95,10 @@ pub struct CampaignDesc {
     pub allocation: String,
     #[serde(default)]
     pub fractions: Vec<f64>,
+    #[serde(default = "five")]
+    pub ksvz_first_settings: usize,
+    #[serde(default = "a_third")]
+    pub ksvz_first_share: f64,
     #[serde(default = "energy_bins")]
     pub energy_kev: [f64; 3],
     #[serde(default = "rings")]
@@ -114,6 +121,12 @@ fn forty() -> usize {
 }
 fn seven() -> usize {
     7
+}
+fn five() -> usize {
+    5
+}
+fn a_third() -> f64 {
+    1.0 / 3.0
 }
 fn one_per_cent() -> f64 {
     0.01
@@ -317,42 +330,28 @@ impl Campaign {
         }
     }
 
-    /// Each setting's tracking hours: the vacuum's `vacuum_hours`; the gas
-    /// settings' `gas_hours` split equally, by `fractions`, or as REST's
-    /// BabyIAXO macro does ("ksvz": each setting the time that makes its
-    /// expected signal at its own mass for the KSVZ coupling g ∝ m_a the same
-    /// number of counts, t ∝ 1 / (m_γ⁴ S), where `signal[s]` is the
-    /// setting's traced rate S at its own photon mass).
+    /// Each setting's tracking hours ([`super::exposure`]), where `signal[s]`
+    /// is the setting's traced rate at its own photon mass.
     pub fn hours(&self, signal: &[f64]) -> Vec<f64> {
-        split_hours(&self.desc, &self.settings, signal)
+        split_hours_of(&self.desc, &self.settings, signal)
     }
 }
 
-/// [`Campaign::hours`] of `settings`, whose rates at their own masses are
-/// `signal`.
-fn split_hours(desc: &CampaignDesc, settings: &[Setting], signal: &[f64]) -> Vec<f64> {
-    let gas: Vec<usize> = (0..settings.len())
-        .filter(|&s| settings[s].gas.is_some())
-        .collect();
-    let weights: Vec<f64> = match desc.allocation.as_str() {
-        "ksvz" => gas
-            .iter()
-            .map(|&s| match signal[s] > 0.0 {
-                // A setting that recorded nothing gets no time (none
-                // would make it see anything).
-                true => 1.0 / (settings[s].photon_mass_ev.powi(4) * signal[s]),
-                false => 0.0,
-            })
-            .collect(),
-        _ if !desc.fractions.is_empty() => desc.fractions.clone(),
-        _ => vec![1.0; gas.len()],
+/// [`split_hours`] of a campaign's `settings` (their photon masses, `None`
+/// for vacuum).
+fn split_hours_of(desc: &CampaignDesc, settings: &[Setting], signal: &[f64]) -> Vec<f64> {
+    let exposure = Exposure {
+        vacuum_hours: desc.vacuum_hours,
+        gas_hours: desc.gas_hours,
+        allocation: &desc.allocation,
+        fractions: &desc.fractions,
+        ksvz_first_settings: desc.ksvz_first_settings,
+        ksvz_first_share: desc.ksvz_first_share,
     };
-    let total: f64 = weights.iter().sum();
-    let mut out = vec![desc.vacuum_hours; settings.len()];
-    for (k, &s) in gas.iter().enumerate() {
-        out[s] = desc.gas_hours * weights[k] / total;
-    }
-    out
+    let masses = settings
+        .iter()
+        .map(|s| s.gas.as_ref().map(|_| s.photon_mass_ev));
+    split_hours(&exposure, &masses.collect::<Vec<_>>(), signal)
 }
 
 /// The hours the plan expects each setting to get: [`split_hours`] with
@@ -370,7 +369,7 @@ fn planned_hours(
         .iter()
         .map(|s| axis.probability_in(g, medium(s.gas.as_ref(), e), e, s.photon_mass_ev))
         .collect();
-    let hours = split_hours(desc, settings, &signal);
+    let hours = split_hours_of(desc, settings, &signal);
     match hours.iter().any(|h| *h > 0.0) {
         true => hours,
         false => vec![1.0; settings.len()],
@@ -445,6 +444,13 @@ fn check(d: &CampaignDesc) -> Result<(), CampaignError> {
     }
     if d.vacuum && (d.vacuum_masses == 0 || d.vacuum_masses > 10_000) {
         return Err(format!("vacuum_masses = {}: 1 … 10000", d.vacuum_masses).into());
+    }
+    if !(d.ksvz_first_share.is_finite() && (0.0..1.0).contains(&d.ksvz_first_share)) {
+        return Err(format!(
+            "ksvz_first_share = {}: a share of gas_hours, 0 ≤ share < 1",
+            crate::text::number(d.ksvz_first_share)
+        )
+        .into());
     }
     match d.allocation.as_str() {
         "equal" | "ksvz" => {}

@@ -17,6 +17,7 @@
 pub mod buffer_gas;
 pub mod campaign;
 pub mod conversion;
+pub mod exposure;
 pub mod field_map;
 pub mod helium_vapour;
 pub mod legendre;

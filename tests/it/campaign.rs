@@ -211,10 +211,10 @@ fn on_rests_planning_field_the_planner_gives_rests_73_helium_settings() {
             .collect();
         (gas.len(), gas[gas.len() - 1])
     };
-    let (rest, last) = count(&["plan_field_t=1.73"]);
+    let (rest, last) = count(&[]);
     assert_eq!(rest, 73, "REST's plan: 73 helium settings");
     assert!((0.25..0.26).contains(&last), "last setting {last} eV");
-    let (map, last) = count(&[]);
+    let (map, last) = count(&["plan_field_t=0"]);
     assert!((60..73).contains(&map), "the map's plan: {map} settings");
     assert!((0.25..0.26).contains(&last), "last setting {last} eV");
     for bad in ["plan_field_t=-1", "plan_field_t=nan"] {
@@ -222,4 +222,45 @@ fn on_rests_planning_field_the_planner_gives_rests_73_helium_settings() {
         let e = load(&scene, &d).err().expect(bad);
         assert!(e.contains("field_t"), "{bad}: {e}");
     }
+}
+
+#[test]
+fn the_ksvz_allocation_is_rests_rule() {
+    // REST's BabyIAXO gas phase (axionlib examples/03.IAXO,
+    // GenerateSignalComponents("BabyIAXO.rml", "GasSignal", 1.5, 5, 0.5)):
+    // the first 5 settings share 0.5 of the 1.5 years equally, every later
+    // one a share of the rest ∝ 1 / (m⁴ S). Checked on arbitrary rates S: the
+    // defaults, then 2 first settings with 0.4 of the time.
+    let dir = tempfile::tempdir().unwrap();
+    let pressures = "pressures_mbar = [0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0]";
+    for (extra, first, share) in [
+        ("", 5, 1.0 / 3.0),
+        ("ksvz_first_settings = 2\nksvz_first_share = 0.4\n", 2, 0.4),
+    ] {
+        let campaign = format!("temperature_k = 1.8\n{pressures}\nvacuum_hours = 100.0\ngas_hours = 300.0\nallocation = \"ksvz\"\n{extra}");
+        let scene = load(&babyiaxo_with(dir.path(), &campaign), &["magnet=true"]).unwrap();
+        let c = traxer::output::campaign::campaign_of(&scene).unwrap();
+        assert_eq!(c.settings.len(), 9);
+        let signal: Vec<f64> = (0..9).map(|s| 1.0 + ((s * 7919) % 13) as f64).collect();
+        let hours = c.hours(&signal);
+        assert_eq!(hours[0], 100.0, "the vacuum's hours");
+        let gas = &hours[1..];
+        for h in &gas[..first] {
+            assert!((h - 300.0 * share / first as f64).abs() < 1e-9, "{gas:?}");
+        }
+        let ksvz = |s: usize| hours[s] * c.settings[s].photon_mass_ev.powi(4) * signal[s];
+        for s in first + 2..9 {
+            assert!(
+                (ksvz(s) / ksvz(first + 1) - 1.0).abs() < 1e-12,
+                "{s}: {gas:?}"
+            );
+        }
+        let later: f64 = gas[first..].iter().sum();
+        assert!((later - 300.0 * (1.0 - share)).abs() < 1e-9, "{later}");
+    }
+    let campaign = format!("temperature_k = 1.8\n{pressures}\nvacuum_hours = 1.0\ngas_hours = 1.0\nallocation = \"ksvz\"\nksvz_first_share = 1.0");
+    let e = load(&babyiaxo_with(dir.path(), &campaign), &["magnet=true"])
+        .err()
+        .unwrap();
+    assert!(e.contains("ksvz_first_share"), "{e}");
 }
