@@ -10,8 +10,8 @@
 //! `studies::campaign_reach::reach` returns.
 
 use super::csv_table::write_csv;
-use super::plot::{register_font, typeset};
-use super::reach::{power, ticks};
+use super::plot::register_font;
+use super::reach::limit_chart;
 use super::reference_curve::ReferenceCurve;
 use super::Provenance;
 use crate::studies::campaign_reach::CampaignReach;
@@ -153,30 +153,8 @@ fn write_plot(
             || -> Result<(), Box<dyn std::error::Error + '_>> {
                 root.fill(&WHITE)?;
                 let what = coupling_symbol(r.coupling);
-                let mut chart = ChartBuilder::on(&root)
-                    .caption(
-                        typeset(&format!(
-                            "median expected 95 % CL limit on {what}: the campaign"
-                        )),
-                        ("sans-serif", 22),
-                    )
-                    .margin(14)
-                    .margin_right(40)
-                    .x_label_area_size(48)
-                    .y_label_area_size(90)
-                    .build_cartesian_2d(
-                        (x0..x1).log_scale().with_key_points(ticks(x0, x1)),
-                        (y0..y1).log_scale().with_key_points(ticks(y0, y1)),
-                    )?;
-                chart
-                    .configure_mesh()
-                    .x_desc("mₐ (eV)")
-                    .y_desc(typeset(&format!("{what} (GeV⁻¹)")))
-                    .x_label_formatter(&|v| power(*v))
-                    .y_label_formatter(&|v| power(*v))
-                    .label_style(("sans-serif", 15))
-                    .light_line_style(RGBColor(238, 238, 238))
-                    .draw()?;
+                let title = format!("median expected 95 % CL limit on {what}: the campaign");
+                let mut chart = limit_chart(&root, &title, what, (x0, x1), (y0, y1))?;
                 let grey = RGBColor(120, 120, 120);
                 chart
                     .draw_series(LineSeries::new(alone.iter().copied(), grey.stroke_width(1)))?

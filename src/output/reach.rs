@@ -134,6 +134,44 @@ pub(super) fn power(v: f64) -> String {
     }
 }
 
+/// A limit plot's titled axes, log m_a against log `what` (the coupling's
+/// symbol) over the ranges given, with its light mesh drawn.
+pub(super) type LimitChart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<KeyPoints, KeyPoints>>;
+
+/// A log axis with the ticks of [`ticks`].
+type KeyPoints = plotters::coord::combinators::WithKeyPoints<LogCoord<f64>>;
+
+/// [`LimitChart`] on `root`.
+pub(super) fn limit_chart<'a, 'b>(
+    root: &'a DrawingArea<BitMapBackend<'b>, plotters::coord::Shift>,
+    title: &str,
+    what: &str,
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> Result<LimitChart<'a, 'b>, Box<dyn std::error::Error + 'a>> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(typeset(title), ("sans-serif", 22))
+        .margin(14)
+        .margin_right(40)
+        .x_label_area_size(48)
+        .y_label_area_size(90)
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(ticks(x0, x1)),
+            (y0..y1).log_scale().with_key_points(ticks(y0, y1)),
+        )?;
+    chart
+        .configure_mesh()
+        .x_desc("mₐ (eV)")
+        .y_desc(typeset(&format!("{what} (GeV⁻¹)")))
+        .x_label_formatter(&|v| power(*v))
+        .y_label_formatter(&|v| power(*v))
+        .label_style(("sans-serif", 15))
+        .light_line_style(RGBColor(238, 238, 238))
+        .draw()?;
+    Ok(chart)
+}
+
 /// log m_a against log coupling; massless points (m_a = 0) set the dashed
 /// vacuum plateau across the plot instead of a point.
 fn write_plot(path: &Path, curves: &[ReachCurve], coupling: &str) -> std::io::Result<()> {
@@ -151,28 +189,8 @@ fn write_plot(path: &Path, curves: &[ReachCurve], coupling: &str) -> std::io::Re
             } else {
                 "g_ae·g_aγ"
             };
-            let mut chart = ChartBuilder::on(&root)
-                .caption(
-                    typeset(&format!("median expected 95 % CL limit on {what}")),
-                    ("sans-serif", 22),
-                )
-                .margin(14)
-                .margin_right(40)
-                .x_label_area_size(48)
-                .y_label_area_size(90)
-                .build_cartesian_2d(
-                    (x0..x1).log_scale().with_key_points(ticks(x0, x1)),
-                    (y0..y1).log_scale().with_key_points(ticks(y0, y1)),
-                )?;
-            chart
-                .configure_mesh()
-                .x_desc("mₐ (eV)")
-                .y_desc(typeset(&format!("{what} (GeV⁻¹)")))
-                .x_label_formatter(&|v| power(*v))
-                .y_label_formatter(&|v| power(*v))
-                .label_style(("sans-serif", 15))
-                .light_line_style(RGBColor(238, 238, 238))
-                .draw()?;
+            let title = format!("median expected 95 % CL limit on {what}");
+            let mut chart = limit_chart(&root, &title, what, (x0, x1), (y0, y1))?;
             if let Some(p) = plateau {
                 let grey = RGBColor(110, 110, 110);
                 chart
