@@ -20,7 +20,7 @@ pub struct CampaignReachArgs<'a> {
     pub bores: f64,
     pub efficiency: f64,
     pub binned: bool,
-    pub reference: Option<&'a std::path::Path>,
+    pub reference: &'a [PathBuf],
     pub output: &'a OutputArgs,
 }
 
@@ -43,8 +43,9 @@ pub fn run(a: CampaignReachArgs) -> anyhow::Result<()> {
     };
     let reference = a
         .reference
-        .map(traxer::output::reference_curve::read_reference_curve)
-        .transpose()
+        .iter()
+        .map(|p| traxer::output::reference_curve::read_reference_curve(p))
+        .collect::<Result<Vec<_>, _>>()
         .map_err(|e| InputError(e.0))?;
     let run = read_campaign_run(dir, a.region.sensor.as_deref()).map_err(|e| InputError(e.0))?;
     let request = CampaignReachRequest {
@@ -66,7 +67,7 @@ pub fn run(a: CampaignReachArgs) -> anyhow::Result<()> {
         traxer::run::results_folder_reading(&out, &CAMPAIGN_REACH_FILES, &[dir.as_path()])?;
     let provenance = Provenance::of_table(&super::invocation());
     traxer::run::write_results_folder(folder, |d| {
-        write_campaign_reach(d, &r, &provenance, reference.as_ref())
+        write_campaign_reach(d, &r, &provenance, &reference)
     })?;
     print_curve(
         &r,

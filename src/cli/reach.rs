@@ -54,10 +54,11 @@ pub struct ReachArgs {
     #[arg(long)]
     pub binned: bool,
     /// A published curve to draw beside a campaign's combined curve in
-    /// reach.png: two numbers per line, m_a (eV) and the limit (GeV⁻¹)
-    /// (data/reference_curves/: REST's BabyIAXO curves).
+    /// reach.png, as often as there are curves: two numbers per line, m_a
+    /// (eV) and the limit (GeV⁻¹) (data/reference_curves/: REST's BabyIAXO
+    /// curves, the official IAXO projection).
     #[arg(value_name = "FILE", long)]
-    pub reference: Option<PathBuf>,
+    pub reference: Vec<PathBuf>,
     /// Identical bores, each with its optic and detector (signal and
     /// background both scale with it).
     #[arg(value_name = "N", long, default_value_t = 1.0)]
@@ -82,14 +83,14 @@ pub fn run(a: ReachArgs) -> anyhow::Result<()> {
             bores: a.bores,
             efficiency: a.efficiency,
             binned: a.binned,
-            reference: a.reference.as_deref(),
+            reference: &a.reference,
             output: &a.output,
         });
     }
     if a.tracking_hours.is_empty() {
         return Err(InputError("--tracking-hours H: the hours of tracking the Sun (one for every run, or one per run); only a campaign run carries its own".into()).into());
     }
-    if a.reference.is_some() {
+    if !a.reference.is_empty() {
         return Err(InputError("--reference: a published curve drawn beside a campaign's combined curve; these runs are not a campaign".into()).into());
     }
     if a.binned {

@@ -30,7 +30,7 @@ pub fn write_campaign_reach(
     dir: &Path,
     r: &CampaignReach,
     provenance: &Provenance,
-    reference: Option<&ReferenceCurve>,
+    reference: &[ReferenceCurve],
 ) -> std::io::Result<()> {
     let f = |v: f64| format!("{v:e}");
     let opt = |v: Option<f64>| v.map_or("inf".into(), f);
@@ -93,10 +93,10 @@ pub fn write_campaign_reach(
     let mut doc = campaign_reach_json(r);
     doc["provenance"] = json!(provenance);
     doc["files"] = json!(CAMPAIGN_REACH_FILES);
-    if let Some(c) = reference {
-        doc["reference_curve"] =
-            json!({"file": c.file, "points": c.points.len(), "drawn_in": CAMPAIGN_REACH_FILES[2]});
-    }
+    doc["reference_curves"] = reference
+        .iter()
+        .map(|c| json!({"file": c.file, "points": c.points.len(), "drawn_in": CAMPAIGN_REACH_FILES[2]}))
+        .collect();
     super::run_files::write_json(&dir.join(CAMPAIGN_REACH_FILES[3]), &doc)
 }
 
@@ -131,11 +131,7 @@ fn coupling_symbol(coupling: &str) -> &'static str {
 
 /// The combined curve, the best single setting's, and a tick per gas
 /// setting at its photon mass along the bottom.
-fn write_plot(
-    path: &Path,
-    r: &CampaignReach,
-    reference: Option<&ReferenceCurve>,
-) -> std::io::Result<()> {
+fn write_plot(path: &Path, r: &CampaignReach, reference: &[ReferenceCurve]) -> std::io::Result<()> {
     register_font();
     let (w, h) = (900u32, 620u32);
     let PlotData {
@@ -149,59 +145,62 @@ fn write_plot(
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        let draw =
-            || -> Result<(), Box<dyn std::error::Error + '_>> {
-                root.fill(&WHITE)?;
-                let what = coupling_symbol(r.coupling);
-                let title = format!("median expected 95 % CL limit on {what}: the campaign");
-                let mut chart = limit_chart(&root, &title, what, (x0, x1), (y0, y1))?;
-                let grey = RGBColor(120, 120, 120);
+        let draw = || -> Result<(), Box<dyn std::error::Error + '_>> {
+            root.fill(&WHITE)?;
+            let what = coupling_symbol(r.coupling);
+            let title = format!("median expected 95 % CL limit on {what}: the campaign");
+            let mut chart = limit_chart(&root, &title, what, (x0, x1), (y0, y1))?;
+            let grey = RGBColor(120, 120, 120);
+            chart
+                .draw_series(LineSeries::new(alone.iter().copied(), grey.stroke_width(1)))?
+                .label("the best single setting")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
+            let blue = RGBColor(31, 90, 180);
+            chart
+                .draw_series(LineSeries::new(curve.iter().copied(), blue.stroke_width(2)))?
+                .label(format!(
+                    "{} settings combined per mass",
+                    if r.settings.len() > 1 { "the" } else { "its" }
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(2))
+                });
+            for (k, (label, points)) in reference.into_iter().enumerate() {
+                // Green, then purple, brown and grey-blue.
+                let colour = [(30, 140, 60), (130, 50, 160), (150, 90, 40), (70, 110, 140)][k % 4];
+                let c = RGBColor(colour.0, colour.1, colour.2);
                 chart
-                    .draw_series(LineSeries::new(alone.iter().copied(), grey.stroke_width(1)))?
-                    .label("the best single setting")
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], grey));
-                let blue = RGBColor(31, 90, 180);
-                chart
-                    .draw_series(LineSeries::new(curve.iter().copied(), blue.stroke_width(2)))?
-                    .label(format!(
-                        "{} settings combined per mass",
-                        if r.settings.len() > 1 { "the" } else { "its" }
-                    ))
+                    .draw_series(DashedLineSeries::new(points, 6, 4, c.stroke_width(2)))?
+                    .label(label)
                     .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], blue.stroke_width(2))
+                        PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
                     });
-                if let Some((label, points)) = reference {
-                    let green = RGBColor(30, 140, 60);
-                    chart
-                        .draw_series(DashedLineSeries::new(points, 6, 4, green.stroke_width(2)))?
-                        .label(label)
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], green.stroke_width(2))
-                        });
-                }
-                let orange = RGBColor(220, 110, 20);
-                let tick = y0 * (y1 / y0).powf(0.035);
-                chart
-                    .draw_series(gas.iter().map(|&m| {
+            }
+            let orange = RGBColor(220, 110, 20);
+            let tick = y0 * (y1 / y0).powf(0.035);
+            chart
+                .draw_series(
+                    gas.iter().map(|&m| {
                         PathElement::new(vec![(m, y0), (m, tick)], orange.stroke_width(1))
-                    }))?
-                    .label(format!(
-                        "a gas setting's photon mass ({} settings)",
-                        gas.len()
-                    ))
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x + 10, y - 6), (x + 10, y + 6)], orange)
-                    });
-                chart
-                    .configure_series_labels()
-                    .position(SeriesLabelPosition::UpperLeft)
-                    .background_style(WHITE.mix(0.85))
-                    .border_style(BLACK)
-                    .label_font(("sans-serif", 15))
-                    .draw()?;
-                root.present()?;
-                Ok(())
-            };
+                    }),
+                )?
+                .label(format!(
+                    "a gas setting's photon mass ({} settings)",
+                    gas.len()
+                ))
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x + 10, y - 6), (x + 10, y + 6)], orange)
+                });
+            chart
+                .configure_series_labels()
+                .position(SeriesLabelPosition::UpperLeft)
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 15))
+                .draw()?;
+            root.present()?;
+            Ok(())
+        };
         draw().map_err(|e| std::io::Error::other(format!("plot {}: {e}", path.display())))?;
     }
     let img = image::RgbImage::from_raw(w, h, buf).expect("buffer of the right size");
@@ -216,11 +215,11 @@ struct PlotData {
     gas: Vec<f64>,
     x: (f64, f64),
     y: (f64, f64),
-    /// The reference curve's label and its points inside the mass range.
-    reference: Option<(String, Vec<(f64, f64)>)>,
+    /// Each reference curve's label and its points inside the mass range.
+    reference: Vec<(String, Vec<(f64, f64)>)>,
 }
 
-fn plot_data(r: &CampaignReach, reference: Option<&ReferenceCurve>) -> PlotData {
+fn plot_data(r: &CampaignReach, reference: &[ReferenceCurve]) -> PlotData {
     let curve: Vec<(f64, f64)> = r
         .limits
         .iter()
@@ -246,15 +245,18 @@ fn plot_data(r: &CampaignReach, reference: Option<&ReferenceCurve>) -> PlotData 
     } else {
         (1e-4, 1.0)
     };
-    let reference = reference.map(|c| {
-        let inside = c
-            .points
-            .iter()
-            .copied()
-            .filter(|p| (x0..=x1).contains(&p.0));
-        (c.label.clone(), inside.collect::<Vec<_>>())
-    });
-    let drawn = reference.as_ref().map_or(&[][..], |c| &c.1[..]);
+    let reference: Vec<_> = reference
+        .iter()
+        .map(|c| {
+            let inside = c
+                .points
+                .iter()
+                .copied()
+                .filter(|p| (x0..=x1).contains(&p.0));
+            (c.label.clone(), inside.collect::<Vec<_>>())
+        })
+        .collect();
+    let drawn = reference.iter().flat_map(|c| &c.1);
     let ys = curve.iter().chain(&alone).chain(drawn).map(|p| p.1);
     let (y0, y1) = ys.fold((f64::INFINITY, 0.0f64), |(a, b), y| (a.min(y), b.max(y)));
     let (y0, y1) = if y0.is_finite() {

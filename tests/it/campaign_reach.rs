@@ -228,11 +228,14 @@ fn a_published_curve_is_drawn_beside_the_combined_one_and_a_bad_file_refused() {
     let run = dir.path().join("run");
     trace_campaign(dir.path(), SMALL, &run);
     let rest = crate::common::repo().join("data/reference_curves/rest_babyiaxo_combined.txt");
-    let lines = std::fs::read_to_string(&rest)
-        .unwrap()
-        .lines()
-        .filter(|l| !l.trim().is_empty())
-        .count();
+    let iaxo = crate::common::repo().join("data/reference_curves/iaxo_babyiaxo_projection.txt");
+    let rows = |f: &std::path::Path| {
+        std::fs::read_to_string(f)
+            .unwrap()
+            .lines()
+            .filter(|l| !l.trim().is_empty() && !l.starts_with('#'))
+            .count() as u64
+    };
     let out = dir.path().join("good");
     run_ok(
         traxer()
@@ -247,14 +250,16 @@ fn a_published_curve_is_drawn_beside_the_combined_one_and_a_bad_file_refused() {
                 "--reference",
             ])
             .arg(&rest)
+            .arg("--reference")
+            .arg(&iaxo)
             .arg("-o")
             .arg(&out),
     );
     let doc = json(&out.join("reach.json"));
-    assert_eq!(
-        doc["reference_curve"]["points"].as_u64(),
-        Some(lines as u64)
-    );
+    let curves = doc["reference_curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 2, "{curves:?}");
+    assert_eq!(curves[0]["points"].as_u64(), Some(rows(&rest)));
+    assert_eq!(curves[1]["points"].as_u64(), Some(rows(&iaxo)));
     assert!(out.join("reach.png").is_file());
     for (text, said) in [
         (
