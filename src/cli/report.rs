@@ -42,6 +42,9 @@ pub fn report(scene: &traxer::scene::Scene, result: &RunResult) {
         100.0 * s.reached_sensor as f64 / s.photons_emitted as f64,
         s.absorbed, s.absorbed_mirror_back, s.scattered_below_surface, s.escaped, s.sensor_outside_area, s.max_interactions_reached
     );
+    if let Some(m) = scene.converting_magnet() {
+        say!("  magnet: {}", m.assumptions());
+    }
     for (spec, img) in scene.sensors.iter().zip(&result.images) {
         match scene.rate_per_unit_weight(s.photons_emitted) {
             Some(k) => say!(

@@ -79,6 +79,37 @@ pub struct Magnet {
 }
 
 impl Magnet {
+    /// What a magnet run assumed, for its printout, its pictures and
+    /// summary.json: the axion mass, the gas setting (or vacuum), the field
+    /// and the coupling, e.g. "m_a = 0 eV, vacuum, field map babyiaxo,
+    /// g_aγ = 1e-10 GeV⁻¹".
+    pub fn assumptions(&self) -> String {
+        use crate::text::number;
+        let gas = match &self.gas {
+            None => "vacuum".to_string(),
+            Some(g) => format!(
+                "{} {} mbar at {} K (m_γ = {:.4} eV)",
+                g.desc.mixture.keys().cloned().collect::<Vec<_>>().join("+"),
+                number(g.desc.pressure_mbar),
+                number(g.desc.temperature_k),
+                g.photon_mass_ev()
+            ),
+        };
+        let field = match &self.field {
+            Field::Uniform { tesla, .. } => format!(
+                "uniform {} T over {} m",
+                number(*tesla),
+                number(2e-3 * self.half_length_mm)
+            ),
+            Field::Map { name, .. } => format!("field map {name}"),
+        };
+        format!(
+            "m_a = {} eV, {gas}, {field}, g_aγ = {} GeV⁻¹",
+            number(self.axion_mass_ev),
+            number(self.g_agamma_gev)
+        )
+    }
+
     /// P_max = (g_aγ B_peak L / 2)² for the field's strongest value B_peak and
     /// the bore's length L. A photon's weight carries P / P_max (≤ 1 in vacuum)
     /// and the Sun's rate per unit weight carries P_max: the sensors add

@@ -84,7 +84,8 @@ pub struct ImageFigure<'a> {
     pub axes: [String; 2],
     /// Which way is which, printed under the image.
     pub orientation: String,
-    /// A second line under the image (what stopped photons before the sensor).
+    /// Lines under the orientation line (what the run assumed, what stopped
+    /// photons before the sensor), one per `\n`.
     pub note: Option<String>,
     /// Marks over the image.
     pub overlay: Overlay,
@@ -114,6 +115,11 @@ const CIRCLE_MARKS: [&str; 3] = ["—", "– –", "···"];
 /// The height of the note's line under the orientation line.
 const NOTE_LINE: u32 = 18;
 
+/// The room the note's lines take under the orientation line.
+fn note_height(fig: &ImageFigure) -> u32 {
+    NOTE_LINE * fig.note.as_deref().map_or(0, |n| n.lines().count()) as u32
+}
+
 /// The colour of pixels without flux on a log scale.
 const NO_FLUX: [u8; 3] = [225, 225, 225];
 
@@ -136,7 +142,7 @@ pub fn write_image_figure(path: &Path, fig: &ImageFigure) -> std::io::Result<()>
         0
     };
     let w = MARGIN + LEFT + iw + right + COLOUR_BAR + MARGIN;
-    let note = if fig.note.is_some() { NOTE_LINE } else { 0 };
+    let note = note_height(fig);
     let h = TOP_TITLE + arcsec + ih + BOTTOM + 24 + MARGIN + note;
     let mut buf = vec![0u8; (w * h * 3) as usize];
     let max = fig.top.unwrap_or_else(|| max_value(&fig.values));
@@ -178,17 +184,18 @@ fn draw_frame(
         sub.clone(),
     ))?;
     let foot = ("sans-serif", 13).into_font().color(&RGBColor(80, 80, 80));
-    let note = if fig.note.is_some() { NOTE_LINE } else { 0 };
+    let note = note_height(fig);
     root.draw(&Text::new(
         fig.orientation.clone(),
         (MARGIN as i32, (h - MARGIN - 14 - note) as i32),
         foot.clone(),
     ))?;
-    if let Some(n) = &fig.note {
+    for (k, line) in fig.note.iter().flat_map(|n| n.lines()).enumerate() {
+        let y = h - MARGIN - 14 - note + NOTE_LINE * (k as u32 + 1);
         root.draw(&Text::new(
-            n.clone(),
-            (MARGIN as i32, (h - MARGIN - 14) as i32),
-            foot,
+            line.to_string(),
+            (MARGIN as i32, y as i32),
+            foot.clone(),
         ))?;
     }
     let right_axis = if arcsec > 0 { ARCSEC_RIGHT } else { 0 };

@@ -104,6 +104,7 @@ pub fn write_run(
         "sources": sources,
         "statistics": stats,
         "warnings": scene.warnings,
+        "magnet": scene.converting_magnet().map(|m| m.assumptions()),
     });
     written.extend(super::campaign::write_campaign(
         dir,

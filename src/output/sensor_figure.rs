@@ -61,7 +61,7 @@ pub fn sensor_figure<'a>(
             crate::sensor::file_stem(&spec.name)
         ),
         overlay: Overlay::default(),
-        note: stopped_note(scene, spec, statistics),
+        note: notes(scene, spec, statistics),
         top: None,
     };
     if scale == Scale::Linear {
@@ -103,6 +103,23 @@ pub fn sensor_figure<'a>(
         fig.orientation.push_str(" Light grey: no flux.");
     }
     fig
+}
+
+/// The lines under the image: what a magnet run assumed, and what stopped
+/// photons before the sensor.
+fn notes(
+    scene: &Scene,
+    spec: &SensorSpec,
+    statistics: &crate::trace::Statistics,
+) -> Option<String> {
+    let magnet = scene
+        .converting_magnet()
+        .map(|m| format!("Converted in the magnet: {}.", m.assumptions()));
+    let lines: Vec<String> = magnet
+        .into_iter()
+        .chain(stopped_note(scene, spec, statistics))
+        .collect();
+    (!lines.is_empty()).then(|| lines.join("\n"))
 }
 
 /// Shows only the square of half-side 2 × the 90 % radius around the

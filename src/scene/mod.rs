@@ -280,6 +280,16 @@ impl Scene {
         build::build(device, path, load::read(path, overrides)?, representation)
     }
 
+    /// The magnet that converts the scene's axions: the scene's magnet when
+    /// its one source is the Sun (a lab source's X-rays pass a magnet
+    /// unconverted).
+    pub fn converting_magnet(&self) -> Option<&crate::magnet::Magnet> {
+        match self.sources.as_slice() {
+            [crate::source::Source::Sun(_)] => self.magnet.as_deref(),
+            _ => None,
+        }
+    }
+
     /// What a unit of the scene's images counts.
     pub fn counted(&self) -> Counted {
         match (self.rate_per_unit_weight(1), &self.magnet) {
