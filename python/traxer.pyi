@@ -290,7 +290,7 @@ class SensorImage:
     flux: npt.NDArray[np.float64]
     """[iy, ix], or [band, iy, ix] with energy bins; ix along the sensor's local
     x. The sum of photon weights per pixel, or axions per second with a Sun
-    source (see ``unit``). Equal to NAME.npy."""
+    source — X-rays per second with a magnet (see ``unit``). Equal to NAME.npy."""
     counts: npt.NDArray[np.uint64]
     """Photons per pixel, the shape of ``flux``. Equal to NAME_counts.npy."""
     unit: Literal["ph", "s-1"]

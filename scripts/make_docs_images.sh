@@ -25,8 +25,8 @@ $T render scenes/panter_al_ka.toml --camera telescope --width 480 --height 300 -
 $T render scenes/panter_al_ka.toml --camera sensor --width 480 --height 300 --spp 16 \
   --sensor-image "$tmp" --log-decades 3 --out docs/img/llnl_sensor_view.png
 rm -rf "$tmp"
-# The solar axion image at CAST (10 million photons, as the README's numbers) and
-# the overview: the chip glowing with it, the telescope, the bore and the Sun.
+# The solar axion image at CAST (10 million photons, as the README's numbers; in
+# X-rays per second, the magnet on as the scene has it) and the overview: the chip glowing with it, the telescope, the bore and the Sun.
 tmp=$(mktemp -d)
 $T trace scenes/cast_axion_image.toml -n 10000000 --out "$tmp" -q
 cp "$tmp/chip.png" docs/img/cast_axion_image.png
@@ -51,7 +51,7 @@ cp "$tmp/off_axis.png" docs/img/llnl_off_axis.png
 rm -rf "$tmp"
 # The XMM-Newton module's effective area, vignetting and off-axis image quality
 # (perfect figure), and BabyIAXO's solar axion image (ABC + Primakoff, 10 million
-# photons, as docs/babyiaxo.md's numbers).
+# photons, converted in the magnet's field map, as the README's numbers).
 tmp=$(mktemp -d)
 $T effective-area scenes/xmm_effective_area.toml --energies 0.5:10:0.25 --angles 0:20:5 -n 1000000 --out "$tmp" -q
 cp "$tmp/effective_area.png" docs/img/xmm_effective_area.png

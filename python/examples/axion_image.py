@@ -23,12 +23,12 @@ OUT = pathlib.Path(os.environ.get("OUT", "out/python_axion_image"))
 scene = traxer.Scene(REPO / "scenes" / "cast_axion_image.toml")
 print(scene, "traxer", traxer.__version__, "Embree", traxer.embree_version)
 
-# The image in axions per second per pixel whose X-ray converts in the detector
-# gas over that pixel (before the conversion probability in the magnet), for
-# g_aγ = 1e-10 GeV⁻¹.
+# The image in X-rays per second per pixel converting in the detector gas over
+# that pixel, the axions converted in CAST's 9 T magnet, for g_aγ = 1e-10 GeV⁻¹
+# (defines={"magnet": False}: the axions before the conversion).
 result = scene.trace(PHOTONS, seed=1)
 chip = result["chip"]
-print(f"{chip.total_flux:.4e} axions/s (unit {chip.unit}) on the {chip.size_mm[0]} mm chip, "
+print(f"{chip.total_flux:.4e} X-rays/s (unit {chip.unit}) on the {chip.size_mm[0]} mm chip, "
       f"{result.statistics['reached_sensor']} of {PHOTONS} photons")
 q = chip.quality
 print(f"centroid ({q['centroid_mm'][0]:.3f}, {q['centroid_mm'][1]:.3f}) mm, "

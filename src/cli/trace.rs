@@ -64,7 +64,7 @@ pub struct TraceArgs {
     /// A mass scan: also one image per axion mass (eV), from the same photons
     /// (NAME_by_mass.npy, totals in NAME.json → by_mass). Shorthand for
     /// -D axion_masses_ev=[LIST], the variable the shipped magnet scenes give
-    /// their [magnet] masses_ev; needs the magnet on (-D magnet=true).
+    /// their [magnet] masses_ev; needs the magnet on (the shipped Sun scenes have it on).
     #[arg(value_name = "LIST", long, conflicts_with = "resume")]
     pub masses: Option<String>,
     /// Replace the results of a run with other inputs (scene, variables, seed,

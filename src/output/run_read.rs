@@ -40,7 +40,7 @@ pub fn read_run_signal(dir: &Path, sensor: Option<&str>) -> Result<RunSignal, Ru
     let bad = |what: &str| RunReadError(format!("{}: {what}", summary_path.display()));
     let source = &summary["sources"][0];
     if source["type"] != "sun" || source["magnet"].is_null() {
-        return Err(bad("the run has no magnet: its images count axions before conversion, not X-rays (trace a Sun scene with its [magnet] on, e.g. -D magnet=true)"));
+        return Err(bad("the run has no magnet: its images count axions before conversion, not X-rays (trace a Sun scene with its [magnet] on, as the shipped ones are unless -D magnet=false)"));
     }
     let magnet = &source["magnet"];
     let name = &sensor_name(&summary, sensor).map_err(|m| bad(&m))?;

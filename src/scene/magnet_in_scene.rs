@@ -37,7 +37,7 @@ pub(super) fn find_bore(
     {
         return Err(at.error(
             m.span(),
-            "magnet: masses_ev (a mass scan) needs the magnet on: enabled = false leaves the axions unconverted (-D magnet=true in the shipped scenes)",
+            "magnet: masses_ev (a mass scan) needs the magnet on: enabled = false leaves the axions unconverted (on by default in the shipped Sun scenes: drop -D magnet=false)",
         ));
     }
     if let Some(m) = desc.magnet.as_ref().filter(|m| {
@@ -46,7 +46,7 @@ pub(super) fn find_bore(
     }) {
         return Err(at.error(
             m.span(),
-            "magnet: a campaign (campaign.enabled) needs the magnet on: enabled = false leaves the axions unconverted (-D magnet=true in the shipped scenes)",
+            "magnet: a campaign (campaign.enabled) needs the magnet on: enabled = false leaves the axions unconverted (on by default in the shipped Sun scenes: drop -D magnet=false)",
         ));
     }
     let Some(m) = desc.magnet.as_ref().filter(|m| m.get_ref().enabled) else {
@@ -139,7 +139,7 @@ pub(super) fn warnings(desc: &SceneDesc, magnet: Option<&Magnet>) -> Vec<String>
     if let Some(g) = table.gas.as_ref().filter(|g| g.pressure_mbar != 0.0) {
         if !table.enabled {
             out.push(format!(
-                "magnet: the buffer gas ({} mbar at {} K) is ignored: the magnet is off (enabled = false), so the images are of axions before conversion; switch it on (-D magnet=true in the shipped scenes)",
+                "magnet: the buffer gas ({} mbar at {} K) is ignored: the magnet is off (enabled = false), so the images are of axions before conversion; switch it on (on by default in the shipped Sun scenes: drop -D magnet=false)",
                 crate::text::number(g.pressure_mbar),
                 crate::text::number(g.temperature_k)
             ));

@@ -449,7 +449,7 @@ fn a_uniform_magnet_multiplies_the_cast_image_by_the_closed_form() {
     // the bore's 9.26 m to within 1e-5 (the Sun is 0.27° across), so the
     // image's ratio is (g B L / 2)² at g_aγ = 1e-10 GeV⁻¹, 9 T.
     let scene = "cast_axion_image.toml";
-    let without = traced_flux(scene, &[], 4000);
+    let without = traced_flux(scene, &["magnet=false"], 4000);
     let with = traced_flux(scene, &["magnet=true"], 4000);
     let p = uniform_probability(1e-19, 9.0 * TESLA, 9.26 * METRE, 0.0, 0.0);
     assert!(
@@ -515,7 +515,7 @@ fn the_babyiaxo_map_weights_the_image_within_the_bores_range_of_p() {
     // the bore's axial lines (at the scene's g_aγ = 1e-12 GeV⁻¹), and below
     // the axis's (the field is strongest on the axis).
     let scene = "babyiaxo_axion_image.toml";
-    let without = traced_flux(scene, &["emission=primakoff"], 20000);
+    let without = traced_flux(scene, &["emission=primakoff", "magnet=false"], 20000);
     let with = traced_flux(scene, &["emission=primakoff", "magnet=true"], 20000);
     let ratio = with / without;
     let lines = |place: &[&str]| {

@@ -399,7 +399,7 @@ fn careless_inputs_get_a_word() {
         let out = run_ok(c.arg("-o").arg(dir.path().join(name)));
         String::from_utf8_lossy(&out.stderr).into_owned()
     };
-    let e = stderr_of(&["helium_mbar=10"], "off");
+    let e = stderr_of(&["magnet=false", "helium_mbar=10"], "off");
     assert!(
         e.contains("warning: magnet: the buffer gas") && e.contains("is ignored"),
         "{e}"

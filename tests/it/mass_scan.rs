@@ -162,7 +162,7 @@ fn masses_on_the_command_line_write_the_stack_and_bad_ones_are_refused() {
         traxer()
             .arg("trace")
             .arg(&scene)
-            .args(["--masses", "0.01", "-o"])
+            .args(["-D", "magnet=false", "--masses", "0.01", "-o"])
             .arg(dir.path().join("off")),
         2,
     );

@@ -29,8 +29,13 @@ fn trace_images(scene: &Scene, photons: u64, seed: u64) -> Images {
     )
 }
 
+/// The CAST ABC + Primakoff scene, its axions before the conversion (the
+/// magnet off: these tests are of the emission's images).
 fn cast_electron(vars: &[&str]) -> Scene {
-    let vars: Vec<String> = vars.iter().map(|v| v.to_string()).collect();
+    let vars: Vec<String> = std::iter::once("magnet=false")
+        .chain(vars.iter().copied())
+        .map(str::to_string)
+        .collect();
     Scene::load(
         &device(),
         &repo().join("scenes/cast_axion_electron_image.toml"),

@@ -200,7 +200,7 @@ fn runs_the_reach_cannot_use_are_refused_and_nothing_is_written() {
         traxer()
             .arg("trace")
             .arg(&scene)
-            .args(["-n", "2000", "-q", "-o"])
+            .args(["-n", "2000", "-q", "-D", "magnet=false", "-o"])
             .arg(&plain),
     );
     let reach = |r: &Path, extra: &[&str]| {

@@ -204,9 +204,10 @@ def test_class_images_in_memory_equal_the_cli_class_files(tmp_path):
 
 def test_images_by_process_build_the_image_for_other_couplings(tmp_path):
     """The docs' recipe: one trace of Primakoff + ABC gives the image for any
-    couplings as (g_aγ/g_aγ₀)² × primakoff + (g_ae/g_ae₀)² × abc; it equals a
-    trace with those couplings to 1e-12 of the largest pixel, and the images
-    equal the CLI's NAME_PROCESS.npy bit for bit."""
+    couplings. Converted in the magnet (the scene's default) the X-rays scale as
+    (g_aγ/g_aγ₀)² × [(g_aγ/g_aγ₀)² × primakoff + (g_ae/g_ae₀)² × abc] (P ∝ g_aγ²);
+    either equals a trace with those couplings to 1e-12 of the largest pixel,
+    and the images equal the CLI's NAME_PROCESS.npy bit for bit."""
     scene = REPO / "scenes" / "cast_axion_electron_image.toml"
     run = traxer.Scene(scene).trace(30_000, seed=2)  # g_aγ = 1e-12, g_ae = 1e-13
     chip = run["chip"]
@@ -217,13 +218,20 @@ def test_images_by_process_build_the_image_for_other_couplings(tmp_path):
     four = sum(chip.by_process[p] for p in ["atomic", "electron_ion", "electron_electron", "compton"])
     assert np.allclose(four, chip.by_process["abc"], rtol=1e-13, atol=0)
     g_agamma, g_ae = 4e-12, 0.5e-13
-    image = (g_agamma / 1e-12) ** 2 * chip.by_process["primakoff"] \
+    axions = (g_agamma / 1e-12) ** 2 * chip.by_process["primakoff"] \
         + (g_ae / 1e-13) ** 2 * chip.by_process["abc"]
+    image = (g_agamma / 1e-12) ** 2 * axions
     direct = traxer.Scene(scene, {"g_agamma": g_agamma, "g_ae": g_ae}).trace(30_000, seed=2)
     assert np.abs(image - direct["chip"].flux).max() <= 1e-12 * direct["chip"].flux.max()
-    # The test can fail: without the squares the image is another.
-    wrong = 4 * chip.by_process["primakoff"] + 0.5 * chip.by_process["abc"]
-    assert np.abs(wrong - direct["chip"].flux).max() > 1e-3 * direct["chip"].flux.max()
+    # The test can fail: without P's g_aγ², or without the squares, the image is another.
+    for wrong in [axions, 4 * chip.by_process["primakoff"] + 0.5 * chip.by_process["abc"]]:
+        assert np.abs(wrong - direct["chip"].flux).max() > 1e-3 * direct["chip"].flux.max()
+    # Before the conversion (-D magnet=false), the axions scale without P.
+    off = {"magnet": False}
+    bare = traxer.Scene(scene, off).trace(30_000, seed=2)["chip"].by_process
+    bare_axions = (g_agamma / 1e-12) ** 2 * bare["primakoff"] + (g_ae / 1e-13) ** 2 * bare["abc"]
+    direct = traxer.Scene(scene, {**off, "g_agamma": g_agamma, "g_ae": g_ae}).trace(30_000, seed=2)
+    assert np.abs(bare_axions - direct["chip"].flux).max() <= 1e-12 * direct["chip"].flux.max()
     cli("trace", scene, "-n", 30_000, "--seed", 2, "--out", tmp_path / "cli", "-q")
     for name, flux in chip.by_process.items():
         assert flux.tobytes() == np.load(tmp_path / "cli" / f"chip_{name}.npy").tobytes()
